@@ -1,0 +1,355 @@
+"""Robust 2D triangle overlap: a uniform-grid broad phase and an exact narrow phase.
+
+The depth order of a mescher (:mod:`meschers_igl.order`) only relates faces whose *screen*
+triangles overlap with positive area.  Faces that merely touch -- along a shared edge, at a
+shared vertex, or along a seam whose two sides were rounded to float32 -- must not be related.
+This module finds those pairs for a whole triangle soup at once:
+
+1. **broad phase** (:func:`candidate_pairs`): each bounding box is binned into the cells of a
+   uniform grid it covers; two boxes are a candidate when they share a cell, and each pair is
+   reported once, by the cell that holds the lower-left corner of the two boxes' intersection
+   (no ``np.unique`` over all pairs);
+2. **narrow phase** (:func:`triangles_overlap`): the separating-axis test over the six edge
+   normals of the two triangles, with a tolerance ``tol`` in screen units: two triangles overlap
+   when their projections overlap by more than ``tol`` on *every* axis (for convex polygons the
+   smallest such overlap is the penetration depth, so touching pairs are rejected);
+3. **a point of the overlap** (:func:`intersection_centroids`): the centroid of the clipped
+   intersection polygon (Sutherland--Hodgman, vectorized over pairs).  Any linear function
+   (e.g. a depth interpolated over a face) has its mean over the overlap at that point.
+
+No library we depend on offers a batched 2D triangle-triangle overlap (libigl's
+``tri_tri_intersect`` is 3D and per pair; networkx/scipy have none), hence the hand-written,
+vectorized code.  Everything works in float64 on coordinates shifted to each pair's first
+vertex, which keeps the arithmetic exact enough far from the origin.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+
+# float32 round-off of a coordinate is half an ulp (6e-8 relative); overlaps combine a few
+# such coordinates, so 16 float32 epsilons of the model's size is safely above it and far below
+# any overlap a person would see.
+TOL_FACTOR = 16.0 * float(np.finfo(np.float32).eps)
+
+# Pairs processed per narrow-phase chunk: bounds the temporary memory (~1 KB per pair).
+_CHUNK = 1 << 20
+
+
+def model_scale(points: np.ndarray) -> float:
+    """Size of a point set for relative tolerances: ``max(bbox diagonal, max |coordinate|)``.
+
+    The largest absolute coordinate enters because float32 round-off grows with it: a model far
+    from the origin has larger absolute errors than its extent suggests.
+    """
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, points.shape[-1])
+    if pts.size == 0:
+        return 1.0
+    diag = float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
+    s = max(diag, float(np.abs(pts).max()))
+    return s if s > 0.0 else 1.0
+
+
+def default_tol(points: np.ndarray) -> float:
+    """Default overlap tolerance in the units of ``points``: ``TOL_FACTOR * model_scale``."""
+    return TOL_FACTOR * model_scale(points)
+
+
+def triangle_heights(T: np.ndarray) -> np.ndarray:
+    """Smallest height of each screen triangle.
+
+    Parameters
+    ----------
+    T : (n, 3, 2) float64
+        Screen triangles.
+
+    Returns
+    -------
+    (n,) float64
+        ``2 * area / longest edge``: zero for a triangle seen edge-on or with coincident corners.
+    """
+    e1 = T[:, 1] - T[:, 0]
+    e2 = T[:, 2] - T[:, 0]
+    area2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    lmax = np.linalg.norm(T - np.roll(T, -1, axis=1), axis=2).max(axis=1)
+    out = np.zeros(T.shape[0])
+    ok = lmax > 0.0
+    out[ok] = area2[ok] / lmax[ok]
+    return out
+
+
+def _grid_cells(lo: np.ndarray, hi: np.ndarray, origin: np.ndarray, h: float):
+    c0 = np.floor((lo - origin) / h).astype(np.int64)
+    c1 = np.floor((hi - origin) / h).astype(np.int64)
+    return c0, c1
+
+
+def _choose_cell(lo: np.ndarray, hi: np.ndarray, origin: np.ndarray) -> float:
+    """Cell size near the median box size, grown until boxes cover ~4 cells on average."""
+    n = lo.shape[0]
+    ext = hi - lo
+    span = float(max((hi.max(axis=0) - lo.min(axis=0)).max(), 0.0))
+    h = float(np.median(ext.max(axis=1)))
+    # Never more than ~4n cells along an axis (degenerate or tiny boxes) nor a zero size.
+    h = max(h, span / (4.0 * n + 1.0), np.finfo(np.float64).tiny)
+    if span == 0.0:
+        return 1.0
+    for _ in range(8):
+        c0, c1 = _grid_cells(lo, hi, origin, h)
+        total = float(np.prod(c1 - c0 + 1, axis=1, dtype=np.float64).sum())
+        if total <= 8.0 * n:
+            break
+        h *= max(np.sqrt(total / (4.0 * n)), 1.5)
+    return h
+
+
+def candidate_pairs(
+    lo: np.ndarray, hi: np.ndarray, tol: float = 0.0, chunk: int = _CHUNK
+) -> Iterator[np.ndarray]:
+    """Broad phase: pairs of axis-aligned boxes that overlap by more than ``tol`` on both axes.
+
+    Parameters
+    ----------
+    lo, hi : (n, 2) float64
+        Box corners (``lo <= hi``).
+    tol : float
+        Boxes overlapping by ``tol`` or less on an axis are not paired.
+    chunk : int
+        Approximate number of raw candidate pairs handled at a time.
+
+    Yields
+    ------
+    (k, 2) int64
+        Pairs ``(i, j)`` with ``i < j``; every overlapping pair exactly once over all chunks.
+    """
+    n = lo.shape[0]
+    if n < 2:
+        return
+    origin = lo.min(axis=0)
+    h = _choose_cell(lo, hi, origin)
+    c0, c1 = _grid_cells(lo, hi, origin, h)
+    ncell = c1 - c0 + 1  # (n, 2) cells covered along x and y
+    ny_grid = int(c1[:, 1].max()) + 1
+    counts = ncell[:, 0] * ncell[:, 1]
+    # Expand every box into the cells it covers (box-major order).
+    owner = np.repeat(np.arange(n, dtype=np.int64), counts)
+    t = np.arange(owner.size, dtype=np.int64) - np.repeat(np.cumsum(counts) - counts, counts)
+    cx = c0[owner, 0] + t // ncell[owner, 1]
+    cy = c0[owner, 1] + t % ncell[owner, 1]
+    key = cx * ny_grid + cy
+    srt = np.argsort(key, kind="stable")
+    key, owner, cx, cy = key[srt], owner[srt], cx[srt], cy[srt]
+    del srt, t
+    # Entry p pairs with the later entries of its cell: positions p+1 .. end-1.
+    bounds = np.flatnonzero(np.diff(key)) + 1
+    group_end = np.empty(key.size, dtype=np.int64)
+    starts = np.concatenate(([0], bounds))
+    ends = np.concatenate((bounds, [key.size]))
+    group_end[:] = np.repeat(ends, ends - starts)
+    npair = group_end - np.arange(key.size) - 1
+    cum = np.cumsum(npair)
+    # Split the entries into blocks of about `chunk` pairs each (an entry's pairs stay together).
+    cuts = np.searchsorted(cum, np.arange(chunk, cum[-1] + chunk, chunk, dtype=np.int64))
+    cuts = np.unique(np.concatenate(([0], np.minimum(cuts + 1, key.size), [key.size])))
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        cnt = npair[a:b]
+        tot = int(cnt.sum())
+        if tot == 0:
+            continue
+        p = np.repeat(np.arange(a, b, dtype=np.int64), cnt)
+        q = p + 1 + np.arange(tot, dtype=np.int64) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        i, j = owner[p], owner[q]
+        mlo = np.maximum(lo[i], lo[j])
+        mhi = np.minimum(hi[i], hi[j])
+        keep = np.all(mhi - mlo > tol, axis=1)
+        # Report a pair only in the cell holding the lower-left corner of the boxes' overlap.
+        ref = np.floor((mlo - origin) / h).astype(np.int64)
+        keep &= (ref[:, 0] == cx[p]) & (ref[:, 1] == cy[p])
+        i, j = i[keep], j[keep]
+        yield np.stack((np.minimum(i, j), np.maximum(i, j)), axis=1)
+
+
+def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndarray:
+    """Narrow phase: do the triangles ``A[k]`` and ``B[k]`` overlap with positive area?
+
+    Separating-axis test over the six edge normals ``n`` of the pair: the triangles overlap when,
+    for every axis, ``min(max_A, max_B) - max(min_A, min_B) > tol`` where ``max_A`` is the largest
+    projection ``n . a / |n|`` of a corner of ``A`` (a distance in screen units).  Triangles
+    that only touch (overlap ``<= tol`` along some axis) are reported as not overlapping.
+
+    Parameters
+    ----------
+    A, B : (k, 3, 2) float64
+        Screen triangles, any orientation.  Neither may be degenerate (height ``<= tol``);
+        filter those with :func:`triangle_heights` first.
+    tol : float
+        Overlap tolerance in screen units.
+
+    Returns
+    -------
+    (k,) bool
+    """
+    o = A[:, :1, :]
+    A = A - o  # shift to A's first corner: fewer cancellation errors far from the origin
+    B = B - o
+    edges = np.concatenate((np.roll(A, -1, axis=1) - A, np.roll(B, -1, axis=1) - B), axis=1)
+    axes = np.stack((edges[..., 1], -edges[..., 0]), axis=-1)  # (k, 6, 2)
+    length = np.linalg.norm(axes, axis=2)
+    pa = np.einsum("kad,kpd->kap", axes, A)  # (k, 6, 3)
+    pb = np.einsum("kad,kpd->kap", axes, B)
+    overlap = np.minimum(pa.max(axis=2), pb.max(axis=2)) - np.maximum(
+        pa.min(axis=2), pb.min(axis=2)
+    )
+    return np.all(overlap > tol * length, axis=1)
+
+
+def _clip(P: np.ndarray, count: np.ndarray, a: np.ndarray, nrm: np.ndarray):
+    """Clip convex polygons ``P[k, :count[k]]`` to the half-planes ``nrm[k] . (x - a[k]) >= 0``."""
+    k, w, _ = P.shape
+    idx = np.arange(w)
+    nxt = (idx[None, :] + 1) % np.maximum(count, 1)[:, None]
+    valid = idx[None, :] < count[:, None]
+    d = np.einsum("kwd,kd->kw", P - a[:, None, :], nrm)
+    d = np.where(valid, d, 0.0)
+    Q = np.take_along_axis(P, nxt[..., None], axis=1)
+    dq = np.take_along_axis(d, nxt, axis=1)
+    keep_v = valid & (d >= 0.0)
+    cross = valid & (((d > 0.0) & (dq < 0.0)) | ((d < 0.0) & (dq > 0.0)))
+    t = np.where(cross, d / np.where(cross, d - dq, 1.0), 0.0)
+    X = P + t[..., None] * (Q - P)
+    # Interleave (vertex, crossing) per input edge, then compact the kept entries to the front.
+    cand = np.stack((P, X), axis=2).reshape(k, 2 * w, 2)
+    mask = np.stack((keep_v, cross), axis=2).reshape(k, 2 * w)
+    order = np.argsort(~mask, axis=1, kind="stable")
+    new_count = mask.sum(axis=1)
+    width = max(int(new_count.max()) if k else 0, 1)
+    out = np.take_along_axis(cand, order[:, :width, None], axis=1)
+    return out, new_count
+
+
+def intersection_centroids(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Centroid and area of the intersection polygon of each pair of triangles.
+
+    ``A[k]`` is clipped by the three half-planes of ``B[k]`` (Sutherland--Hodgman); the centroid
+    of the resulting convex polygon with vertices ``p_m`` is
+    ``c = sum_m (p_m + p_{m+1}) (p_m x p_{m+1}) / (3 sum_m p_m x p_{m+1})``.  Being an average over
+    a convex region inside both triangles, ``c`` lies in both, and any function linear on each
+    triangle takes at ``c`` its mean over the overlap.
+
+    Parameters
+    ----------
+    A, B : (k, 3, 2) float64
+        Pairs of non-degenerate screen triangles known to overlap.
+
+    Returns
+    -------
+    centroid : (k, 2) float64
+    area : (k,) float64
+        Area of the intersection (0 where it is empty; the centroid is then the mean of the
+        clipped vertices, or ``A``'s first corner when nothing is left).
+    """
+    k = A.shape[0]
+    o = A[:, 0, :].copy()
+    A = A - o[:, None, :]
+    B = B - o[:, None, :]
+    e1 = B[:, 1] - B[:, 0]
+    e2 = B[:, 2] - B[:, 0]
+    orient = np.sign(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    P, count = A, np.full(k, 3, dtype=np.int64)
+    for c in range(3):
+        a = B[:, c]
+        e = B[:, (c + 1) % 3] - a
+        inward = orient[:, None] * np.stack((-e[:, 1], e[:, 0]), axis=1)
+        P, count = _clip(P, count, a, inward)
+    w = P.shape[1]
+    idx = np.arange(w)
+    valid = idx[None, :] < count[:, None]
+    nxt = (idx[None, :] + 1) % np.maximum(count, 1)[:, None]
+    Q = np.take_along_axis(P, nxt[..., None], axis=1)
+    cr = np.where(valid, P[..., 0] * Q[..., 1] - P[..., 1] * Q[..., 0], 0.0)
+    area2 = cr.sum(axis=1)
+    num = ((P + Q) * cr[..., None]).sum(axis=1)
+    mean = np.where(valid[..., None], P, 0.0).sum(axis=1) / np.maximum(count, 1)[:, None]
+    good = np.abs(area2) > 0.0
+    cen = mean
+    cen[good] = num[good] / (3.0 * area2[good, None])
+    return cen + o, 0.5 * np.abs(area2)
+
+
+def barycentric(P: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """Barycentric coordinates of points ``P[k]`` in triangles ``T[k]``.
+
+    Parameters
+    ----------
+    P : (k, 2) float64
+    T : (k, 3, 2) float64
+        Non-degenerate triangles.
+
+    Returns
+    -------
+    (k, 3) float64
+        ``b`` with ``b.sum(1) == 1`` and ``P == (b[:, :, None] * T).sum(1)``.
+    """
+    v0 = T[:, 1] - T[:, 0]
+    v1 = T[:, 2] - T[:, 0]
+    v2 = P - T[:, 0]
+    den = v0[:, 0] * v1[:, 1] - v0[:, 1] * v1[:, 0]
+    b1 = (v2[:, 0] * v1[:, 1] - v2[:, 1] * v1[:, 0]) / den
+    b2 = (v0[:, 0] * v2[:, 1] - v0[:, 1] * v2[:, 0]) / den
+    return np.stack((1.0 - b1 - b2, b1, b2), axis=1)
+
+
+def overlapping_pairs(
+    T: np.ndarray,
+    tol: float | None = None,
+    faces: np.ndarray | None = None,
+    centroids: bool = False,
+    chunk: int = _CHUNK,
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """All pairs of screen triangles that overlap with positive area.
+
+    Parameters
+    ----------
+    T : (n, 3, 2) float64
+        Screen triangles (e.g. ``xy[F]``).
+    tol : float, optional
+        Overlap tolerance in screen units (default :func:`default_tol` of ``T``).  Triangles
+        thinner than ``tol`` (seen edge-on) overlap nothing.
+    faces : (m,) int64, optional
+        Only consider these triangles (indices into ``T``); default all.
+    centroids : bool, default: False
+        Also return the centroid of each pair's intersection polygon.
+    chunk : int
+        Pairs per vectorized block (memory bound).
+
+    Returns
+    -------
+    pairs : (k, 2) int64
+        ``(i, j)`` with ``i < j``, sorted lexicographically.
+    centroid : (k, 2) float64 or None
+    """
+    T = np.asarray(T, dtype=np.float64)
+    if tol is None:
+        tol = default_tol(T)
+    ids = np.arange(T.shape[0], dtype=np.int64) if faces is None else np.unique(faces)
+    ids = ids[triangle_heights(T[ids]) > tol]
+    if ids.size < 2:
+        return np.zeros((0, 2), dtype=np.int64), (np.zeros((0, 2)) if centroids else None)
+    S = T[ids]
+    out_p, out_c = [], []
+    for cand in candidate_pairs(S.min(axis=1), S.max(axis=1), tol, chunk):
+        A, B = S[cand[:, 0]], S[cand[:, 1]]
+        hit = triangles_overlap(A, B, tol)
+        cand = cand[hit]
+        out_p.append(ids[cand])
+        if centroids:
+            out_c.append(intersection_centroids(A[hit], B[hit])[0])
+    pairs = np.concatenate(out_p) if out_p else np.zeros((0, 2), dtype=np.int64)
+    srt = np.lexsort((pairs[:, 1], pairs[:, 0]))
+    pairs = pairs[srt]
+    if not centroids:
+        return pairs, None
+    cen = np.concatenate(out_c) if out_c else np.zeros((0, 2))
+    return pairs, cen[srt]

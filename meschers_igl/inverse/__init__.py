@@ -1,0 +1,54 @@
+"""Inverse rendering of impossible objects (paper Section 4.5), on PyTorch.
+
+Importing this package is cheap and never imports PyTorch; the names below load their module
+(and PyTorch) on first access, and a missing PyTorch raises an ``ImportError`` that says how to
+install it (``pip install 'meschers[inverse]'``).
+
+- :mod:`~meschers_igl.inverse.rasterizer`: a SoftRas-style soft rasterizer (Liu et al. 2019)
+  for flattened meschers with flat Lambertian shading and per-face depth offsets.
+- :mod:`~meschers_igl.inverse.optimize`: the fit of a mescher to a target image, with
+  ``zeta = d01 z + H c`` so that every iterate is a mescher, and Sobolev preconditioning.
+- :mod:`~meschers_igl.inverse.cli`: ``meschers inverse`` (``inverse_main(args)``).
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from ._torch import INSTALL_HINT, require_torch
+
+_LAZY = {
+    "soft_rasterize": "rasterizer",
+    "lambertian": "rasterizer",
+    "face_normals_from_zeta": "rasterizer",
+    "local_face_normals": "rasterizer",
+    "corner_depths_from_zeta": "rasterizer",
+    "pixel_centers": "rasterizer",
+    "render_mescher": "rasterizer",
+    "InverseOptions": "optimize",
+    "InverseResult": "optimize",
+    "MescherParametrization": "optimize",
+    "fit_mescher": "optimize",
+    "torus_mesh": "optimize",
+    "torus_mescher": "optimize",
+    "torus_for_target": "optimize",
+    "penrose_target": "optimize",
+    "silhouette_iou": "optimize",
+    "psnr": "optimize",
+    "max_period_ratio": "optimize",
+    "screen_overlaps": "optimize",
+    "extract_order": "optimize",
+    "inverse_main": "cli",
+    "add_arguments": "cli",
+}
+
+__all__ = ["INSTALL_HINT", "require_torch", *_LAZY]
+
+
+def __getattr__(name: str) -> Any:
+    # PEP 562: load the heavy module only when one of its names is asked for
+    if name in _LAZY:
+        module = importlib.import_module(f"{__name__}.{_LAZY[name]}")
+        return getattr(module, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

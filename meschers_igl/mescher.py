@@ -1,0 +1,432 @@
+"""The mescher: screen positions per vertex, relative depths per edge (Dodik et al. 2025, Sec. 3).
+
+Example
+-------
+>>> import numpy as np
+>>> from meschers_igl import Mescher
+>>> F = np.array([[0, 1, 2]])
+>>> xy = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+>>> m = Mescher.from_corner_depths(F, xy, np.array([[0.0, 1.0, 0.0]]))
+>>> float(m.face_areas()[0])  # the local triangle (0,0,0), (1,0,1), (0,1,0)
+0.7071067811865476
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from . import hodge as _hodge
+from . import operators as ops
+from . import topology as topo
+from .errors import MescherError
+from .validate import as_choice, as_faces, as_float_array, as_int_array, as_points, as_vector
+
+#: Relative tolerance of the local-integrability check, times the model's size.
+INTEGRABILITY_RTOL = 1e-9
+#: Relative tolerance (times the model's size) above which a period counts as impossible.
+IMPOSSIBLE_RTOL = 1e-6
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.ascontiguousarray(a)
+    a.setflags(write=False)
+    return a
+
+
+class Mescher:
+    """A triangle mesh of an impossible (or possible) object seen head-on.
+
+    Parameters
+    ----------
+    F : (#F, 3) array_like of int
+        Oriented triangles; manifold and consistently oriented.
+    xy : (#V, 2) array_like of float
+        Screen positions (x right, y up).
+    edges : (#E, 2) array_like of int
+        Each edge of ``F`` exactly once, oriented tail -> head.
+    zeta : (#E,) array_like of float
+        Relative depths, ``zeta[e] = depth(head) - depth(tail)`` (larger is nearer).
+    project : bool, default: False
+        Project ``zeta`` onto the locally integrable forms first (paper Eq. 3-4, unit star1).
+        Without it a ``zeta`` with ``d12 @ zeta != 0`` raises :class:`MescherError`.
+
+    Notes
+    -----
+    Every user-visible array is read-only; operations return new meschers.
+    """
+
+    def __init__(self, F, xy, edges, zeta, project: bool = False, *, _trusted: bool = False):
+        if _trusted:  # internal constructors that already hold canonical, validated arrays
+            self._F, self._xy, self._edges, self._zeta = F, xy, edges, zeta
+            self._face_edges, self._signs = _trusted
+        else:
+            xy = as_points(xy, "xy", 2)
+            if xy.shape[0] == 0:
+                raise MescherError("xy: expected at least three vertices, found none")
+            F = as_faces(F, "F", xy.shape[0])
+            edges_in = as_int_array(edges, "edges", 2, 2)
+            zeta = as_vector(zeta, "zeta", edges_in.shape[0])
+            cedges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
+            perm, flip = topo.orient_edges_like(edges_in, cedges, xy.shape[0])
+            # Keep the user's edge order and orientation: remap the incidence to it.
+            inv = np.empty_like(perm)
+            inv[perm] = np.arange(perm.size)
+            face_edges = inv[face_edges]
+            signs = signs * np.where(flip, -1.0, 1.0)[face_edges]
+            self._F, self._xy, self._edges = F, xy, edges_in
+            self._face_edges, self._signs = face_edges, signs
+            self._zeta = zeta
+            if project:
+                self._zeta = self._closed_projector(self._zeta)
+            else:
+                self._check_integrable()
+        for name in ("_F", "_xy", "_edges", "_zeta", "_face_edges", "_signs"):
+            setattr(self, name, _readonly(getattr(self, name)))
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def _from_canonical(cls, F, xy, zeta_halfedge=None, zeta=None, project=False) -> Mescher:
+        """Build from validated F, xy with canonical edges; zeta per edge or per half-edge."""
+        edges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
+        if zeta is None:
+            # average the values each face proposes for each edge (paper Sec. 3.4)
+            ne = edges.shape[0]
+            vals = (zeta_halfedge * signs).reshape(-1)
+            fe = face_edges.reshape(-1)
+            zeta = np.bincount(fe, weights=vals, minlength=ne) / np.bincount(fe, minlength=ne)
+        m = cls(F, xy, edges, zeta, _trusted=(face_edges, signs))
+        if project:
+            m._zeta = _readonly(m._closed_projector(np.array(m._zeta)))
+        else:
+            m._check_integrable()
+        return m
+
+    @classmethod
+    def from_corner_depths(cls, F, xy, Z) -> Mescher:
+        """A mescher from per-face corner depths (any per-face offset).
+
+        Parameters
+        ----------
+        F : (#F, 3) int
+        xy : (#V, 2) float
+        Z : (#F, 3) float
+            Depth of each face's corners; only differences within a face matter.  Values that
+            two faces propose for their shared edge are averaged, then projected (Eq. 3-4).
+        """
+        xy = as_points(xy, "xy", 2)
+        F = as_faces(F, "F", xy.shape[0])
+        Z = as_float_array(Z, "Z", (F.shape[0], 3))
+        # half-edge opposite corner i runs i+1 -> i+2
+        h = Z[:, [2, 0, 1]] - Z[:, [1, 2, 0]]
+        return cls._from_canonical(F, xy, zeta_halfedge=h, project=True)
+
+    @classmethod
+    def from_mesh(cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0)) -> Mescher:
+        """An ordinary 3D mesh seen from ``view`` (orthographic): always possible.
+
+        Parameters
+        ----------
+        V : (#V, 3) float
+        F : (#F, 3) int
+        view : (3,) float, default: (0, 0, 1)
+            Direction from the object toward the camera.
+        up : (3,) float, default: (0, 1, 0)
+        """
+        V = as_points(V, "V", 3)
+        F = as_faces(F, "F", V.shape[0])
+        C = V @ ops.view_frame(view, up).T
+        edges, face_edges, signs = topo.edge_topology(F, V.shape[0])
+        zeta = C[edges[:, 1], 2] - C[edges[:, 0], 2]
+        return cls(F, np.ascontiguousarray(C[:, :2]), edges, zeta, _trusted=(face_edges, signs))
+
+    @classmethod
+    def from_cut_mesh(
+        cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), tol=None, merge=None,
+        return_map=False,
+    ):  # fmt: skip
+        """A mescher from a "cut" 3D model (see :func:`meschers_igl.cutmesh.mescher_from_cut_mesh`)."""
+        from .cutmesh import mescher_from_cut_mesh
+
+        return mescher_from_cut_mesh(
+            V, F, view=view, up=up, tol=tol, merge=merge, return_map=return_map
+        )
+
+    def with_xy(self, xy) -> Mescher:
+        """Same topology and depths, new screen positions."""
+        xy = as_points(xy, "xy", 2, self.n_vertices)
+        return type(self)(
+            self._F, xy, self._edges, self._zeta, _trusted=(self._face_edges, self._signs)
+        )
+
+    def with_zeta(self, zeta, project: bool = False) -> Mescher:
+        """Same topology and screen positions, new relative depths (checked or projected)."""
+        zeta = as_vector(zeta, "zeta", self.n_edges)
+        m = type(self)(self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs))
+        if project:
+            m._zeta = _readonly(self._closed_projector(zeta))
+        else:
+            m._check_integrable()
+        return m
+
+    # ------------------------------------------------------------------ basic arrays
+    F = property(lambda self: self._F, doc="(#F, 3) int64 oriented faces (read-only).")
+    xy = property(lambda self: self._xy, doc="(#V, 2) float64 screen positions (read-only).")
+    edges = property(lambda self: self._edges, doc="(#E, 2) int64 tail -> head (read-only).")
+    zeta = property(lambda self: self._zeta, doc="(#E,) float64 relative depths (read-only).")
+    face_edges = property(
+        lambda self: self._face_edges, doc="(#F, 3) int64 edge opposite each corner."
+    )
+    face_edge_signs = property(
+        lambda self: self._signs, doc="(#F, 3) float64 +1 where the edge follows the face."
+    )
+    n_vertices = property(lambda self: self._xy.shape[0])
+    n_edges = property(lambda self: self._edges.shape[0])
+    n_faces = property(lambda self: self._F.shape[0])
+
+    def __repr__(self) -> str:
+        return (
+            f"Mescher(#V={self.n_vertices}, #E={self.n_edges}, #F={self.n_faces}, "
+            f"chi={self.euler_characteristic()})"
+        )
+
+    def euler_characteristic(self) -> int:
+        """``#V - #E + #F``."""
+        return topo.euler_characteristic(self.n_vertices, self.n_edges, self.n_faces)
+
+    def scale(self) -> float:
+        """A length scale of the model: the diagonal of its screen box, or of the edge lengths."""
+        box = float(np.linalg.norm(self._xy.max(axis=0) - self._xy.min(axis=0)))
+        return max(box, float(np.abs(self._zeta).max(initial=0.0)), 1e-300)
+
+    # ------------------------------------------------------------------ DEC
+    @cached_property
+    def d01(self) -> sp.csr_matrix:
+        """(#E, #V) exterior derivative on 0-forms."""
+        return topo.d01(self._edges, self.n_vertices)
+
+    @cached_property
+    def d12(self) -> sp.csr_matrix:
+        """(#F, #E) exterior derivative on 1-forms."""
+        return topo.d12(self._face_edges, self._signs, self.n_edges)
+
+    def integrability_residual(self) -> np.ndarray:
+        """(#F,) ``d12 @ zeta``: zero for a valid mescher (paper Eq. 2)."""
+        return self.d12 @ self._zeta
+
+    def _check_integrable(self) -> None:
+        r = self.integrability_residual()
+        tol = INTEGRABILITY_RTOL * self.scale()
+        worst = float(np.abs(r).max())
+        if worst > tol:
+            f = int(np.argmax(np.abs(r)))
+            raise MescherError(
+                f"zeta: expected a locally integrable 1-form (d12 @ zeta == 0 within {tol:.3g}), "
+                f"found residual {worst:.3g} at face {f} ({int((np.abs(r) > tol).sum())} faces "
+                "over); pass project=True to project it onto the nearest integrable zeta"
+            )
+
+    @cached_property
+    def _closed_projector(self):
+        return _hodge.closed_projector(self.d12)
+
+    # ------------------------------------------------------------------ local geometry
+    @cached_property
+    def _corner_depths(self) -> np.ndarray:
+        return _readonly(ops.corner_depths(self._zeta, self._face_edges, self._signs))
+
+    def corner_depths(self) -> np.ndarray:
+        """(#F, 3) local corner depths, corner 0 at 0."""
+        return self._corner_depths
+
+    @cached_property
+    def _local_corners(self) -> np.ndarray:
+        return _readonly(ops.local_corners(self._xy, self._F, self._corner_depths))
+
+    def local_corners(self) -> np.ndarray:
+        """(#F, 3, 3) per-face corner positions (x, y, local depth)."""
+        return self._local_corners
+
+    @cached_property
+    def _edge_lengths(self) -> np.ndarray:
+        return _readonly(ops.edge_lengths(self._xy, self._edges, self._zeta))
+
+    def edge_lengths(self) -> np.ndarray:
+        """(#E,) lengths of the edges in their local triangles."""
+        return self._edge_lengths
+
+    def face_edge_lengths(self, mollified: bool = False) -> np.ndarray:
+        """(#F, 3) lengths, column i opposite corner i (libigl convention).
+
+        With ``mollified=True`` the lengths the intrinsic operators use (Sharp & Crane 2020);
+        identical unless the mesh has (near-)degenerate triangles.
+        """
+        return self._l_moll if mollified else self._l_face
+
+    @cached_property
+    def _l_face(self) -> np.ndarray:
+        return _readonly(self._edge_lengths[self._face_edges])
+
+    @cached_property
+    def _l_moll(self) -> np.ndarray:
+        lm, _ = ops.mollify(self._l_face)
+        return _readonly(lm)
+
+    @cached_property
+    def _dbl_area(self) -> np.ndarray:
+        return ops.double_areas_from_lengths(self._l_moll)
+
+    def face_areas(self) -> np.ndarray:
+        """(#F,) triangle areas (of the mollified metric; exact unless degenerate)."""
+        return 0.5 * self._dbl_area
+
+    def face_normals(self) -> np.ndarray:
+        """(#F, 3) unit normals in the camera frame, z toward the viewer."""
+        return ops.face_normals(self._local_corners)
+
+    def vertex_normals(self) -> np.ndarray:
+        """(#V, 3) area-weighted unit vertex normals from the faces' local frames."""
+        return ops.vertex_normals(self._local_corners, self._F, self.n_vertices)
+
+    # ------------------------------------------------------------------ operators
+    @cached_property
+    def _half_cot(self) -> np.ndarray:
+        return ops.half_cotangents(self._l_moll, self._dbl_area)
+
+    @cached_property
+    def star0(self) -> sp.dia_matrix:
+        """(#V, #V) barycentric vertex areas (one third of the incident face areas)."""
+        a = np.bincount(
+            self._F.reshape(-1), weights=np.repeat(self.face_areas() / 3.0, 3),
+            minlength=self.n_vertices,
+        )  # fmt: skip
+        return sp.diags(a).tocsr()
+
+    @cached_property
+    def star1(self) -> sp.dia_matrix:
+        """(#E, #E) cotangent weights ``(cot a + cot b) / 2``."""
+        return sp.diags(
+            ops.star1_from_half_cot(self._half_cot, self._face_edges, self.n_edges)
+        ).tocsr()
+
+    @cached_property
+    def star2(self) -> sp.dia_matrix:
+        """(#F, #F) inverse face areas."""
+        with np.errstate(divide="ignore"):
+            inv = 1.0 / self.face_areas()
+        if not np.all(np.isfinite(inv)):
+            raise MescherError("star2: found zero-area faces; mollification should prevent this")
+        return sp.diags(inv).tocsr()
+
+    def cotmatrix(self) -> sp.csc_matrix:
+        """(#V, #V) negative semi-definite cotangent Laplacian (``igl.cotmatrix`` convention)."""
+        return ops.cotmatrix(self._l_moll, self._F)
+
+    def massmatrix(self, kind: str = "voronoi") -> sp.csc_matrix:
+        """(#V, #V) lumped mass matrix, ``kind`` in {"voronoi", "barycentric"} like libigl."""
+        kind = as_choice(kind, "kind", tuple(ops.MASS_TYPES))
+        return ops.massmatrix(self._l_moll, self._F, kind)
+
+    def grad(self) -> sp.csr_matrix:
+        """(#F*3, #V) gradient in the camera frame, blocks x, y, z (``igl.grad`` layout)."""
+        return ops.grad(self._local_corners, self._F, self.n_vertices)
+
+    def laplacian0(self) -> sp.csr_matrix:
+        """``star0^-1 d01^T star1 d01`` (positive semi-definite 0-form Laplacian)."""
+        inv0 = sp.diags(1.0 / self.star0.diagonal())
+        return (inv0 @ self.d01.T @ self.star1 @ self.d01).tocsr()
+
+    def laplacian1(self) -> sp.csr_matrix:
+        """``star1^-1 d12^T star2 d12 + d01 star0^-1 d01^T star1`` (1-form Hodge Laplacian).
+
+        Needs every cotangent weight non-zero (an edge between two right angles has weight 0;
+        such meshes need an intrinsic Delaunay retriangulation or subdivision first).
+        """
+        w = self.star1.diagonal()
+        if np.any(w == 0):
+            raise MescherError(
+                f"star1: expected non-zero cotangent weights to invert, found "
+                f"{int((w == 0).sum())} zero weight(s) (first edge "
+                f"{int(np.flatnonzero(w == 0)[0])})"
+            )
+        inv1 = sp.diags(1.0 / w)
+        inv0 = sp.diags(1.0 / self.star0.diagonal())
+        up = inv1 @ self.d12.T @ self.star2 @ self.d12
+        down = self.d01 @ inv0 @ self.d01.T @ self.star1
+        return (up + down).tocsr()
+
+    # ------------------------------------------------------------------ Hodge / topology
+    @cached_property
+    def _exact_solver(self) -> _hodge.ExactPartSolver:
+        return _hodge.ExactPartSolver(
+            self.d01, self.star1.diagonal(), self.n_vertices, self._F
+        )
+
+    def hodge(self) -> _hodge.HodgeDecomposition:
+        """``zeta = d01 z + omega`` with ``omega`` harmonic (paper Eq. 3).
+
+        ``z`` minimises ``||d01 z - zeta||_star1`` and has zero area-weighted mean on each
+        connected component; ``omega`` is closed and co-closed (``d01^T star1 omega = 0``).
+        """
+        return self._hodge
+
+    @cached_property
+    def _hodge(self) -> _hodge.HodgeDecomposition:
+        z = self._exact_solver.potential(np.asarray(self._zeta), self.star0.diagonal())
+        omega = np.asarray(self._zeta) - self.d01 @ z
+        return _hodge.HodgeDecomposition(_readonly(z), _readonly(omega))
+
+    @cached_property
+    def _generators(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        # Purely combinatorial (unit weights) so that the basis, and so the meaning of
+        # periods(), survives with_periods, with_xy and smoothing of the same connectivity.
+        return topo.generator_loops(self._edges, self._face_edges, self.n_vertices)
+
+    def homology_generators(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Closed edge loops generating first homology (tree-cotree), ``(edges, signs)`` each.
+
+        There are ``2g + b - 1`` loops per connected component with boundary (``b`` boundary
+        loops, all but one of which are generators), ``2g`` per closed component.
+        """
+        return list(self._generators)
+
+    @cached_property
+    def _loop_matrix(self) -> sp.csr_matrix:
+        return _hodge.loop_matrix(self._generators, self.n_edges)
+
+    def harmonic_basis(self) -> np.ndarray:
+        """(#E, k) harmonic 1-forms ``h_j`` dual to the generators: period of ``h_j`` on loop i
+        is ``delta_ij``.  ``omega == harmonic_basis() @ periods()``."""
+        return self._harmonic_basis
+
+    @cached_property
+    def _harmonic_basis(self) -> np.ndarray:
+        H = _hodge.harmonic_basis(self._closed_projector, self._exact_solver, self._loop_matrix)
+        return _readonly(H)
+
+    def periods(self) -> np.ndarray:
+        """(k,) depth gained going once around each homology generator (``Gamma @ zeta``)."""
+        return np.asarray(self._loop_matrix @ np.asarray(self._zeta))
+
+    def is_impossible(self, tol: float | None = None) -> bool:
+        """True when some period is non-zero (``omega != 0``): the mescher cannot embed in 3D.
+
+        ``tol`` is relative to the model's size (default ``IMPOSSIBLE_RTOL``).
+        """
+        tol = IMPOSSIBLE_RTOL if tol is None else float(tol)
+        p = self.periods()
+        return bool(p.size and np.abs(p).max() > tol * self.scale())
+
+    def with_periods(self, values) -> Mescher:
+        """The same surface with its harmonic part replaced so the periods equal ``values``.
+
+        ``zeta' = d01 z + H @ values``: the exact part (and so the local shape) is kept.  An
+        ordinary torus with ``values = (c, 0)`` climbs by ``c`` per turn: an impossible torus.
+        """
+        k = self._loop_matrix.shape[0]
+        values = as_vector(values, "values", k)
+        zeta = self.d01 @ self.hodge().z + self.harmonic_basis() @ values
+        m = type(self)(self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs))
+        return m

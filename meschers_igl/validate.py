@@ -1,0 +1,138 @@
+"""Shared validators: convert user input once at the boundary, or raise a clear error.
+
+Every validator names the argument, what was expected and what was found
+(PyVista ``core/_validation/check.py`` style).  Outputs are C-contiguous float64 / int64
+arrays, the dtypes libigl's bindings take without copying.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .errors import MescherError
+
+
+def _describe(x: Any) -> str:
+    if isinstance(x, np.ndarray):
+        return f"array of shape {x.shape} and dtype {x.dtype}"
+    return f"{type(x).__name__}"
+
+
+def _as_array(x: Any, name: str) -> np.ndarray:
+    if x is None:
+        raise MescherError(f"{name}: expected an array, found None")
+    try:
+        return np.asarray(x)
+    except (TypeError, ValueError) as exc:
+        raise MescherError(f"{name}: expected an array, found {_describe(x)} ({exc})") from None
+
+
+def as_float_array(x: Any, name: str, shape: tuple) -> np.ndarray:
+    """Convert ``x`` to a finite float64 array of ``shape`` (``-1`` entries match any length)."""
+    a = _as_array(x, name)
+    if a.dtype == object or not (
+        np.issubdtype(a.dtype, np.floating)
+        or np.issubdtype(a.dtype, np.integer)
+        or a.dtype == bool
+    ):
+        raise MescherError(f"{name}: expected real numbers, found dtype {a.dtype}")
+    if a.ndim != len(shape) or any(s not in (-1, t) for s, t in zip(shape, a.shape)):
+        want = "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ")"
+        raise MescherError(f"{name}: expected shape {want}, found {a.shape}")
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if not np.all(np.isfinite(a)):
+        bad = np.flatnonzero(~np.isfinite(a).reshape(-1))
+        raise MescherError(
+            f"{name}: expected finite values, found {bad.size} non-finite "
+            f"(first at flat index {int(bad[0])}: {a.reshape(-1)[bad[0]]})"
+        )
+    return a
+
+
+def as_points(X: Any, name: str, dim: int, n: int | None = None) -> np.ndarray:
+    """(n, dim) finite float64 points."""
+    a = as_float_array(X, name, (-1 if n is None else n, dim))
+    return a
+
+
+def as_vector(x: Any, name: str, n: int) -> np.ndarray:
+    """(n,) finite float64 vector."""
+    return as_float_array(x, name, (n,))
+
+
+def as_int_array(x: Any, name: str, ndim: int, cols: int | None = None) -> np.ndarray:
+    """Integer array with ``ndim`` dimensions (and ``cols`` columns); floats must be integral."""
+    a = _as_array(x, name)
+    if a.ndim != ndim or (cols is not None and a.shape[1] != cols):
+        want = "(n,)" if ndim == 1 else f"(n, {cols if cols is not None else 'k'})"
+        raise MescherError(f"{name}: expected an integer array of shape {want}, found {a.shape}")
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        if a.dtype == bool or not np.issubdtype(a.dtype, np.floating):
+            raise MescherError(f"{name}: expected integers, found dtype {a.dtype}")
+        if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
+            raise MescherError(f"{name}: expected integer values, found non-integers ({a.dtype})")
+    return np.ascontiguousarray(a, dtype=np.int64)
+
+
+def as_faces(F: Any, name: str = "F", n_vertices: int | None = None) -> np.ndarray:
+    """(#F, 3) int64 triangles with indices in ``[0, n_vertices)`` and three distinct corners."""
+    F = as_int_array(F, name, 2, 3)
+    if F.shape[0] == 0:
+        raise MescherError(f"{name}: expected at least one triangle, found an empty array")
+    if F.min() < 0:
+        raise MescherError(f"{name}: expected indices >= 0, found {int(F.min())}")
+    if n_vertices is not None and F.max() >= n_vertices:
+        raise MescherError(
+            f"{name}: expected indices < {n_vertices} (the number of vertices), "
+            f"found {int(F.max())}"
+        )
+    degenerate = (F[:, 0] == F[:, 1]) | (F[:, 1] == F[:, 2]) | (F[:, 2] == F[:, 0])
+    if degenerate.any():
+        f = int(np.flatnonzero(degenerate)[0])
+        raise MescherError(
+            f"{name}: expected three distinct corners per face, found {int(degenerate.sum())} "
+            f"face(s) with a repeated index (first: face {f} = {F[f].tolist()})"
+        )
+    return F
+
+
+def as_index_array(idx: Any, name: str, n: int) -> np.ndarray:
+    """(k,) int64 indices, each in ``[0, n)``; a scalar becomes a length-1 array."""
+    a = _as_array(idx, name)
+    a = as_int_array(a.reshape(-1) if a.ndim == 0 else a, name, 1)
+    if a.size == 0:
+        raise MescherError(f"{name}: expected at least one index, found none")
+    if a.min() < 0 or a.max() >= n:
+        bad = a[(a < 0) | (a >= n)][0]
+        raise MescherError(f"{name}: expected indices in [0, {n}), found {int(bad)}")
+    return a
+
+
+def as_direction(v: Any, name: str, dim: int = 3) -> np.ndarray:
+    """A unit (dim,) direction; a zero vector is an error."""
+    a = as_float_array(v, name, (dim,))
+    nrm = float(np.linalg.norm(a))
+    if nrm == 0.0:
+        raise MescherError(f"{name}: expected a non-zero direction, found {a.tolist()}")
+    return a / nrm
+
+
+def as_positive(x: Any, name: str, allow_zero: bool = False) -> float:
+    """A finite positive (or non-negative) float."""
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        raise MescherError(f"{name}: expected a number, found {_describe(x)}") from None
+    if not np.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        want = ">= 0" if allow_zero else "> 0"
+        raise MescherError(f"{name}: expected a finite number {want}, found {v}")
+    return v
+
+
+def as_choice(x: Any, name: str, choices: tuple[str, ...]) -> str:
+    """One of a fixed set of strings."""
+    if not isinstance(x, str) or x.lower() not in choices:
+        raise MescherError(f"{name}: expected one of {', '.join(map(repr, choices))}, found {x!r}")
+    return x.lower()

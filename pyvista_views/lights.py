@@ -1,0 +1,171 @@
+"""Directional lights: the only lights a mescher can be lit by (paper Section 4.1).
+
+A mescher has no absolute depth, so radiance that depends on *where* a point is (point, spot and
+area lights) is undefined for it; radiance that depends only on the *direction* it arrives from is
+translation invariant and therefore well defined.  Directional lights and environment maps
+(:mod:`.envmap`) are exactly those.  Everything here is in the camera frame of DESIGN.md: x right,
+y up, z toward the viewer; a light is given by the unit direction *toward* it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pyvista as pv
+
+from meschers_igl.errors import MescherError
+from meschers_igl.validate import as_direction, as_float_array, as_positive
+
+_WHY_DIRECTIONAL = (
+    "meschers have no absolute depth, so only directional lights and environment maps are "
+    "defined for them (paper Section 4.1)"
+)
+
+
+@dataclass(frozen=True)
+class DirectionalLight:
+    """A light at infinity.
+
+    Parameters
+    ----------
+    direction : (3,) float64
+        Unit vector toward the light in the camera frame (x right, y up, z toward the viewer).
+    intensity : float
+        Scale of the light's colour (VTK's light intensity).
+    color : (3,) float64
+        Linear RGB in [0, 1].
+    """
+
+    direction: np.ndarray
+    intensity: float = 1.0
+    color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+    @property
+    def radiance(self) -> np.ndarray:
+        """(3,) ``intensity * color``, what multiplies the Lambert cosine."""
+        return self.intensity * np.asarray(self.color, dtype=np.float64)
+
+    def to_vtk(self) -> pv.Light:
+        """A non-positional scene light shining from ``direction`` toward the origin.
+
+        The camera of every view looks down -z with y up, so scene and camera frames agree.
+        """
+        return pv.Light(
+            position=tuple(self.direction),
+            focal_point=(0.0, 0.0, 0.0),
+            color=tuple(self.color),
+            intensity=self.intensity,
+            light_type="scene light",
+            positional=False,
+        )
+
+
+def _from_pv_light(light: pv.Light, name: str) -> DirectionalLight:
+    if light.positional:
+        raise MescherError(
+            f"{name}: expected a directional light, found a positional (point or spot) "
+            f"pyvista.Light at {tuple(light.position)}; {_WHY_DIRECTIONAL}"
+        )
+    # Scene, camera and head lights alike: every view's camera looks down -z with y up, so the
+    # camera frame is the scene frame up to a translation, which a direction ignores.
+    direction = np.asarray(light.position, float) - np.asarray(light.focal_point, float)
+    return DirectionalLight(
+        as_direction(direction, name), float(light.intensity), tuple(light.diffuse_color)
+    )
+
+
+def _from_mapping(spec: dict, name: str) -> DirectionalLight:
+    kind = str(spec.get("type", "directional")).lower()
+    if kind != "directional" or "position" in spec:
+        raise MescherError(
+            f"{name}: expected a directional light, found type={kind!r}"
+            + (f" with position {spec['position']}" if "position" in spec else "")
+            + f"; {_WHY_DIRECTIONAL}"
+        )
+    if "direction" not in spec:
+        raise MescherError(f"{name}: expected a 'direction' key, found keys {sorted(spec)}")
+    color = as_float_array(spec.get("color", (1.0, 1.0, 1.0)), f"{name}['color']", (3,))
+    return DirectionalLight(
+        as_direction(spec["direction"], f"{name}['direction']"),
+        as_positive(spec.get("intensity", 1.0), f"{name}['intensity']", allow_zero=True),
+        tuple(float(c) for c in color),
+    )
+
+
+def as_lights(lights: object, name: str = "lights") -> list[DirectionalLight]:
+    """Normalise a light specification to a list of :class:`DirectionalLight`.
+
+    Parameters
+    ----------
+    lights : None, (3,) array_like, or sequence
+        ``None`` or ``[]`` for no light; one direction ``(x, y, z)``; or a sequence whose items are
+        directions, :class:`DirectionalLight`, non-positional :class:`pyvista.Light`, or dicts
+        ``{"direction": ..., "intensity": 1.0, "color": (1, 1, 1)}``.
+    name : str
+        Argument name used in error messages.
+
+    Raises
+    ------
+    MescherError
+        For a point, spot or otherwise positional light (undefined on a mescher, paper Section 4.1),
+        a zero direction, or anything that is not a light.
+    """
+    if lights is None:
+        return []
+    if isinstance(lights, (DirectionalLight, pv.Light, dict, str)):
+        lights = [lights]
+    elif isinstance(lights, np.ndarray) and lights.ndim == 1:
+        lights = [lights]
+    elif (
+        isinstance(lights, Sequence)
+        and len(lights) == 3
+        and all(isinstance(c, (int, float, np.number)) for c in lights)
+    ):
+        lights = [lights]
+    out = []
+    for i, item in enumerate(lights):
+        item_name = f"{name}[{i}]"
+        if isinstance(item, DirectionalLight):
+            out.append(item)
+        elif isinstance(item, pv.Light):
+            out.append(_from_pv_light(item, item_name))
+        elif isinstance(item, dict):
+            out.append(_from_mapping(item, item_name))
+        elif isinstance(item, str):
+            raise MescherError(
+                f"{item_name}: expected a direction (x, y, z) toward a directional light, found "
+                f"the string {item!r}; {_WHY_DIRECTIONAL}"
+            )
+        else:
+            out.append(DirectionalLight(as_direction(item, item_name)))
+    return out
+
+
+def lambert(normals: np.ndarray, lights: Sequence[DirectionalLight]) -> np.ndarray:
+    """Diffuse irradiance of directional lights, ``sum_i I_i c_i max(0, n . l_i)``.
+
+    Parameters
+    ----------
+    normals : (n, 3) float64
+        Unit normals in the camera frame.
+    lights : sequence of DirectionalLight
+
+    Returns
+    -------
+    (n, 3) float64
+        Linear RGB irradiance (what VTK's diffuse term multiplies by the material colour).
+    """
+    out = np.zeros((normals.shape[0], 3))
+    for light in lights:
+        cos = np.clip(normals @ light.direction, 0.0, None)
+        out += cos[:, None] * light.radiance[None, :]
+    return out
+
+
+def set_vtk_lights(plotter: pv.Plotter, lights: Sequence[DirectionalLight]) -> None:
+    """Replace every light of ``plotter`` (light kit and headlight included) by ``lights``."""
+    plotter.remove_all_lights()
+    for light in lights:
+        plotter.add_light(light.to_vtk())
