@@ -57,6 +57,16 @@ def default_tol(points: np.ndarray) -> float:
     return TOL_FACTOR * model_scale(points)
 
 
+def _max3(a: np.ndarray) -> np.ndarray:
+    """``a.max(axis=1)`` for an (n, 3, ...) array; numpy reduces a length-3 axis slowly."""
+    return np.maximum(np.maximum(a[:, 0], a[:, 1]), a[:, 2])
+
+
+def _min3(a: np.ndarray) -> np.ndarray:
+    """``a.min(axis=1)`` for an (n, 3, ...) array."""
+    return np.minimum(np.minimum(a[:, 0], a[:, 1]), a[:, 2])
+
+
 def triangle_heights(T: np.ndarray) -> np.ndarray:
     """Smallest height of each screen triangle.
 
@@ -73,7 +83,8 @@ def triangle_heights(T: np.ndarray) -> np.ndarray:
     e1 = T[:, 1] - T[:, 0]
     e2 = T[:, 2] - T[:, 0]
     area2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    lmax = np.linalg.norm(T - np.roll(T, -1, axis=1), axis=2).max(axis=1)
+    d = T - np.roll(T, -1, axis=1)
+    lmax = np.sqrt(_max3(d[..., 0] ** 2 + d[..., 1] ** 2))
     out = np.zeros(T.shape[0])
     ok = lmax > 0.0
     out[ok] = area2[ok] / lmax[ok]
@@ -142,17 +153,19 @@ def candidate_pairs(
     srt = np.argsort(key, kind="stable")
     key, owner, cx, cy = key[srt], owner[srt], cx[srt], cy[srt]
     del srt, t
+    # Per-entry copies of the boxes in cell order: the pairs below gather from nearby rows.
+    elo_x, elo_y = lo[owner, 0], lo[owner, 1]
+    ehi_x, ehi_y = hi[owner, 0], hi[owner, 1]
     # Entry p pairs with the later entries of its cell: positions p+1 .. end-1.
     bounds = np.flatnonzero(np.diff(key)) + 1
-    group_end = np.empty(key.size, dtype=np.int64)
     starts = np.concatenate(([0], bounds))
     ends = np.concatenate((bounds, [key.size]))
-    group_end[:] = np.repeat(ends, ends - starts)
-    npair = group_end - np.arange(key.size) - 1
+    del key, bounds
+    npair = np.repeat(ends, ends - starts) - np.arange(owner.size) - 1
     cum = np.cumsum(npair)
     # Split the entries into blocks of about `chunk` pairs each (an entry's pairs stay together).
     cuts = np.searchsorted(cum, np.arange(chunk, cum[-1] + chunk, chunk, dtype=np.int64))
-    cuts = np.unique(np.concatenate(([0], np.minimum(cuts + 1, key.size), [key.size])))
+    cuts = np.unique(np.concatenate(([0], np.minimum(cuts + 1, owner.size), [owner.size])))
     for a, b in zip(cuts[:-1], cuts[1:]):
         cnt = npair[a:b]
         tot = int(cnt.sum())
@@ -160,14 +173,14 @@ def candidate_pairs(
             continue
         p = np.repeat(np.arange(a, b, dtype=np.int64), cnt)
         q = p + 1 + np.arange(tot, dtype=np.int64) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-        i, j = owner[p], owner[q]
-        mlo = np.maximum(lo[i], lo[j])
-        mhi = np.minimum(hi[i], hi[j])
-        keep = np.all(mhi - mlo > tol, axis=1)
+        mlo_x = np.maximum(elo_x[p], elo_x[q])
+        mlo_y = np.maximum(elo_y[p], elo_y[q])
+        keep = np.minimum(ehi_x[p], ehi_x[q]) - mlo_x > tol
+        keep &= np.minimum(ehi_y[p], ehi_y[q]) - mlo_y > tol
         # Report a pair only in the cell holding the lower-left corner of the boxes' overlap.
-        ref = np.floor((mlo - origin) / h).astype(np.int64)
-        keep &= (ref[:, 0] == cx[p]) & (ref[:, 1] == cy[p])
-        i, j = i[keep], j[keep]
+        keep &= np.floor((mlo_x - origin[0]) / h).astype(np.int64) == cx[p]
+        keep &= np.floor((mlo_y - origin[1]) / h).astype(np.int64) == cy[p]
+        i, j = owner[p[keep]], owner[q[keep]]
         yield np.stack((np.minimum(i, j), np.maximum(i, j)), axis=1)
 
 
@@ -199,10 +212,13 @@ def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndar
     length = np.linalg.norm(axes, axis=2)
     pa = np.einsum("kad,kpd->kap", axes, A)  # (k, 6, 3)
     pb = np.einsum("kad,kpd->kap", axes, B)
-    overlap = np.minimum(pa.max(axis=2), pb.max(axis=2)) - np.maximum(
-        pa.min(axis=2), pb.min(axis=2)
-    )
-    return np.all(overlap > tol * length, axis=1)
+    # Explicit three-way max/min: numpy's reductions over a length-3 axis are slow.
+    amax = np.maximum(np.maximum(pa[..., 0], pa[..., 1]), pa[..., 2])
+    amin = np.minimum(np.minimum(pa[..., 0], pa[..., 1]), pa[..., 2])
+    bmax = np.maximum(np.maximum(pb[..., 0], pb[..., 1]), pb[..., 2])
+    bmin = np.minimum(np.minimum(pb[..., 0], pb[..., 1]), pb[..., 2])
+    sep = np.minimum(amax, bmax) - np.maximum(amin, bmin) <= tol * length
+    return ~sep.any(axis=1)
 
 
 def _clip(P: np.ndarray, count: np.ndarray, a: np.ndarray, nrm: np.ndarray):
@@ -339,7 +355,7 @@ def overlapping_pairs(
         return np.zeros((0, 2), dtype=np.int64), (np.zeros((0, 2)) if centroids else None)
     S = T[ids]
     out_p, out_c = [], []
-    for cand in candidate_pairs(S.min(axis=1), S.max(axis=1), tol, chunk):
+    for cand in candidate_pairs(_min3(S), _max3(S), tol, chunk):
         A, B = S[cand[:, 0]], S[cand[:, 1]]
         hit = triangles_overlap(A, B, tol)
         cand = cand[hit]

@@ -164,7 +164,9 @@ class Mescher:
     def with_zeta(self, zeta, project: bool = False) -> Mescher:
         """Same topology and screen positions, new relative depths (checked or projected)."""
         zeta = as_vector(zeta, "zeta", self.n_edges)
-        m = type(self)(self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs))
+        m = type(self)(
+            self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs)
+        )
         if project:
             m._zeta = _readonly(self._closed_projector(zeta))
         else:
@@ -360,9 +362,7 @@ class Mescher:
     # ------------------------------------------------------------------ Hodge / topology
     @cached_property
     def _exact_solver(self) -> _hodge.ExactPartSolver:
-        return _hodge.ExactPartSolver(
-            self.d01, self.star1.diagonal(), self.n_vertices, self._F
-        )
+        return _hodge.ExactPartSolver(self.d01, self.star1.diagonal(), self.n_vertices, self._F)
 
     def hodge(self) -> _hodge.HodgeDecomposition:
         """``zeta = d01 z + omega`` with ``omega`` harmonic (paper Eq. 3).
@@ -428,5 +428,119 @@ class Mescher:
         k = self._loop_matrix.shape[0]
         values = as_vector(values, "values", k)
         zeta = self.d01 @ self.hodge().z + self.harmonic_basis() @ values
-        m = type(self)(self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs))
+        m = type(self)(
+            self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs)
+        )
         return m
+
+    # ------------------------------------------------------------------ processing
+    def subdivide(
+        self, levels: int = 1, scheme: str = "midpoint", order=None,
+        return_matrix: bool = False, return_face_parent: bool = False,
+    ):  # fmt: skip
+        """1-to-4 subdivision, ``levels`` times (paper Sec. 4.2; :mod:`.subdivision`).
+
+        Parameters
+        ----------
+        levels : int, default: 1
+        scheme : {"midpoint", "loop"}
+            ``"midpoint"``: xy midpoints, child zeta half the parallel parent edge's.
+            ``"loop"``: Loop-smoothed xy and exact part, midpoint-subdivided harmonic part.
+            Both keep local integrability and the periods; original vertices keep indices.
+        order : DepthOrder, optional
+            Carried to the children (``order.refine``) and returned.
+        return_matrix : bool
+            Also return the (#V_child, #V) 0-form subdivision matrix.
+        return_face_parent : bool
+            Also return the (#F_child,) parent face of each child face.
+
+        Returns
+        -------
+        Mescher, followed by the order, the matrix and the face parents when asked for.
+        """
+        from . import subdivision as sub
+
+        scheme = as_choice(scheme, "scheme", ("midpoint", "loop"))
+        if not isinstance(levels, (int, np.integer)) or levels < 0:
+            raise MescherError(f"levels: expected an integer >= 0, found {levels!r}")
+        m = self
+        S_total = sp.identity(self.n_vertices, format="csr")
+        parent_total = np.arange(self.n_faces)
+        for _ in range(int(levels)):
+            step = sub.refine_connectivity(m.F, m.edges, m.face_edges, m.n_vertices)
+            nvc = step.S_mid.shape[0]
+            if scheme == "midpoint":
+                S = step.S_mid
+                edges, fe, sg, zeta = sub.subdivide_one_form(
+                    np.asarray(m.zeta), m.face_edges, m.face_edge_signs, step.F, nvc
+                )
+            else:
+                S = sub.loop_matrix_on(m.F, m.edges, m.n_vertices)
+                h = m.hodge()
+                edges, fe, sg, omega = sub.subdivide_one_form(
+                    np.asarray(h.omega), m.face_edges, m.face_edge_signs, step.F, nvc
+                )
+                z = S @ np.asarray(h.z)
+                zeta = omega + (z[edges[:, 1]] - z[edges[:, 0]])
+            xy = np.ascontiguousarray(S @ np.asarray(m.xy))
+            child = type(self)(step.F, xy, edges, zeta, _trusted=(fe, sg))
+            # keep the parent's generators (refined) so periods() compare entry by entry
+            child.__dict__["_generators"] = sub.refine_loops(
+                m._generators, m.edges, edges, m.n_vertices
+            )
+            if order is not None:
+                order = order.refine(step.face_parent, child)
+            S_total = (S @ S_total).tocsr()
+            parent_total = parent_total[step.face_parent]
+            m = child
+        out = [m]
+        if order is not None:
+            out.append(order)
+        if return_matrix:
+            out.append(S_total)
+        if return_face_parent:
+            out.append(parent_total)
+        return out[0] if len(out) == 1 else tuple(out)
+
+    def smooth(self, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1) -> Mescher:
+        """Laplacian smoothing of xy and of the exact part of zeta (paper Sec. 4.4).
+
+        The harmonic part and so every period is unchanged; ``smooth(0, 0)`` is the identity.
+        See :func:`meschers_igl.smoothing.smooth`.
+        """
+        from .smoothing import smooth
+
+        return smooth(self, t_xy=t_xy, t_zeta=t_zeta, iterations=iterations)
+
+    def bent_embedding(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(V, F)``: 3D mesh with depth ``z`` from the Hodge decomposition (paper Sec. 4.6)."""
+        from .embedding import bent_embedding
+
+        return bent_embedding(self)
+
+    def cut_embedding(self, cut_edges=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(V, F, vmap)``: 3D mesh integrated on the mescher cut open (paper Sec. 4.6).
+
+        Default cut: the homology generators.  Across the cut the depth jumps by the period.
+        """
+        from .embedding import cut_embedding
+
+        return cut_embedding(self, cut_edges=cut_edges)
+
+    def heat_diffuse(self, u0, t: float, steps: int = 1) -> np.ndarray:
+        """Backward Euler heat diffusion ``(M - tL) u = M u0`` (paper Eq. 5)."""
+        from .heat import heat_diffuse
+
+        return heat_diffuse(self, u0, t, steps=steps)
+
+    def geodesic_distance(self, sources, **kwargs) -> np.ndarray:
+        """(#V,) heat-method geodesic distance to the nearest source (one-off)."""
+        from .heat import geodesic_distance
+
+        return geodesic_distance(self, sources, **kwargs)
+
+    def shortest_path(self, source: int, target: int, **kwargs):
+        """A shortest polyline on the surface from ``source`` to ``target`` vertex."""
+        from .heat import shortest_path
+
+        return shortest_path(self, source, target, **kwargs)

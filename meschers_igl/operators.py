@@ -164,11 +164,11 @@ def grad(P: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
         inv = np.where(ok, 1.0 / dbl, 0.0)
     E = P[:, [2, 0, 1]] - P[:, [1, 2, 0]]  # e_i = p_{i+2} - p_{i+1}, opposite corner i
     g = np.cross(u[:, None, :], E) * inv[:, None, None]  # (#F, 3 corners, 3 coords)
-    rows = (np.arange(nf)[:, None, None] + nf * np.arange(3)[None, None, :]).repeat(3, axis=1)
-    cols = np.broadcast_to(F[:, :, None], g.shape)
-    G = sp.csr_matrix(
-        (g.reshape(-1), (rows.reshape(-1), cols.reshape(-1))), shape=(3 * nf, n_vertices)
-    )
+    # Row k*#F + f holds exactly the three corners of face f: build CSR directly (no COO sort).
+    data = g.transpose(2, 0, 1).reshape(-1)
+    indices = np.tile(F.reshape(-1), 3)
+    indptr = np.arange(0, 9 * nf + 1, 3, dtype=np.int64)
+    G = sp.csr_matrix((data, indices, indptr), shape=(3 * nf, n_vertices))
     return G
 
 

@@ -298,29 +298,15 @@ def generator_loops(
     if gens.size == 0:
         return []
     Tm = csgraph.minimum_spanning_tree(A)
-    Tsym = Tm + Tm.T
+    Tsym = (Tm + Tm.T).tocsr()
     key = edges[:, 0] * np.int64(n_vertices) + edges[:, 1]
-    # Root each tree component and record parents (one BFS per component, scipy).
+    # Root each tree component and record parents (one scipy BFS per connected component).
     ncomp, labels = csgraph.connected_components(Tsym, directed=False)
-    parent = np.full(n_vertices, -9999, dtype=np.int64)
-    depth = np.zeros(n_vertices, dtype=np.int64)
+    parent = np.full(n_vertices, -1, dtype=np.int64)
     for c in range(ncomp):  # loop over components, not faces or edges
         root = int(np.flatnonzero(labels == c)[0])
         order, pred = csgraph.breadth_first_order(Tsym, root, directed=False)
-        parent[order] = pred[order]
-        parent[root] = -1
-        # depth along BFS order: parents come first
-        for_depth = order[1:]
-        depth[root] = 0
-        # vectorised in BFS order chunks would be complex; a single pass over vertices of
-        # the component is O(#V) numpy-indexing done in cumulative fashion below.
-        d = np.zeros(order.size, dtype=np.int64)
-        posn = np.empty(n_vertices, dtype=np.int64)
-        posn[order] = np.arange(order.size)
-        pp = posn[pred[for_depth]]
-        for k, p in enumerate(pp, start=1):  # O(#V) once per mesh, not in a hot path
-            d[k] = d[p] + 1
-        depth[order] = d
+        parent[order[1:]] = pred[order[1:]]
 
     def path_to_root(v: int) -> list[int]:
         out = [v]
@@ -329,23 +315,15 @@ def generator_loops(
         return out
 
     loops = []
-    for g in gens.tolist():
+    for g in gens.tolist():  # one loop per generator: O(k * tree depth)
         u, v = int(edges[g, 0]), int(edges[g, 1])
         pu, pv = path_to_root(u), path_to_root(v)
-        su = set(pu)
-        lca = next(x for x in pv if x in su)
-        # walk: u -> v (generator), v -> lca, lca -> u
-        seq = [u, v] + pv[1 : pv.index(lca) + 1] if v != lca else [u, v]
-        back = pu[: pu.index(lca)]
-        seq = seq + back[::-1][:-1] + [u] if back else seq + [u]
-        verts = np.asarray(seq, dtype=np.int64)
-        # dedupe consecutive repeats (u==lca cases)
-        keep = np.ones(verts.size, dtype=bool)
-        keep[1:] = verts[1:] != verts[:-1]
-        verts = verts[keep]
+        on_u = {x: i for i, x in enumerate(pu)}
+        iv = next(i for i, x in enumerate(pv) if x in on_u)
+        iu = on_u[pv[iv]]
+        # u -> v along the generator, v up to the common ancestor, back down to u
+        verts = np.asarray([u] + pv[: iv + 1] + pu[:iu][::-1], dtype=np.int64)
         t, h = verts[:-1], verts[1:]
         k = np.minimum(t, h) * np.int64(n_vertices) + np.maximum(t, h)
-        eidx = np.searchsorted(key, k)
-        sgn = np.where(t < h, 1.0, -1.0)
-        loops.append((eidx.astype(np.int64), sgn))
+        loops.append((np.searchsorted(key, k).astype(np.int64), np.where(t < h, 1.0, -1.0)))
     return loops

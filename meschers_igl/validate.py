@@ -33,9 +33,7 @@ def as_float_array(x: Any, name: str, shape: tuple) -> np.ndarray:
     """Convert ``x`` to a finite float64 array of ``shape`` (``-1`` entries match any length)."""
     a = _as_array(x, name)
     if a.dtype == object or not (
-        np.issubdtype(a.dtype, np.floating)
-        or np.issubdtype(a.dtype, np.integer)
-        or a.dtype == bool
+        np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer) or a.dtype == bool
     ):
         raise MescherError(f"{name}: expected real numbers, found dtype {a.dtype}")
     if a.ndim != len(shape) or any(s not in (-1, t) for s, t in zip(shape, a.shape)):

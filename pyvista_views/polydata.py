@@ -141,6 +141,8 @@ def soup(
             mesh.point_data[key] = values[F[draw]].reshape(-1)
         else:
             mesh.cell_data[key] = values[draw]
+    # PyVista makes the first array added active; only a user's scalar field may be.
+    mesh.set_active_scalars(next(iter(scalars)) if scalars else None)
     return mesh
 
 
@@ -190,8 +192,6 @@ def to_polydata(
     else:
         normals = np.asarray(m.vertex_normals())[F[draw]]
         mesh = soup(corners, F, draw, corner_normals=normals, scalars=fields)
-    if fields:
-        mesh.set_active_scalars(next(iter(fields)))
     mesh.field_data["painter_step"] = np.array([step])
     return mesh
 
@@ -226,6 +226,4 @@ def embedding_polydata(
             V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA
         )
         mesh = soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)
-    if fields:
-        mesh.set_active_scalars(next(iter(fields)))
     return mesh

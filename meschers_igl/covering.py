@@ -1,0 +1,209 @@
+"""A real 3D covering of an impossible mescher: the exact-distance oracle for its geodesics.
+
+A mescher whose periods are all integer multiples of one period ``p`` (every impossible torus,
+staircase or ring with one "impossible" loop) is the quotient of a real surface in 3D: integrate
+``zeta`` along a spanning tree (this cuts the mescher open along the cotree edges), then glue
+copies of the cut surface whose depths differ by ``k p`` end to end along the cut.  Each copy is a
+*sheet*; vertex ``v`` has one lift ``(v, j)`` per sheet ``j`` at depth ``z_v + j p``.  Every
+covering edge has the mescher edge's length (same ``xy`` difference, same depth difference
+``zeta``), so the covering is locally isometric to the mescher, and the intrinsic distance on the
+mescher between ``s`` and ``v`` is the minimum over lifts of ``v`` of the covering distance from a
+lift of ``s`` (provided the shortest path stays within the sheets built: put the source in the
+middle sheet and build a few).  ``igl.exact_geodesic`` on the covering (Mitchell-Mount-
+Papadimitriou) then gives exact mescher distances.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import igl
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
+import scipy.sparse.linalg as sla
+
+from .errors import MescherError
+from .validate import as_index_array
+
+__all__ = ["Covering", "covering_from_cut", "covering_distance"]
+
+
+@dataclass(frozen=True)
+class Covering:
+    """A covering mesh of a mescher.
+
+    Attributes
+    ----------
+    V : (#Vc, 3) float64
+        Covering vertices (camera frame: x, y, depth).
+    F : (#Fc, 3) int64
+        Covering faces, oriented like the mescher's.
+    vmap : (#Vc,) int64
+        Mescher vertex of each covering vertex.
+    sheet : (#Vc,) int64
+        Sheet of each covering vertex, in ``[0, K)``.
+    fmap : (#Fc,) int64
+        Mescher face of each covering face.
+    period : float
+        Depth gained by one loop around the impossible generator (0 for a possible object).
+    K : int
+        Number of sheets.
+    """
+
+    V: np.ndarray
+    F: np.ndarray
+    vmap: np.ndarray
+    sheet: np.ndarray
+    fmap: np.ndarray
+    period: float
+    K: int
+
+
+def _tree_depths(m: Any) -> np.ndarray:
+    """(#V,) depths integrated from ``zeta`` along a breadth-first spanning tree (root at 0).
+
+    The tree equations ``z[child] - z[parent] = zeta(parent -> child)`` form a square system on
+    the non-root vertices (a tree incidence matrix, so no fill-in); one sparse solve.
+    """
+    n = int(m.n_vertices)
+    edges = np.asarray(m.edges)
+    zeta = np.asarray(m.zeta, dtype=np.float64)
+    ne = edges.shape[0]
+    # signed edge lookup: +(e+1) along the stored direction, -(e+1) against it
+    E = sp.csr_matrix(
+        (
+            np.r_[np.arange(ne) + 1.0, -(np.arange(ne) + 1.0)],
+            (np.r_[edges[:, 0], edges[:, 1]], np.r_[edges[:, 1], edges[:, 0]]),
+        ),
+        shape=(n, n),
+    )
+    ncomp, label = csgraph.connected_components(abs(E), directed=False)
+    roots = np.unique(label, return_index=True)[1]
+    parent = np.full(n, -9999, dtype=np.int64)
+    for r in roots:  # one breadth-first search per connected component
+        _, pred = csgraph.breadth_first_order(abs(E), int(r), directed=False)
+        parent = np.where(pred >= 0, pred, parent)
+    child = np.flatnonzero(parent >= 0)
+    par = parent[child]
+    code = np.asarray(E[par, child]).ravel()
+    e = np.abs(code).astype(np.int64) - 1
+    zc = np.sign(code) * zeta[e]
+    free = np.setdiff1d(np.arange(n), roots)
+    col = np.full(n, -1, dtype=np.int64)
+    col[free] = np.arange(free.size)
+    rows = np.arange(child.size)
+    # the row order is the child order; every free vertex is a child exactly once
+    T = sp.csr_matrix((np.ones(child.size), (rows, col[child])), shape=(child.size, free.size))
+    keep = col[par] >= 0
+    T = T - sp.csr_matrix(
+        (np.ones(int(keep.sum())), (rows[keep], col[par[keep]])), shape=(child.size, free.size)
+    )
+    z = np.zeros(n)
+    if free.size:
+        z[free] = sla.spsolve(T.tocsc(), zc)
+    return z
+
+
+def covering_from_cut(m: Any, K: int = 3, period: float | None = None, tol: float = 1e-6) -> Covering:
+    """Build ``K`` sheets of the covering of an impossible mescher, glued along the cut.
+
+    Parameters
+    ----------
+    m : Mescher
+    K : int, default: 3
+        Number of sheets (copies of the cut-open mescher).
+    period : float, optional
+        The base period ``p``; default: the smallest non-zero depth mismatch across the cut.
+    tol : float, default: 1e-6
+        Relative tolerance for "integer multiple of ``p``" and for "zero".
+
+    Returns
+    -------
+    Covering
+
+    Raises
+    ------
+    MescherError
+        If ``K < 1`` or the depth mismatches across the cut are not integer multiples of one
+        period (a mescher with two independent impossible loops needs a 2D lattice of sheets).
+    """
+    if isinstance(K, bool) or not isinstance(K, (int, np.integer)) or K < 1:
+        raise MescherError(f"K: expected an integer >= 1, found {K!r}")
+    F = np.asarray(m.F, dtype=np.int64)
+    n = int(m.n_vertices)
+    z = _tree_depths(m)
+    zeta = np.asarray(m.zeta, dtype=np.float64)
+    zh = np.asarray(m.face_edge_signs) * zeta[np.asarray(m.face_edges)]  # along face boundary
+    # mismatch of the corner-0 -> corner-1 and corner-0 -> corner-2 depth changes
+    d01 = zh[:, 2] - (z[F[:, 1]] - z[F[:, 0]])
+    d02 = -zh[:, 1] - (z[F[:, 2]] - z[F[:, 0]])
+    scale = max(float(np.abs(zeta).max(initial=0.0)), float(np.ptp(np.asarray(m.xy))), 1e-300)
+    mis = np.abs(np.r_[d01, d02])
+    if period is None:
+        big = mis[mis > tol * scale]
+        period = float(big.min()) if big.size else 0.0
+    period = float(period)
+    if period != 0.0:
+        s = np.stack([np.zeros(F.shape[0]), d01 / period, d02 / period], axis=1)
+        off = np.rint(s)
+        if np.abs(s - off).max() > tol * max(1.0, float(np.abs(s).max())):
+            raise MescherError(
+                f"m: expected depth mismatches across the cut that are integer multiples of one "
+                f"period ({period:.6g}), found a residual of {np.abs(s - off).max():.3g} periods"
+            )
+        off = off.astype(np.int64)
+    else:
+        if mis.max(initial=0.0) > tol * scale:
+            raise MescherError(f"period: expected a non-zero period, found {period}")
+        off = np.zeros((F.shape[0], 3), dtype=np.int64)
+    # face copy j has corners on sheets j + off; keep copies entirely within [0, K)
+    js = np.arange(-int(off.max(initial=0)), K - int(off.min(initial=0)) + 1)
+    sheets = js[:, None, None] + off[None, :, :]  # (J, #F, 3)
+    ok = ((sheets >= 0) & (sheets < K)).all(axis=2)
+    jj, ff = np.nonzero(ok)
+    Fc = sheets[jj, ff] * n + F[ff]
+    used, Fc = np.unique(Fc.reshape(-1), return_inverse=True)
+    Fc = Fc.reshape(-1, 3).astype(np.int64)
+    vmap, sheet = used % n, used // n
+    xy = np.asarray(m.xy, dtype=np.float64)
+    V = np.column_stack([xy[vmap], z[vmap] + sheet * period])
+    return Covering(V, Fc, vmap.astype(np.int64), sheet.astype(np.int64), ff.astype(np.int64), period, int(K))
+
+
+def covering_distance(m: Any, sources: Any, K: int = 3, covering: Covering | None = None) -> np.ndarray:
+    """Exact intrinsic distance on a mescher from the lifts of ``sources`` in the middle sheet.
+
+    ``d(v) = min_j exact_geodesic(covering, lifts of sources on sheet K // 2)(v, j)``: exact as
+    long as shortest paths stay within the ``K`` sheets built (``K = 3`` for paths up to one
+    loop around the impossible generator in either direction).
+
+    Parameters
+    ----------
+    m : Mescher
+    sources : int or (k,) array_like of int
+    K : int, default: 3
+    covering : Covering, optional
+        A covering from :func:`covering_from_cut` to reuse.
+
+    Returns
+    -------
+    d : (#V,) float64
+        ``inf`` for vertices with no path to a source within the covering.
+    """
+    n = int(m.n_vertices)
+    src = as_index_array(sources, "sources", n)
+    cov = covering_from_cut(m, K) if covering is None else covering
+    mid = cov.K // 2
+    lift = np.full((cov.K, n), -1, dtype=np.int64)
+    lift[cov.sheet, cov.vmap] = np.arange(cov.vmap.size)
+    vs = lift[mid, src]
+    if (vs < 0).any():
+        raise MescherError(f"sources: vertex {int(src[vs < 0][0])} has no lift on the middle sheet")
+    dc = igl.exact_geodesic(cov.V, cov.F, VS=vs, VT=np.arange(cov.V.shape[0], dtype=np.int64))
+    dc = np.asarray(dc, dtype=np.float64).reshape(-1)
+    dc[~(dc < 1e300)] = np.inf  # libigl marks unreachable vertices with DBL_MAX
+    d = np.full(n, np.inf)
+    np.minimum.at(d, cov.vmap, dc)
+    return d

@@ -1,0 +1,34 @@
+"""Pictures of meschers with PyVista/VTK: rendering, relighting, comparison, interactive views.
+
+Meschers are drawn head-on with an orthographic camera (paper Section 4.1): flattened, shaded
+with normals derived from zeta, overlaps resolved in a linear extension of the depth order, lit
+only by directional lights and environment maps.
+"""
+
+from __future__ import annotations
+
+from ._offscreen import configure_headless
+
+configure_headless()  # before any render window exists (EGL when there is no display)
+
+from .compare import compare  # noqa: E402
+from .envmap import EnvironmentMap  # noqa: E402
+from .interactive import MescherViewer, plot  # noqa: E402
+from .lights import DirectionalLight  # noqa: E402
+from .polydata import to_polydata  # noqa: E402
+from .render import Layer, MescherScene, add_embedding, add_mescher, relight, render  # noqa: E402
+
+__all__ = [
+    "DirectionalLight",
+    "EnvironmentMap",
+    "Layer",
+    "MescherScene",
+    "MescherViewer",
+    "add_embedding",
+    "add_mescher",
+    "compare",
+    "plot",
+    "relight",
+    "render",
+    "to_polydata",
+]
