@@ -24,6 +24,7 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as sla
 
+from . import topology
 from .errors import MescherError
 from .validate import as_index_array
 
@@ -106,7 +107,9 @@ def _tree_depths(m: Any) -> np.ndarray:
     return z
 
 
-def covering_from_cut(m: Any, K: int = 3, period: float | None = None, tol: float = 1e-6) -> Covering:
+def covering_from_cut(
+    m: Any, K: int = 3, period: float | None = None, tol: float = 1e-6
+) -> Covering:
     """Build ``K`` sheets of the covering of an impossible mescher, glued along the cut.
 
     Parameters
@@ -158,6 +161,7 @@ def covering_from_cut(m: Any, K: int = 3, period: float | None = None, tol: floa
         if mis.max(initial=0.0) > tol * scale:
             raise MescherError(f"period: expected a non-zero period, found {period}")
         off = np.zeros((F.shape[0], 3), dtype=np.int64)
+        K = 1  # a possible object is its own covering: more sheets would be disjoint copies
     # face copy j has corners on sheets j + off; keep copies entirely within [0, K)
     js = np.arange(-int(off.max(initial=0)), K - int(off.min(initial=0)) + 1)
     sheets = js[:, None, None] + off[None, :, :]  # (J, #F, 3)
@@ -169,10 +173,14 @@ def covering_from_cut(m: Any, K: int = 3, period: float | None = None, tol: floa
     vmap, sheet = used % n, used // n
     xy = np.asarray(m.xy, dtype=np.float64)
     V = np.column_stack([xy[vmap], z[vmap] + sheet * period])
-    return Covering(V, Fc, vmap.astype(np.int64), sheet.astype(np.int64), ff.astype(np.int64), period, int(K))
+    return Covering(
+        V, Fc, vmap.astype(np.int64), sheet.astype(np.int64), ff.astype(np.int64), period, int(K)
+    )
 
 
-def covering_distance(m: Any, sources: Any, K: int = 3, covering: Covering | None = None) -> np.ndarray:
+def covering_distance(
+    m: Any, sources: Any, K: int = 3, covering: Covering | None = None
+) -> np.ndarray:
     """Exact intrinsic distance on a mescher from the lifts of ``sources`` in the middle sheet.
 
     ``d(v) = min_j exact_geodesic(covering, lifts of sources on sheet K // 2)(v, j)``: exact as
@@ -203,7 +211,9 @@ def covering_distance(m: Any, sources: Any, K: int = 3, covering: Covering | Non
         raise MescherError(f"sources: vertex {int(src[vs < 0][0])} has no lift on the middle sheet")
     dc = igl.exact_geodesic(cov.V, cov.F, VS=vs, VT=np.arange(cov.V.shape[0], dtype=np.int64))
     dc = np.asarray(dc, dtype=np.float64).reshape(-1)
-    dc[~(dc < 1e300)] = np.inf  # libigl marks unreachable vertices with DBL_MAX
+    # libigl returns 0 (or DBL_MAX) on components without a source: mark them unreachable
+    _, comp = topology.connected_components(cov.F, cov.V.shape[0])
+    dc[~np.isin(comp, comp[vs]) | ~(dc < 1e300)] = np.inf
     d = np.full(n, np.inf)
     np.minimum.at(d, cov.vmap, dc)
     return d

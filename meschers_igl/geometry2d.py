@@ -166,7 +166,7 @@ def candidate_pairs(
     # Split the entries into blocks of about `chunk` pairs each (an entry's pairs stay together).
     cuts = np.searchsorted(cum, np.arange(chunk, cum[-1] + chunk, chunk, dtype=np.int64))
     cuts = np.unique(np.concatenate(([0], np.minimum(cuts + 1, owner.size), [owner.size])))
-    for a, b in zip(cuts[:-1], cuts[1:]):
+    for a, b in zip(cuts[:-1], cuts[1:], strict=True):
         cnt = npair[a:b]
         tot = int(cnt.sum())
         if tot == 0:

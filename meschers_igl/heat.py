@@ -42,6 +42,8 @@ __all__ = [
     "shortest_path",
 ]
 
+#: source sets up to this size are held at one common value in the Poisson step (k solves)
+_MAX_PINNED_SOURCES = 256
 _BOUNDARY = ("neumann", "dirichlet", "average")
 _METHODS = ("standard", "accurate")
 # "accurate" preset: two levels of midpoint refinement, intrinsic Delaunay, t = h^2 on the
@@ -79,7 +81,9 @@ def heat_diffuse(m: Any, u0: Any, t: float, steps: int = 1) -> np.ndarray:
     n = m.n_vertices
     u = np.asarray(u0, dtype=np.float64)
     if u.ndim not in (1, 2) or u.shape[0] != n or not np.all(np.isfinite(u)):
-        raise MescherError(f"u0: expected a finite array of shape ({n},) or ({n}, k), found {u.shape}")
+        raise MescherError(
+            f"u0: expected a finite array of shape ({n},) or ({n}, k), found {u.shape}"
+        )
     t = as_positive(t, "t")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise MescherError(f"steps: expected an integer >= 1, found {steps!r}")
@@ -258,7 +262,11 @@ class HeatGeodesicSolver:
             refine = int(preset.get("refine", 0))
         if t_factor is None:
             t_factor = float(preset.get("t_factor", 1.0))
-        if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or not 0 <= refine <= 4:
+        if (
+            isinstance(refine, bool)
+            or not isinstance(refine, (int, np.integer))
+            or not 0 <= refine <= 4
+        ):
             raise MescherError(f"refine: expected an integer in [0, 4], found {refine!r}")
         t_factor = as_positive(t_factor, "t_factor")
         self.boundary = as_choice(boundary, "boundary", _BOUNDARY)
@@ -271,7 +279,10 @@ class HeatGeodesicSolver:
         # mollified lengths (Sharp & Crane 2020): equal to the plain ones unless some face is
         # nearly degenerate, and they keep every cotangent finite
         lm = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
-        if self.intrinsic_delaunay or self.refine > 0:
+        # m.grad() uses the unmollified corners; on a (nearly) degenerate face it would not
+        # match the mollified areas, so such meshes take the consistent intrinsic path
+        mollified = not np.array_equal(lm, np.asarray(m.face_edge_lengths()))
+        if self.intrinsic_delaunay or self.refine > 0 or mollified:
             nn = n
             for _ in range(self.refine):
                 lm, F, nn = _midpoint_refine(lm, F, nn)
@@ -304,17 +315,11 @@ class HeatGeodesicSolver:
             bnd[F[bface, (bcorner + 1) % 3]] = True
             bnd[F[bface, (bcorner + 2) % 3]] = True
         self._bnd = bnd
+        self._solver = solver
+        self._Ah = _regularize_unused(M - self.t * L, F, nn)
         self._heat_d = None
         if bnd.any() and self.boundary != "neumann":
-            inner = np.flatnonzero(~bnd)
-            self._inner = inner
-            Ah = (M - self.t * L).tocsr()
-            self._A_ib = Ah[inner][:, np.flatnonzero(bnd)]
-            if inner.size:
-                Aii = Ah[inner][:, inner]
-                # unused vertices have empty rows: 1 on their diagonal keeps Aii definite
-                Aii = Aii + sp.diags((abs(Aii).sum(axis=1).A1 == 0).astype(float))
-                self._heat_d = factorize_spd(Aii, backend=solver)
+            self._heat_d = self._dirichlet_factor(bnd)
         # Poisson: -L pinned at one vertex per connected component (makes it definite)
         ncomp, label = topology.connected_components(F, nn) if F.shape[0] else (nn, np.arange(nn))
         pinned = np.zeros(nn, dtype=bool)
@@ -323,33 +328,38 @@ class HeatGeodesicSolver:
         K = (-L).tocsr()[self._free][:, self._free]
         self._poisson = factorize_spd(K, backend=solver) if self._free.size else None
         self._label = label[:n]
+        self._label_inner = label
         self._ncomp = ncomp
 
     # ------------------------------------------------------------------------------------------
+    def _dirichlet_factor(self, fixed: np.ndarray):
+        """Factor of the heat matrix restricted to the vertices not in ``fixed``."""
+        free = np.flatnonzero(~fixed)
+        if free.size == 0:
+            return None
+        return free, factorize_spd(self._Ah[free][:, free], backend=self._solver)
+
     def _heat_solve(self, src: np.ndarray) -> np.ndarray:
+        """Heat step from the sources' indicator with the chosen boundary condition."""
         nn = self._n_inner
         u0 = np.zeros(nn)
         u0[src] = 1.0
         b = self._M @ u0
         b[src] += (b[src] == 0) * 1.0  # an unused (isolated) source vertex
-        u_n = self._heat(b) if self.boundary != "dirichlet" or self._heat_d is None else None
         if self._heat_d is None:
-            return u_n if u_n is not None else self._heat(b)
-        # Dirichlet: u = 0 on the boundary, except at boundary sources, which keep the Neumann
-        # value (a Dirac on a zero-value boundary would otherwise vanish).
-        ub = np.zeros(int(self._bnd.sum()))
-        bsrc = np.zeros(nn, dtype=bool)
-        bsrc[src] = True
-        bsrc = bsrc[self._bnd]
-        if bsrc.any():
-            un = u_n if u_n is not None else self._heat(b)
-            ub[bsrc] = un[self._bnd][bsrc]
+            return self._heat(b)
+        # Dirichlet: u = 0 on the boundary.  A source on the boundary stays free (a Dirac on a
+        # zero-value vertex would vanish); that needs its own factorization, once per query.
+        fixed = self._bnd.copy()
+        fixed[src] = False
+        free, solve = (
+            self._heat_d if fixed.sum() == self._bnd.sum() else self._dirichlet_factor(fixed)
+        )
         u_d = np.zeros(nn)
-        u_d[self._bnd] = ub
-        u_d[self._inner] = self._heat_d(b[self._inner] - self._A_ib @ ub)
+        u_d[free] = solve(b[free])
         if self.boundary == "dirichlet":
             return u_d
-        return 0.5 * (u_n + u_d)
+        return 0.5 * (self._heat(b) + u_d)
 
     def distance(self, sources: Any) -> np.ndarray:
         """Geodesic distance from a vertex or a set of vertices (to the nearest one).
@@ -375,6 +385,9 @@ class HeatGeodesicSolver:
         d = np.zeros(nn)
         if self._poisson is not None:
             d[self._free] = self._poisson(rhs[self._free])
+            S = np.unique(src)
+            if 1 < S.size <= _MAX_PINNED_SOURCES:
+                d = self._pin_sources(d, S)
         d = d[: self.n_vertices]
         # shift per component so that the nearest source is at 0; no source: unreachable
         label = self._label
@@ -385,6 +398,38 @@ class HeatGeodesicSolver:
         return out
 
     __call__ = distance
+
+    def _pin_sources(self, d0: np.ndarray, S: np.ndarray) -> np.ndarray:
+        """Poisson solution with ``d`` equal at all sources of a component (Dirichlet at a set).
+
+        The factor pins one vertex ``p`` per component.  Point loads ``mu_j`` at the sources,
+        ``d = d0 + K_p^-1 E_S mu``, with ``d[s_j]`` equal within each component and
+        ``sum_j mu_j = 0`` there (the dropped equation at ``p``: ``1^T G^T A X = 0``) give the
+        solution of ``-L d = G^T A X`` away from the sources with ``d`` constant on them; ``k``
+        extra solves, one ``k x k`` system.  Without it each source of a set sits at its own
+        offset and the error doubles (9.8% vs 3.7% on the impossible torus, two sources).
+        """
+        nn, k = d0.size, S.size
+        col = np.full(nn, -1, dtype=np.int64)
+        col[self._free] = np.arange(self._free.size)
+        E = np.zeros((self._free.size, k))
+        ok = col[S] >= 0
+        E[col[S[ok]], np.flatnonzero(ok)] = 1.0
+        Gm = np.zeros((nn, k))
+        Gm[self._free] = self._poisson(E)
+        lab = self._label_inner[S]
+        rows, rhs = [], []
+        for c in np.unique(lab):  # one block per component holding sources (few)
+            js = np.flatnonzero(lab == c)
+            for j in js[1:]:
+                rows.append(Gm[S[j]] - Gm[S[js[0]]])
+                rhs.append(d0[S[js[0]]] - d0[S[j]])
+            r = np.zeros(k)
+            r[js] = 1.0
+            rows.append(r)
+            rhs.append(0.0)
+        mu = np.linalg.lstsq(np.array(rows), np.array(rhs), rcond=None)[0]
+        return d0 + Gm @ mu
 
 
 def geodesic_distance(m: Any, sources: Any, **kwargs: Any) -> np.ndarray:
@@ -514,7 +559,9 @@ def _trace(md: _MeshData, d: np.ndarray, target: int, is_src: np.ndarray) -> lis
             while v_end is None:
                 steps += 1
                 if steps > max_steps:
-                    raise MescherError("target: the trace down the distance gradient did not reach the source")
+                    raise MescherError(
+                        "target: the trace down the distance gradient did not reach the source"
+                    )
                 w = -K[f] @ d[F[f]]
                 neg = w < 0
                 s_exit = np.where(neg, -b / np.where(neg, w, -1.0), np.inf)
@@ -605,7 +652,9 @@ def _lower_end(Ff: np.ndarray, b: np.ndarray, d: np.ndarray) -> int:
     return int(cand[np.argmin(d[cand])])
 
 
-def _funnel(md: _MeshData, v0: int, faces: list[int], v1: int) -> list[tuple[int, np.ndarray, np.ndarray]]:
+def _funnel(
+    md: _MeshData, v0: int, faces: list[int], v1: int
+) -> list[tuple[int, np.ndarray, np.ndarray]]:
     """Shortest path from vertex ``v0`` to ``v1`` inside a strip of faces (unfolded).
 
     The strip is laid out in the plane face by face from intrinsic edge lengths; the "simple
@@ -708,7 +757,9 @@ def _funnel(md: _MeshData, v0: int, faces: list[int], v1: int) -> list[tuple[int
     return segs
 
 
-def shortest_path(m: Any, source: Any, target: Any, solver: HeatGeodesicSolver | None = None, **kwargs: Any) -> SurfacePath:
+def shortest_path(
+    m: Any, source: Any, target: Any, solver: HeatGeodesicSolver | None = None, **kwargs: Any
+) -> SurfacePath:
     """Shortest path on a mescher from ``source`` to ``target`` (vertices).
 
     The heat-method distance from ``source`` is traced from ``target`` down its per-face
@@ -748,7 +799,9 @@ def shortest_path(m: Any, source: Any, target: Any, solver: HeatGeodesicSolver |
         kwargs.setdefault("intrinsic_delaunay", True)
         solver = HeatGeodesicSolver(m, **kwargs)
     elif solver.m is not m:
-        raise MescherError("solver: expected a HeatGeodesicSolver built for this mescher, found one for another")
+        raise MescherError(
+            "solver: expected a HeatGeodesicSolver built for this mescher, found one for another"
+        )
     md = _MeshData(m)
     Fm = md.F
     if s == t:
@@ -761,7 +814,9 @@ def shortest_path(m: Any, source: Any, target: Any, solver: HeatGeodesicSolver |
         )
     d = solver.distance(s)
     if not np.isfinite(d[t]):
-        raise MescherError(f"target: vertex {t} is not reachable from source {s} (another connected component)")
+        raise MescherError(
+            f"target: vertex {t} is not reachable from source {s} (another connected component)"
+        )
     is_src = np.zeros(n, dtype=bool)
     is_src[s] = True
     strips = _trace(md, d, t, is_src)

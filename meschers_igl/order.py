@@ -39,6 +39,9 @@ __all__ = ["DepthOrder"]
 
 # Entries of the (seeds x vertices) Dijkstra tables handled at once by from_local_depth.
 _DIJKSTRA_BLOCK = 1 << 24
+# zeta is treated as exact (path-independent) when a spanning forest's potential reproduces it
+# to this relative accuracy (float64 round-off accumulated along long tree paths stays far below).
+_EXACT_RTOL = 1e-9
 # Work bound (removed arcs x arcs in the component) for the minimality pass after Eades-Lin-Smyth.
 _MINIMAL_FAS_WORK = 5_000_000
 
@@ -98,7 +101,7 @@ def _adjacency(n: int, arcs: np.ndarray) -> sp.csr_matrix:
 
 
 def _gather_rows(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """Concatenated column indices of CSR ``rows`` (vectorized ``indices[indptr[r]:indptr[r+1]]``)."""
+    """Concatenated column indices of CSR ``rows`` (``indices[indptr[r]:indptr[r+1]]`` for all)."""
     starts = indptr[rows].astype(np.int64)
     cnt = indptr[rows + 1].astype(np.int64) - starts
     tot = int(cnt.sum())
@@ -307,7 +310,7 @@ def _arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarr
 
 
 def _depth_at(P: np.ndarray, T: np.ndarray, Z: np.ndarray) -> np.ndarray:
-    """Linear interpolation of corner depths ``Z (k,3)`` at points ``P (k,2)`` of triangles ``T``."""
+    """Corner depths ``Z (k, 3)`` interpolated at points ``P (k, 2)`` of triangles ``T``."""
     return np.einsum("kc,kc->k", barycentric(P, T), Z)
 
 
@@ -427,7 +430,7 @@ class DepthOrder:
 
     # ------------------------------------------------------------------ persistence
     def to_arrays(self) -> tuple[int, np.ndarray]:
-        """``(n_faces, arcs)`` for saving; ``DepthOrder.from_arrays(*order.to_arrays()) == order``."""
+        """``(n_faces, arcs)`` for saving: ``from_arrays(*order.to_arrays()) == order``."""
         return self._n, self._arcs.copy()
 
     @classmethod
@@ -478,7 +481,12 @@ class DepthOrder:
 
     @classmethod
     def from_local_depth(
-        cls, m: Any, *, tol: float | None = None, radius: float | None = None
+        cls,
+        m: Any,
+        *,
+        tol: float | None = None,
+        radius: float | None = None,
+        _force_paths: bool = False,
     ) -> DepthOrder:
         """The order from the mescher's own relative depths, for meschers without a cut model.
 
@@ -543,21 +551,21 @@ class DepthOrder:
         i, j = pairs[:, 0], pairs[:, 1]
         local = _depth_at(cen, T[j], Zl[j]) - _depth_at(cen, T[i], Zl[i])
         signed = _SignedEdges(edges, zeta, nv)
-        ztol = max(tol, TOL_FACTOR * float(np.abs(zeta).sum() / max(edges.shape[0], 1)))
 
         # One spanning forest (a shortest-path tree per component): exact when zeta is exact.
         roots = np.unique(comp, return_index=True)[1]
-        _, pred = csgraph.dijkstra(G, indices=roots, min_only=True, return_predecessors=True)
+        _, pred, _ = csgraph.dijkstra(G, indices=roots, min_only=True, return_predecessors=True)
         step = np.zeros(nv)
         has = pred >= 0
         step[has] = signed(pred[has], np.flatnonzero(has))
         phi = _integrate_forest(pred, step)
         resid = zeta - (phi[edges[:, 1]] - phi[edges[:, 0]])
-        if np.abs(resid).max() <= ztol * max(1.0, np.sqrt(edges.shape[0])):
+        scale = max(model_scale(xy), float(np.abs(phi).max()))
+        if np.abs(resid).max() <= _EXACT_RTOL * scale and not _force_paths:
             dz = phi[vj] - phi[vi] + local
-            return cls(n, _arcs_from_depths(pairs, dz, ztol), m=m)
-        dz = local + _path_depths(m, G, signed, F, T, pairs, vi, vj, radius)
-        return cls(n, _arcs_from_depths(pairs, dz, ztol), m=m)
+        else:
+            dz = local + _path_depths(m, G, signed, F, T, pairs, vi, vj, radius)
+        return cls(n, _arcs_from_depths(pairs, dz, tol), m=m)
 
     # ------------------------------------------------------------------ editing
     def put_in_front(
@@ -613,9 +621,7 @@ class DepthOrder:
         is_b = np.zeros(self._n, dtype=bool)
         is_b[back] = True
         i, j = pairs[:, 0], pairs[:, 1]
-        new = np.concatenate(
-            (pairs[is_b[i] & is_f[j]], pairs[is_f[i] & is_b[j]][:, ::-1])
-        )
+        new = np.concatenate((pairs[is_b[i] & is_f[j]], pairs[is_f[i] & is_b[j]][:, ::-1]))
         old = self._arcs[~(is_f[self._arcs[:, 0]] & is_b[self._arcs[:, 1]])]
         self._arcs = _canonical_arcs(np.concatenate((old, new)), self._n)
         self._arcs.flags.writeable = False
@@ -773,8 +779,9 @@ def _path_depths(
     n, nv = F.shape[0], G.shape[0]
     xy = np.asarray(m.xy)
     if radius is None:
-        radius = float(np.linalg.norm(xy.max(axis=0) - xy.min(axis=0))) / 20.0
-    radius = as_positive(radius, "radius") if radius > 0 else 1.0
+        radius = float(np.linalg.norm(xy.max(axis=0) - xy.min(axis=0))) / 20.0 or 1.0
+    else:
+        radius = as_positive(radius, "radius")
     fi = np.unique(pairs[:, 0])
     cell = np.floor((T[fi].mean(axis=1) - xy.min(axis=0)) / radius).astype(np.int64)
     cell_of = np.full((n, 2), -1, dtype=np.int64)

@@ -76,11 +76,15 @@ class SPDFactor:
         if A.ndim != 2 or A.shape[0] != A.shape[1]:
             raise MescherError(f"A: expected a square matrix, found shape {A.shape}")
         if backend not in ("auto", *BACKENDS):
-            raise MescherError(f"backend: expected one of auto, {', '.join(BACKENDS)}; found {backend!r}")
+            raise MescherError(
+                f"backend: expected one of auto, {', '.join(BACKENDS)}; found {backend!r}"
+            )
         if backend == "auto":
             backend = "cholespy" if _cholespy is not None else "splu"
         if backend == "cholespy" and _cholespy is None:
-            raise MescherError("backend: 'cholespy' requested but cholespy is not installed (pip install cholespy)")
+            raise MescherError(
+                "backend: 'cholespy' requested but cholespy is not installed (pip install cholespy)"
+            )
         A = sp.csr_matrix(A, dtype=np.float64)
         if not np.all(np.isfinite(A.data)):
             raise MescherError("A: expected finite entries, found NaN or inf")
@@ -97,13 +101,17 @@ class SPDFactor:
                     _cholespy.MatrixType.CSR,
                 )
             except ValueError as exc:  # CHOLMOD: "Matrix is not positive definite!"
-                raise MescherError(f"A: expected a symmetric positive definite matrix; CHOLMOD says: {exc}") from exc
+                raise MescherError(
+                    f"A: expected a symmetric positive definite matrix; CHOLMOD says: {exc}"
+                ) from exc
         else:
             # MMD on A^T + A: 3x faster than COLAMD on Laplacians (see module docstring).
             try:
                 self._lu = sla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A")
             except RuntimeError as exc:  # "Factor is exactly singular"
-                raise MescherError(f"A: expected a nonsingular matrix; SuperLU says: {exc}") from exc
+                raise MescherError(
+                    f"A: expected a nonsingular matrix; SuperLU says: {exc}"
+                ) from exc
 
     def __call__(self, b: np.ndarray) -> np.ndarray:
         """Solve ``A x = b``.

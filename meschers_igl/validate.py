@@ -37,7 +37,8 @@ def as_float_array(x: Any, name: str, shape: tuple) -> np.ndarray:
     ):
         raise MescherError(f"{name}: expected real numbers, found dtype {a.dtype}")
     if a.ndim != len(shape) or any(s not in (-1, t) for s, t in zip(shape, a.shape)):
-        want = "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ")"
+        dims = ["n" if s == -1 else str(s) for s in shape]
+        want = f"({dims[0]},)" if len(dims) == 1 else "(" + ", ".join(dims) + ")"
         raise MescherError(f"{name}: expected shape {want}, found {a.shape}")
     a = np.ascontiguousarray(a, dtype=np.float64)
     if not np.all(np.isfinite(a)):

@@ -167,5 +167,9 @@ def lambert(normals: np.ndarray, lights: Sequence[DirectionalLight]) -> np.ndarr
 def set_vtk_lights(plotter: pv.Plotter, lights: Sequence[DirectionalLight]) -> None:
     """Replace every light of ``plotter`` (light kit and headlight included) by ``lights``."""
     plotter.remove_all_lights()
-    for light in lights:
+    # Otherwise VTK adds a headlight to a renderer left without lights.
+    plotter.renderer.SetAutomaticLightCreation(False)
+    # With no light at all VTK's shaders skip lighting and draw ambient + diffuse unlit; a black
+    # light keeps the lit path, so "no light" means ambient only.
+    for light in lights or [DirectionalLight(np.array([0.0, 0.0, 1.0]), 0.0)]:
         plotter.add_light(light.to_vtk())

@@ -1,0 +1,121 @@
+"""Frames of square bars: the impossible cube and the "Window".
+
+Both are made impossible-looking by moving parts of a real frame *along the view direction*,
+which changes depths but not the picture.  The impossible cube moves one bar across a cut (so
+the depth jumps there: a period); the Window moves a bar continuously (no period: a real 3D
+object that looks impossible only because of which bar is in front where).
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ..errors import MescherError
+from ..operators import view_frame
+from ..validate import as_positive
+from .penrose import _count
+from .polycube import box_union_surface
+
+CUBE_VIEW = (1.0, 0.8, 0.6)
+CUBE_UP = (0.0, 0.0, 1.0)
+WINDOW_VIEW = (0.25, 0.2, 1.0)
+WINDOW_UP = (0.0, 1.0, 0.0)
+
+
+def cube_frame_boxes(L: float, w: float) -> list:
+    """The 12 bars of the frame of the cube [0, L]^3 (square section ``w``, corners filled)."""
+    boxes = []
+    for axis in range(3):
+        others = [a for a in range(3) if a != axis]
+        for c0, c1 in itertools.product((0.0, L), repeat=2):
+            lo, hi = np.empty(3), np.empty(3)
+            lo[axis], hi[axis] = -w / 2, L + w / 2
+            lo[others], hi[others] = np.array([c0, c1]) - w / 2, np.array([c0, c1]) + w / 2
+            boxes.append((lo, hi))
+    return boxes
+
+
+def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int = 10):
+    """Escher's impossible cube (the one held in *Belvedere*, 1958).
+
+    Seen along ``(1, 0.8, 0.6)``, the back vertical bar at the origin crosses the front top bar
+    ``(L,0,L)-(L,L,L)`` at 40% of its height.  That bar is cut just below the crossing, and the
+    part above the cut is moved toward the viewer by ``a = sqrt(2) L + 2.5 w`` along the view
+    direction (easing back to 0 at the top corner), so at the crossing the back bar passes in
+    front of the front bar.  The depth jumps by ``a`` at the cut: the mescher's period.
+
+    Returns
+    -------
+    V, F, view, up, expected_period (``a``)
+    """
+    L = as_positive(size, "size")
+    w = as_positive(bar_width, "bar_width")
+    n = _count(resolution, "resolution")
+    if not 8 * w <= L:
+        raise MescherError(f"bar_width: expected at most size / 8 = {L / 8}, found {w}")
+    zc = 0.4 * L  # crossing height on the back vertical bar (for this view)
+    P = zc - 2.5 * w  # the cut
+    top = L - w / 2  # junction with the top corner
+    flat_end = zc + 2.0 * w
+    a = float(np.sqrt(2.0) * L + 2.5 * w)
+    r = (-w / 2, -w / 2), (w / 2, w / 2)
+    V, F, side = box_union_surface(cube_frame_boxes(L, w), L / n, splits=[(2, P, *r)])
+    in_bar = (np.abs(V[:, 0]) <= w / 2 + 1e-12) & (np.abs(V[:, 1]) <= w / 2 + 1e-12)
+    z = V[:, 2]
+    upper = in_bar & ((z > P + 1e-12) | (side == 1))  # the moved part, from the cut up
+    phi = np.where(z <= flat_end, a, a * (top - z) / (top - flat_end))
+    phi = np.where(upper, np.clip(phi, 0.0, a), 0.0)
+    v = view_frame(CUBE_VIEW, CUBE_UP)[2]
+    return V + phi[:, None] * v, F, CUBE_VIEW, CUBE_UP, a
+
+
+def window(
+    width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, resolution: int = 12
+):
+    """An impossible window frame that is a real 3D object.
+
+    A rectangular frame with two vertical mullions, and a horizontal transom joined to the side
+    bars by short posts.  The transom passes in front of the left mullion; between the mullions
+    it slides back along the view direction (invisible on screen) and passes behind the right
+    mullion.  No cut, no period (``is_impossible()`` is False): the figure is impossible only
+    through its depth order.
+
+    Returns
+    -------
+    V, F, view, up, expected_period (0)
+    """
+    W = as_positive(width, "width")
+    H = as_positive(height, "height")
+    w = as_positive(bar_width, "bar_width")
+    n = _count(resolution, "resolution")
+    if not (12 * w <= W and 6 * w <= H):
+        raise MescherError(
+            f"bar_width: expected at most width / 12 and height / 6 ({min(W / 12, H / 6)}), "
+            f"found {w}"
+        )
+    m1, m2 = W / 3, 2 * W / 3
+    y0, y1 = H / 2 - w / 2, H / 2 + w / 2
+
+    def box(x0, x1, ya, yb, z0, z1):
+        return np.array([x0, ya, z0]), np.array([x1, yb, z1])
+
+    boxes = [
+        box(0, w, 0, H, 0, w),
+        box(W - w, W, 0, H, 0, w),
+        box(0, W, 0, w, 0, w),
+        box(0, W, H - w, H, 0, w),
+        box(m1 - w / 2, m1 + w / 2, 0, H, 0, w),
+        box(m2 - w / 2, m2 + w / 2, 0, H, 0, w),
+        box(0, W, y0, y1, 2 * w, 3 * w),  # transom, in front of the frame
+        box(0, w, y0, y1, w, 2 * w),  # posts joining it to the side bars
+        box(W - w, W, y0, y1, w, 2 * w),
+    ]
+    V, F, _ = box_union_surface(boxes, W / n, [])
+    D = 5.0 * w  # how far the transom slides back behind the right mullion
+    knots = [m1 + w, m1 + 2.5 * w, m2 + 1.75 * w, W - 1.25 * w]
+    g = np.interp(V[:, 0], knots, [0.0, -D, -D, 0.0], left=0.0, right=0.0)
+    s = np.clip((V[:, 2] - w) / w, 0.0, 1.0)  # 0 on the frame, 1 on the transom
+    v = view_frame(WINDOW_VIEW, WINDOW_UP)[2]
+    return V + (g * s)[:, None] * v, F, WINDOW_VIEW, WINDOW_UP, 0.0

@@ -1,0 +1,112 @@
+"""Ordinary meshes for examples, tests and benchmarks: tori, spheres, grids, annuli.
+
+Each returns ``(V (#V, 3) float64, F (#F, 3) int64)``, outward oriented.
+"""
+
+from __future__ import annotations
+
+import igl
+import numpy as np
+
+from .errors import MescherError
+
+
+def _grid_faces(n_u: int, n_v: int, wrap_u: bool, wrap_v: bool) -> np.ndarray:
+    nu = n_u if wrap_u else n_u - 1
+    nv = n_v if wrap_v else n_v - 1
+    i, j = np.meshgrid(np.arange(nu), np.arange(nv), indexing="ij")
+    a = i * n_v + j
+    b = ((i + 1) % n_u) * n_v + j
+    c = ((i + 1) % n_u) * n_v + (j + 1) % n_v
+    d = i * n_v + (j + 1) % n_v
+    return np.r_[
+        np.c_[a.ravel(), b.ravel(), c.ravel()], np.c_[a.ravel(), c.ravel(), d.ravel()]
+    ].astype(np.int64)
+
+
+def torus(n_u: int = 48, n_v: int = 16, R: float = 2.0, r: float = 1.0):
+    """Torus around the z axis: ``n_u`` segments around the hole, ``n_v`` around the tube."""
+    if n_u < 3 or n_v < 3:
+        raise MescherError(f"n_u, n_v: expected at least 3 each, found {n_u}, {n_v}")
+    u, v = np.meshgrid(
+        np.linspace(0, 2 * np.pi, n_u, endpoint=False),
+        np.linspace(0, 2 * np.pi, n_v, endpoint=False),
+        indexing="ij",
+    )
+    V = np.c_[
+        ((R + r * np.cos(v)) * np.cos(u)).ravel(),
+        ((R + r * np.cos(v)) * np.sin(u)).ravel(),
+        (r * np.sin(v)).ravel(),
+    ]
+    return V, _grid_faces(n_u, n_v, True, True)
+
+
+def grid(n_x: int = 10, n_y: int = 10, size: float = 1.0):
+    """A flat square ``[0, size]^2`` in the z = 0 plane, triangulated (a disc: one boundary)."""
+    x, y = np.meshgrid(np.linspace(0, size, n_x), np.linspace(0, size, n_y), indexing="ij")
+    V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
+    return V, _grid_faces(n_x, n_y, False, False)
+
+
+def annulus(n_u: int = 32, n_r: int = 4, r0: float = 1.0, r1: float = 2.0):
+    """A flat ring in the z = 0 plane (two boundary loops)."""
+    u, s = np.meshgrid(
+        np.linspace(0, 2 * np.pi, n_u, endpoint=False), np.linspace(r0, r1, n_r), indexing="ij"
+    )
+    V = np.c_[(s * np.cos(u)).ravel(), (s * np.sin(u)).ravel(), np.zeros(u.size)]
+    F = _grid_faces(n_u, n_r, True, False)
+    return V, F[:, [0, 2, 1]]  # counter-clockwise seen from +z
+
+
+def icosphere(level: int = 2, radius: float = 1.0):
+    """Sphere by ``level`` midpoint subdivisions (``igl.upsample``) of an icosahedron."""
+    t = (1 + 5**0.5) / 2
+    V = np.array(
+        [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+         [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]],
+        dtype=float,
+    )  # fmt: skip
+    F = np.array(
+        [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
+         [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
+         [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]],
+        dtype=np.int64,
+    )  # fmt: skip
+    if level > 0:
+        V, F = igl.upsample(V, F, level)
+    V = radius * V / np.linalg.norm(V, axis=1, keepdims=True)
+    return V, F
+
+
+def random_rotation(seed: int = 0) -> np.ndarray:
+    """A seeded random rotation matrix (3, 3), determinant +1."""
+    q, r = np.linalg.qr(np.random.default_rng(seed).standard_normal((3, 3)))
+    q = q * np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] = -q[:, 0]
+    return q
+
+
+def impossible_torus(
+    n_u: int = 48, n_v: int = 16, climb: float = 1.0, R: float = 2.0, r: float = 1.0
+):
+    """A torus seen from above whose depth climbs by ``climb`` per turn around the hole.
+
+    Built from an ordinary torus with ``with_periods``; returns the Mescher.
+    """
+    from .mescher import Mescher
+
+    V, F = torus(n_u, n_v, R, r)
+    m = Mescher.from_mesh(V, F)
+    # the generator loop whose screen path winds around the hole gets the climb
+    gens = m.homology_generators()
+    winding = []
+    for e, s in gens:
+        E = m.edges[e]
+        a = np.where(s > 0, E[:, 0], E[:, 1])
+        b = np.where(s > 0, E[:, 1], E[:, 0])
+        ang = np.arctan2(m.xy[:, 1], m.xy[:, 0])
+        d = np.angle(np.exp(1j * (ang[b] - ang[a])))
+        winding.append(round(float(d.sum()) / (2 * np.pi)))
+    values = np.array([climb * w for w in winding], dtype=float)
+    return m.with_periods(values)

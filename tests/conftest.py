@@ -1,0 +1,46 @@
+"""Shared fixtures: named suites of awkward meshes (geometry-central's closed/boundary meshes)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from meschers_igl import shapes
+
+
+def _rotated(V, F, seed):
+    return V @ shapes.random_rotation(seed).T, F
+
+
+CLOSED = {
+    "torus": lambda: _rotated(*shapes.torus(18, 9), 1),
+    "sphere": lambda: _rotated(*shapes.icosphere(2), 2),
+    "thin_torus": lambda: _rotated(*shapes.torus(30, 5, R=3.0, r=0.3), 3),
+}
+BOUNDARY = {
+    "grid": lambda: _rotated(*shapes.grid(7, 9), 4),
+    "annulus": lambda: _rotated(*shapes.annulus(20, 4), 5),
+    "bumpy_grid": lambda: _bumpy_grid(6),
+}
+
+
+def _bumpy_grid(seed):
+    V, F = shapes.grid(9, 8)
+    rng = np.random.default_rng(seed)
+    V = V + np.c_[0.02 * rng.standard_normal((len(V), 2)), 0.3 * rng.standard_normal(len(V))]
+    return _rotated(V, F, seed)
+
+
+ALL = {**CLOSED, **BOUNDARY}
+
+
+@pytest.fixture(params=sorted(ALL))
+def embedded_mesh(request):
+    """(name, V, F) of an ordinary mesh in a random rotation."""
+    V, F = ALL[request.param]()
+    return request.param, V, F
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(1234)

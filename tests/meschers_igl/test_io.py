@@ -1,0 +1,73 @@
+"""save/load round trips bit-exactly; corrupt and truncated files raise MescherError."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from meschers_igl import Mescher, MescherError, load, save, shapes
+
+
+@pytest.fixture
+def mescher():
+    m = shapes.impossible_torus(12, 6, climb=0.7)
+    # user edge order/orientation that is not canonical must survive too
+    perm = np.random.default_rng(0).permutation(m.n_edges)
+    E = m.edges[perm].copy()
+    E[::3] = E[::3, ::-1]
+    z = m.zeta[perm].copy()
+    z[::3] *= -1
+    return Mescher(m.F, m.xy, E, z)
+
+
+@pytest.mark.parametrize("ext", [".ply", ".npz"])
+def test_round_trip_is_bit_exact(tmp_path, mescher, ext):
+    p = save(mescher, tmp_path / f"m{ext}")
+    m2 = load(p)
+    for a, b in [
+        (mescher.F, m2.F),
+        (mescher.xy, m2.xy),
+        (mescher.edges, m2.edges),
+        (mescher.zeta, m2.zeta),
+    ]:
+        assert np.array_equal(a, b) and a.dtype == b.dtype
+
+
+@pytest.mark.parametrize("ext", [".ply", ".npz"])
+def test_corrupt_and_truncated_files(tmp_path, mescher, ext):
+    p = save(mescher, tmp_path / f"m{ext}")
+    data = p.read_bytes()
+    (tmp_path / f"t{ext}").write_bytes(data[: len(data) * 2 // 3])
+    with pytest.raises(MescherError):
+        load(tmp_path / f"t{ext}")
+    (tmp_path / f"g{ext}").write_bytes(b"\x00garbage" * 50)
+    with pytest.raises(MescherError):
+        load(tmp_path / f"g{ext}")
+    with pytest.raises(MescherError, match="expected an existing file"):
+        load(tmp_path / f"missing{ext}")
+
+
+def test_ply_with_broken_zeta_is_refused(tmp_path, mescher):
+    p = save(mescher, tmp_path / "m.ply")
+    data = bytearray(p.read_bytes())
+    # overwrite the last edge's zeta (the final 8 bytes) with a large value
+    data[-8:] = np.float64(123.0).tobytes()
+    p.write_bytes(bytes(data))
+    with pytest.raises(MescherError, match="locally integrable"):
+        load(p)
+
+
+def test_unknown_extension(tmp_path, mescher):
+    with pytest.raises(MescherError, match=r"\.ply or \.npz"):
+        save(mescher, tmp_path / "m.obj")
+
+
+def test_ply_opens_as_flat_mesh_in_pymeshlab(tmp_path, mescher):
+    pymeshlab = pytest.importorskip("pymeshlab")
+    p = save(mescher, tmp_path / "m.ply")
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(str(p))
+    cm = ms.current_mesh()
+    assert cm.vertex_number() == mescher.n_vertices and cm.face_number() == mescher.n_faces
+    assert np.allclose(cm.vertex_matrix()[:, :2], mescher.xy)
+    assert np.array_equal(cm.face_matrix(), mescher.F)
