@@ -21,7 +21,7 @@ positive ``merge_tol`` only for float noise far below every depth gap of the mod
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 import pymeshlab
@@ -143,10 +143,6 @@ class CleanupReport:
         return "\n".join(lines)
 
 
-# Keep the report's field list and the changes list in step (a typo would silently drop a count).
-assert set(CleanupReport._CHANGES) <= {f.name for f in fields(CleanupReport)}
-
-
 def _counts(ms: pymeshlab.MeshSet) -> tuple[int, int]:
     m = ms.current_mesh()
     return m.vertex_number(), m.face_number()
@@ -196,6 +192,7 @@ def check_current_mesh(ms: pymeshlab.MeshSet, source: str) -> tuple[np.ndarray, 
     m = ms.current_mesh()
     V = m.vertex_matrix()
     F = m.face_matrix().astype(np.int64)
+    source = _label(source)
     if F.shape[0] == 0:
         raise MescherError(
             f"{source}: expected a surface mesh with faces, found {V.shape[0]} vertices and no "
@@ -214,13 +211,18 @@ def check_current_mesh(ms: pymeshlab.MeshSet, source: str) -> tuple[np.ndarray, 
     return V, F
 
 
+def _label(source: str) -> str:
+    """How messages name the input: a file as ``path '...'``, arrays or MeshSets as they are."""
+    return source if source.startswith("<") else f"path '{source}'"
+
+
 def _face_components(F: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
     """Edge-connected components of faces (faces sharing an edge), via the face-edge incidence."""
-    _, fe, _ = edge_topology(F, n_vertices)
+    edges, fe, _ = edge_topology(F, n_vertices, check=False)
     nf = F.shape[0]
     inc = sp.csr_matrix(
         (np.ones(fe.size), (np.repeat(np.arange(nf), 3), fe.reshape(-1))),
-        shape=(nf, int(fe.max()) + 1),
+        shape=(nf, edges.shape[0]),
     )
     return connected_components(inc @ inc.T, directed=False)
 
@@ -320,7 +322,7 @@ def clean_meshset(
     dv, _ = _step(ms, "meshing_remove_unreferenced_vertices")
     rep.unreferenced_vertices_removed += dv
     if ms.current_mesh().face_number() == 0:
-        raise MescherError(f"{source}: expected faces after clean-up, found none left")
+        raise MescherError(f"{_label(source)}: expected faces after clean-up, found none left")
 
     mesh = ms.current_mesh()
     F_before = mesh.face_matrix().astype(np.int64)
@@ -334,25 +336,40 @@ def clean_meshset(
     rep.faces_flipped = int(np.count_nonzero(np.any(F != F_before, axis=1)))
     if not np.array_equal(F, F_after):
         _replace_current_mesh(ms, V, F)
-    else:
-        ms.current_mesh()  # keep MeshLab's mesh (and its attributes)
     rep.components = int(n_comp)
     rep.orientable = _is_coherent(F)
     rep.vertices_out, rep.faces_out = V.shape[0], F.shape[0]
-    rep.vertex_map = _vertex_map(V0, orig, V.shape[0])
+    rep.vertex_map = _vertex_map(V0, F0, orig, V, merge_tol)
     return V, np.ascontiguousarray(F), rep
 
 
-def _vertex_map(V0: np.ndarray, orig: np.ndarray, n_out: int) -> np.ndarray:
-    """Cleaned vertex of each input vertex (-1: removed), given each survivor's input index."""
+def _vertex_map(
+    V0: np.ndarray, F0: np.ndarray, orig: np.ndarray, V: np.ndarray, merge_tol: float
+) -> np.ndarray:
+    """Cleaned vertex of each input vertex (-1: removed), given each survivor's input index.
+
+    A vertex merged into another is found by position: bit-equal (``merge_tol == 0``) or the
+    nearest cleaned vertex within ``merge_tol``.
+    """
     vmap = np.full(V0.shape[0], -1, dtype=np.int64)
-    vmap[orig[::-1]] = np.arange(n_out)[::-1]  # a split vertex maps to its first copy
-    # Vertices merged into a survivor share its exact position: give them the survivor's index.
-    _, group = np.unique(V0, axis=0, return_inverse=True)
-    group = group.reshape(-1)
-    best = np.full(group.max() + 1, -1, dtype=np.int64)
-    np.maximum.at(best, group, vmap)
-    return np.where(vmap >= 0, vmap, best[group])
+    vmap[orig[::-1]] = np.arange(V.shape[0])[::-1]  # a split vertex maps to its first copy
+    used = np.zeros(V0.shape[0], dtype=bool)
+    used[F0.reshape(-1)] = True
+    todo = np.flatnonzero(used & (vmap < 0))
+    if todo.size == 0:
+        return vmap
+    if merge_tol == 0:
+        _, group = np.unique(V0, axis=0, return_inverse=True)
+        group = group.reshape(-1)
+        best = np.full(int(group.max()) + 1, -1, dtype=np.int64)
+        np.maximum.at(best, group, vmap)
+        vmap[todo] = best[group[todo]]
+    else:
+        from scipy.spatial import cKDTree
+
+        dist, idx = cKDTree(V).query(V0[todo], distance_upper_bound=merge_tol * (1 + 1e-9))
+        vmap[todo] = np.where(np.isfinite(dist), idx, -1)
+    return vmap
 
 
 def clean_mesh(

@@ -35,7 +35,9 @@ def torus_grid(R: float, r: float, n_u: int, n_v: int, seam: bool):
     a, b = i * n_v + j, i1 * n_v + j
     c, d = i1 * n_v + j1, i * n_v + j1
     # (u, v) is counter-clockwise seen from outside: d/du x d/dv points outward
-    F = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    F = np.concatenate(
+        [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
+    )
     return X, F.astype(np.int64), U.reshape(-1)
 
 

@@ -71,9 +71,7 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     return V + phi[:, None] * v, F, CUBE_VIEW, CUBE_UP, a
 
 
-def window(
-    width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, resolution: int = 12
-):
+def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, resolution: int = 12):
     """An impossible window frame that is a real 3D object.
 
     A rectangular frame with two vertical mullions, and a horizontal transom joined to the side
