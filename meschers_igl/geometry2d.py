@@ -13,9 +13,10 @@ This module finds those pairs for a whole triangle soup at once:
    normals of the two triangles, with a tolerance ``tol`` in screen units: two triangles overlap
    when their projections overlap by more than ``tol`` on *every* axis (for convex polygons the
    smallest such overlap is the penetration depth, so touching pairs are rejected);
-3. **a point of the overlap** (:func:`intersection_centroids`): the centroid of the clipped
-   intersection polygon (Sutherland--Hodgman, vectorized over pairs).  Any linear function
-   (e.g. a depth interpolated over a face) has its mean over the overlap at that point.
+3. **a point of the overlap** (:func:`intersection_centroids`): the centroid of the
+   intersection polygon, from its boundary pieces (each edge clipped to the other triangle,
+   Cyrus--Beck) and Green's theorem, vectorized over pairs.  Any linear function (e.g. a depth
+   interpolated over a face) has its mean over the overlap at that point.
 
 No library we depend on offers a batched 2D triangle-triangle overlap (libigl's
 ``tri_tri_intersect`` is 3D and per pair; networkx/scipy have none), hence the hand-written,
@@ -191,6 +192,8 @@ def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndar
     for every axis, ``min(max_A, max_B) - max(min_A, min_B) > tol`` where ``max_A`` is the largest
     projection ``n . a / |n|`` of a corner of ``A`` (a distance in screen units).  Triangles
     that only touch (overlap ``<= tol`` along some axis) are reported as not overlapping.
+    Axes are tried one at a time on the pairs still in doubt (most candidates from the broad
+    phase are separated by the first axes).
 
     Parameters
     ----------
@@ -204,94 +207,106 @@ def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndar
     -------
     (k,) bool
     """
-    o = A[:, :1, :]
-    A = A - o  # shift to A's first corner: fewer cancellation errors far from the origin
-    B = B - o
-    edges = np.concatenate((np.roll(A, -1, axis=1) - A, np.roll(B, -1, axis=1) - B), axis=1)
-    axes = np.stack((edges[..., 1], -edges[..., 0]), axis=-1)  # (k, 6, 2)
-    length = np.linalg.norm(axes, axis=2)
-    pa = np.einsum("kad,kpd->kap", axes, A)  # (k, 6, 3)
-    pb = np.einsum("kad,kpd->kap", axes, B)
-    # Explicit three-way max/min: numpy's reductions over a length-3 axis are slow.
-    amax = np.maximum(np.maximum(pa[..., 0], pa[..., 1]), pa[..., 2])
-    amin = np.minimum(np.minimum(pa[..., 0], pa[..., 1]), pa[..., 2])
-    bmax = np.maximum(np.maximum(pb[..., 0], pb[..., 1]), pb[..., 2])
-    bmin = np.minimum(np.minimum(pb[..., 0], pb[..., 1]), pb[..., 2])
-    sep = np.minimum(amax, bmax) - np.maximum(amin, bmin) <= tol * length
-    return ~sep.any(axis=1)
+    o = A[:, 0, :]
+    # shift to A's first corner: fewer cancellation errors far from the origin
+    ax, ay = A[..., 0] - o[:, None, 0], A[..., 1] - o[:, None, 1]
+    bx, by = B[..., 0] - o[:, None, 0], B[..., 1] - o[:, None, 1]
+    alive = np.arange(A.shape[0])
+    for side in range(2):
+        for e in range(3):
+            px, py = (ax, ay) if side == 0 else (bx, by)
+            nx = py[:, (e + 1) % 3] - py[:, e]  # edge normal (ey, -ex)
+            ny = px[:, e] - px[:, (e + 1) % 3]
+            pa = ax * nx[:, None] + ay * ny[:, None]
+            pb = bx * nx[:, None] + by * ny[:, None]
+            lap = np.minimum(_max3(pa), _max3(pb)) - np.maximum(_min3(pa), _min3(pb))
+            keep = lap > tol * np.sqrt(nx * nx + ny * ny)
+            alive = alive[keep]
+            ax, ay, bx, by = ax[keep], ay[keep], bx[keep], by[keep]
+    out = np.zeros(A.shape[0], dtype=bool)
+    out[alive] = True
+    return out
 
 
-def _clip(P: np.ndarray, count: np.ndarray, a: np.ndarray, nrm: np.ndarray):
-    """Clip convex polygons ``P[k, :count[k]]`` to the half-planes ``nrm[k] . (x - a[k]) >= 0``."""
-    k, w, _ = P.shape
-    idx = np.arange(w)
-    nxt = (idx[None, :] + 1) % np.maximum(count, 1)[:, None]
-    valid = idx[None, :] < count[:, None]
-    d = np.einsum("kwd,kd->kw", P - a[:, None, :], nrm)
-    d = np.where(valid, d, 0.0)
-    Q = np.take_along_axis(P, nxt[..., None], axis=1)
-    dq = np.take_along_axis(d, nxt, axis=1)
-    keep_v = valid & (d >= 0.0)
-    cross = valid & (((d > 0.0) & (dq < 0.0)) | ((d < 0.0) & (dq > 0.0)))
-    t = np.where(cross, d / np.where(cross, d - dq, 1.0), 0.0)
-    X = P + t[..., None] * (Q - P)
-    # Interleave (vertex, crossing) per input edge, then compact the kept entries to the front.
-    cand = np.stack((P, X), axis=2).reshape(k, 2 * w, 2)
-    mask = np.stack((keep_v, cross), axis=2).reshape(k, 2 * w)
-    order = np.argsort(~mask, axis=1, kind="stable")
-    new_count = mask.sum(axis=1)
-    width = max(int(new_count.max()) if k else 0, 1)
-    out = np.take_along_axis(cand, order[:, :width, None], axis=1)
-    return out, new_count
+def _ccw(T: np.ndarray) -> np.ndarray:
+    """Triangles with corners 1 and 2 swapped where needed to make them counter-clockwise."""
+    e1, e2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
+    cw = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] < 0
+    T = T.copy()
+    T[cw] = T[cw][:, [0, 2, 1]]
+    return T
 
 
 def intersection_centroids(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centroid and area of the intersection polygon of each pair of triangles.
 
-    ``A[k]`` is clipped by the three half-planes of ``B[k]`` (Sutherland--Hodgman); the centroid
-    of the resulting convex polygon with vertices ``p_m`` is
-    ``c = sum_m (p_m + p_{m+1}) (p_m x p_{m+1}) / (3 sum_m p_m x p_{m+1})``.  Being an average over
-    a convex region inside both triangles, ``c`` lies in both, and any function linear on each
-    triangle takes at ``c`` its mean over the overlap.
+    The boundary of the convex polygon ``A & B`` is made of the pieces of ``A``'s edges inside
+    ``B`` and of ``B``'s edges inside ``A``; each piece is found by clipping the edge's parameter
+    interval to the other triangle's three half-planes (Cyrus-Beck), a fixed amount of work
+    per pair with no polygon bookkeeping.  With both triangles counter-clockwise the pieces are
+    directed segments ``p -> q`` of the polygon's boundary, and Green's theorem gives
+
+    ``area = 1/2 sum p x q``,  ``centroid = sum (p + q) (p x q) / (6 area)``
+
+    without ordering the pieces.  An edge lying on the other triangle's edge line counts for
+    ``A`` only (inclusive for ``A``'s edges, strict for ``B``'s), so a boundary shared by a
+    folded pair is not counted twice.  Being the mean over a convex region inside both
+    triangles, the centroid lies in both, and any function linear on each triangle takes at it
+    its mean over the overlap.
 
     Parameters
     ----------
     A, B : (k, 3, 2) float64
-        Pairs of non-degenerate screen triangles known to overlap.
+        Pairs of non-degenerate screen triangles, any orientation.
 
     Returns
     -------
     centroid : (k, 2) float64
     area : (k,) float64
-        Area of the intersection (0 where it is empty; the centroid is then the mean of the
-        clipped vertices, or ``A``'s first corner when nothing is left).
+        Area of the intersection (0 where it is empty or degenerate; the centroid is then the
+        mean of the clipped pieces' midpoints, or ``A``'s centroid when there are none).
     """
-    k = A.shape[0]
     o = A[:, 0, :].copy()
-    A = A - o[:, None, :]
-    B = B - o[:, None, :]
-    e1 = B[:, 1] - B[:, 0]
-    e2 = B[:, 2] - B[:, 0]
-    orient = np.sign(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    P, count = A, np.full(k, 3, dtype=np.int64)
-    for c in range(3):
-        a = B[:, c]
-        e = B[:, (c + 1) % 3] - a
-        inward = orient[:, None] * np.stack((-e[:, 1], e[:, 0]), axis=1)
-        P, count = _clip(P, count, a, inward)
-    w = P.shape[1]
-    idx = np.arange(w)
-    valid = idx[None, :] < count[:, None]
-    nxt = (idx[None, :] + 1) % np.maximum(count, 1)[:, None]
-    Q = np.take_along_axis(P, nxt[..., None], axis=1)
-    cr = np.where(valid, P[..., 0] * Q[..., 1] - P[..., 1] * Q[..., 0], 0.0)
-    area2 = cr.sum(axis=1)
-    num = ((P + Q) * cr[..., None]).sum(axis=1)
-    mean = np.where(valid[..., None], P, 0.0).sum(axis=1) / np.maximum(count, 1)[:, None]
-    good = np.abs(area2) > 0.0
-    cen = mean
+    A = _ccw(A - o[:, None, :])
+    B = _ccw(B - o[:, None, :])
+    k = A.shape[0]
+    area2 = np.zeros(k)
+    num = np.zeros((k, 2))
+    mid = np.zeros((k, 2))
+    cnt = np.zeros(k)
+    for S, C, strict in ((A, B, False), (B, A, True)):
+        # inward normals of C's edges: left of each counter-clockwise edge
+        cn = np.stack([C[:, (c + 1) % 3] - C[:, c] for c in range(3)], axis=1)
+        cn = np.stack((-cn[..., 1], cn[..., 0]), axis=-1)  # (k, 3, 2)
+        for e in range(3):
+            p, q = S[:, e], S[:, (e + 1) % 3]
+            d = q - p
+            t0, t1 = np.zeros(k), np.ones(k)
+            ok = np.ones(k, dtype=bool)
+            for c in range(3):
+                n = cn[:, c]
+                f = np.einsum("kd,kd->k", n, p - C[:, c])  # signed distance of p (times |n|)
+                g = np.einsum("kd,kd->k", n, d)  # its change along the edge
+                par = g == 0.0
+                ok &= ~par | ((f > 0.0) if strict else (f >= 0.0))
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    t = -f / g
+                t0 = np.where(~par & (g > 0.0), np.maximum(t0, t), t0)
+                t1 = np.where(~par & (g < 0.0), np.minimum(t1, t), t1)
+            ok &= t1 > t0
+            a = p + t0[:, None] * d
+            b = p + t1[:, None] * d
+            cr = np.where(ok, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], 0.0)
+            area2 += cr
+            num += (a + b) * cr[:, None]
+            mid += np.where(ok[:, None], 0.5 * (a + b), 0.0)
+            cnt += ok
+    good = area2 > 0.0
+    cen = np.where(
+        (cnt > 0)[:, None], mid / np.maximum(cnt, 1.0)[:, None], A.mean(axis=1)
+    )  # fallbacks for empty or degenerate intersections
     cen[good] = num[good] / (3.0 * area2[good, None])
-    return cen + o, 0.5 * np.abs(area2)
+    return cen + o, 0.5 * np.maximum(area2, 0.0)
 
 
 def barycentric(P: np.ndarray, T: np.ndarray) -> np.ndarray:

@@ -42,6 +42,9 @@ _DIJKSTRA_BLOCK = 1 << 24
 # zeta is treated as exact (path-independent) when a spanning forest's potential reproduces it
 # to this relative accuracy (float64 round-off accumulated along long tree paths stays far below).
 _EXACT_RTOL = 1e-9
+# from_local_depth on impossible meschers: exact shortest paths (one Dijkstra per source vertex)
+# while #sources * #V stays below this; shared patch seeds beyond.
+_EXACT_PATH_WORK = 30_000_000
 # Work bound (removed arcs x arcs in the component) for the minimality pass after Eades-Lin-Smyth.
 _MINIMAL_FAS_WORK = 5_000_000
 
@@ -541,7 +544,13 @@ class DepthOrder:
         w = np.sqrt(((xy[edges[:, 1]] - xy[edges[:, 0]]) ** 2).sum(axis=1) + zeta**2)
         w = np.maximum(w, 1e-12 * model_scale(xy))  # csgraph would drop zero-length edges
         G = sp.csr_matrix(
-            (np.concatenate((w, w)), (edges.reshape(-1), edges[:, ::-1].reshape(-1))),
+            (
+                np.concatenate((w, w)),
+                (
+                    np.concatenate((edges[:, 0], edges[:, 1])),
+                    np.concatenate((edges[:, 1], edges[:, 0])),
+                ),
+            ),
             shape=(nv, nv),
         )
         _, comp = csgraph.connected_components(G, directed=False)
@@ -771,33 +780,19 @@ def _path_depths(
 ) -> np.ndarray:
     """zeta integrated from ``vi`` to ``vj`` along short paths (impossible meschers).
 
-    The ``i``-side faces are grouped into patches: faces sharing a mesh edge and lying in the
-    same screen cell of size ``radius``.  A shortest-path tree grown from one seed vertex per
-    patch gives ``phi_s(v)``, zeta integrated from the seed ``s`` to ``v`` along the tree, and
-    the pair's depth change is ``phi_s(v_j) - phi_s(v_i)``.
+    A shortest-path tree grown from a seed vertex ``s`` gives ``phi_s(v)``, zeta integrated from
+    ``s`` to ``v`` along the tree, and the pair's depth change is ``phi_s(v_j) - phi_s(v_i)``.
+    When the work allows (``#sources * #V <= _EXACT_PATH_WORK`` and no ``radius``), every
+    source ``v_i`` is its own seed: exact shortest paths.  Otherwise seeds are shared by patches
+    (:func:`_patch_seeds`).
     """
-    n, nv = F.shape[0], G.shape[0]
-    xy = np.asarray(m.xy)
-    if radius is None:
-        radius = float(np.linalg.norm(xy.max(axis=0) - xy.min(axis=0))) / 20.0 or 1.0
+    nv = G.shape[0]
+    sources = np.unique(vi)
+    if radius is None and sources.size * nv <= _EXACT_PATH_WORK:
+        # few enough sources: one Dijkstra tree per source vertex, i.e. exact shortest paths
+        seeds, seed_of_pair = sources, np.searchsorted(sources, vi)
     else:
-        radius = as_positive(radius, "radius")
-    fi = np.unique(pairs[:, 0])
-    cell = np.floor((T[fi].mean(axis=1) - xy.min(axis=0)) / radius).astype(np.int64)
-    cell_of = np.full((n, 2), -1, dtype=np.int64)
-    cell_of[fi] = cell
-    member = np.zeros(n, dtype=bool)
-    member[fi] = True
-    ef = edge_faces(np.asarray(m.face_edges), int(np.asarray(m.edges).shape[0]))
-    ef = ef[(ef >= 0).all(axis=1)]
-    link = ef[
-        member[ef[:, 0]] & member[ef[:, 1]] & (cell_of[ef[:, 0]] == cell_of[ef[:, 1]]).all(axis=1)
-    ]
-    A = sp.csr_matrix((np.ones(link.shape[0]), (link[:, 0], link[:, 1])), shape=(n, n))
-    _, lab = csgraph.connected_components(A, directed=False)
-    patches, first = np.unique(lab[fi], return_index=True)
-    seeds = F[fi[first], 0]
-    patch_of_pair = np.searchsorted(patches, lab[pairs[:, 0]])
+        seeds, seed_of_pair = _patch_seeds(m, F, T, pairs, radius)
     out = np.empty(pairs.shape[0])
     block = max(1, _DIJKSTRA_BLOCK // max(nv, 1))
     for s0 in range(0, seeds.size, block):  # loop over blocks of seeds, not faces or edges
@@ -809,7 +804,36 @@ def _path_depths(
         cols = np.broadcast_to(np.arange(nv), pred.shape)
         step[has] = signed(pred[has], cols[has])
         phi = _integrate_forest(pred, step)
-        sel = np.flatnonzero((patch_of_pair >= s0) & (patch_of_pair < s0 + sl.size))
-        row = patch_of_pair[sel] - s0
+        sel = np.flatnonzero((seed_of_pair >= s0) & (seed_of_pair < s0 + sl.size))
+        row = seed_of_pair[sel] - s0
         out[sel] = phi[row, vj[sel]] - phi[row, vi[sel]]
     return out
+
+
+def _patch_seeds(
+    m: Any, F: np.ndarray, T: np.ndarray, pairs: np.ndarray, radius: float | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """One seed vertex per patch of ``i``-side faces, and the seed index of each pair.
+
+    A patch is a set of faces connected through shared mesh edges within one screen cell of
+    size ``radius``, so that the path ``v_i -> seed -> v_j`` stays close to the shortest one.
+    """
+    n = F.shape[0]
+    xy = np.asarray(m.xy)
+    if radius is None:
+        radius = float(np.linalg.norm(xy.max(axis=0) - xy.min(axis=0))) / 20.0 or 1.0
+    else:
+        radius = as_positive(radius, "radius")
+    fi = np.unique(pairs[:, 0])
+    cell_of = np.full((n, 2), -1, dtype=np.int64)
+    cell_of[fi] = np.floor((T[fi].mean(axis=1) - xy.min(axis=0)) / radius).astype(np.int64)
+    member = np.zeros(n, dtype=bool)
+    member[fi] = True
+    ef = edge_faces(np.asarray(m.face_edges), int(np.asarray(m.edges).shape[0]))
+    ef = ef[(ef >= 0).all(axis=1)]
+    same = (cell_of[ef[:, 0]] == cell_of[ef[:, 1]]).all(axis=1)
+    link = ef[member[ef[:, 0]] & member[ef[:, 1]] & same]
+    A = sp.csr_matrix((np.ones(link.shape[0]), (link[:, 0], link[:, 1])), shape=(n, n))
+    _, lab = csgraph.connected_components(A, directed=False)
+    patches, first = np.unique(lab[fi], return_index=True)
+    return F[fi[first], 0], np.searchsorted(patches, lab[pairs[:, 0]])

@@ -227,22 +227,32 @@ def _face_components(F: np.ndarray, n_vertices: int) -> tuple[int, np.ndarray]:
     return connected_components(inc @ inc.T, directed=False)
 
 
+def _same_orientation(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """(m,) bool: row ``B[f]`` is a cyclic rotation of row ``A[f]`` (same oriented triangle)."""
+    return np.any([np.all(np.roll(A, k, axis=1) == B, axis=1) for k in range(3)], axis=0)
+
+
 def _orient_like_majority(F_before: np.ndarray, F_after: np.ndarray, labels: np.ndarray):
-    """Undo MeshLab's choice of seed orientation where it flipped most faces of a component.
+    """Coherent orientation that keeps, per component, the orientation most faces had.
 
     MeshLab's coherent orientation keeps the seed face of each component, so one flipped input
     face chosen as the seed flips all the others; no PyMeshLab filter chooses by majority, so
-    this is done here on arrays.  MeshLab flips a face by swapping corners 0 and 1, so swapping
-    them again restores a face it flipped exactly.
+    this is done here on arrays.  Faces keep their input corner order when their orientation is
+    kept, and get corners 1 and 2 swapped when flipped.
+
+    Returns
+    -------
+    F : (m, 3) int64
+    flipped : (m,) bool
+        Faces whose orientation differs from the input.
     """
-    flipped = np.any(F_after != F_before, axis=1)
+    flipped = ~_same_orientation(F_before, F_after)
     n = int(labels.max()) + 1 if labels.size else 0
     n_flipped = np.bincount(labels, weights=flipped, minlength=n)
     n_total = np.bincount(labels, minlength=n)
-    undo = (2 * n_flipped > n_total)[labels]
-    F = F_after.copy()
-    F[undo] = F_after[undo][:, [1, 0, 2]]
-    return F
+    flipped ^= (2 * n_flipped > n_total)[labels]
+    F = np.where(flipped[:, None], F_before[:, [0, 2, 1]], F_before)
+    return F, flipped
 
 
 def _is_coherent(F: np.ndarray) -> bool:
@@ -332,8 +342,8 @@ def clean_meshset(
     F_after = mesh.face_matrix().astype(np.int64)
     orig = np.rint(mesh.vertex_custom_scalar_attribute_array(_INPUT_INDEX)).astype(np.int64)
     n_comp, labels = _face_components(F_after, V.shape[0])
-    F = _orient_like_majority(F_before, F_after, labels)
-    rep.faces_flipped = int(np.count_nonzero(np.any(F != F_before, axis=1)))
+    F, flipped = _orient_like_majority(F_before, F_after, labels)
+    rep.faces_flipped = int(np.count_nonzero(flipped))
     if not np.array_equal(F, F_after):
         _replace_current_mesh(ms, V, F)
     rep.components = int(n_comp)

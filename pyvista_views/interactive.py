@@ -70,8 +70,10 @@ class MescherViewer:
     ) -> None:
         self.m = m
         self.order = order if hasattr(order, "linear_extension") or order is None else None
-        self._draw = None if self.order is not None or order is None else draw_order(
-            order, np.asarray(m.F).shape[0]
+        self._draw = (
+            None
+            if self.order is not None or order is None
+            else draw_order(order, np.asarray(m.F).shape[0])
         )
         self.shading = shading
         n_v, n_f = np.asarray(m.xy).shape[0], np.asarray(m.F).shape[0]
@@ -114,13 +116,18 @@ class MescherViewer:
         self.scene.relight(lights, self.scene.env_map)
         self.scene.plotter.render()
 
-    def set_light_angles(self, azimuth: float | None = None, elevation: float | None = None) -> None:
+    def set_light_angles(
+        self, azimuth: float | None = None, elevation: float | None = None
+    ) -> None:
         """Move the first light (degrees, :func:`light_from_angles`); what the sliders call."""
         az, el = (
             angles_from_light(self.scene.lights[0].direction) if self.scene.lights else (45, 45)
         )
-        self.set_light(light_from_angles(az if azimuth is None else azimuth,
-                                         el if elevation is None else elevation))
+        self.set_light(
+            light_from_angles(
+                az if azimuth is None else azimuth, el if elevation is None else elevation
+            )
+        )
 
     def show_scalars(self, name: str | None) -> None:
         """Colour by scalar field ``name`` (``None``: plain material)."""
@@ -184,20 +191,38 @@ class MescherViewer:
 
     def _add_widgets(self) -> None:
         plotter = self.scene.plotter
-        az, el = angles_from_light(self.scene.lights[0].direction) if self.scene.lights else (45, 45)
-        plotter.add_slider_widget(
-            lambda v: self.set_light_angles(azimuth=v), [-180, 180], value=az,
-            title="light azimuth", pointa=(0.55, 0.92), pointb=(0.95, 0.92), style="modern",
+        az, el = (
+            angles_from_light(self.scene.lights[0].direction) if self.scene.lights else (45, 45)
         )
         plotter.add_slider_widget(
-            lambda v: self.set_light_angles(elevation=v), [-89, 90], value=el,
-            title="light elevation", pointa=(0.55, 0.8), pointb=(0.95, 0.8), style="modern",
+            lambda v: self.set_light_angles(azimuth=v),
+            [-180, 180],
+            value=az,
+            title="light azimuth",
+            pointa=(0.55, 0.92),
+            pointb=(0.95, 0.92),
+            style="modern",
+        )
+        plotter.add_slider_widget(
+            lambda v: self.set_light_angles(elevation=v),
+            [-89, 90],
+            value=el,
+            title="light elevation",
+            pointa=(0.55, 0.8),
+            pointb=(0.95, 0.8),
+            style="modern",
         )
         plotter.add_key_event("s", self.cycle_scalars)
         plotter.add_key_event("f", self.toggle_shading)
-        plotter.enable_cell_picking(callback=self.on_pick, through=False, show_message=(
-            "r: select faces (1st: front group, 2nd: back group)  s: scalars  f: flat/smooth"
-        ), style="surface", show=False)
+        plotter.enable_cell_picking(
+            callback=self.on_pick,
+            through=False,
+            show_message=(
+                "r: select faces (1st: front group, 2nd: back group)  s: scalars  f: flat/smooth"
+            ),
+            style="surface",
+            show=False,
+        )
         # A mescher is only meaningful head-on: pan and zoom, no orbiting.
         plotter.enable_image_style()
 
@@ -249,7 +274,16 @@ def plot(
     (H, W, 3) uint8 or None
     """
     viewer = MescherViewer(
-        m, order, lights, shading, scalars, env_map, window_size, bounds, background,
-        off_screen, **kwargs,
+        m,
+        order,
+        lights,
+        shading,
+        scalars,
+        env_map,
+        window_size,
+        bounds,
+        background,
+        off_screen,
+        **kwargs,
     )
     return viewer.show(jupyter_backend=jupyter_backend)

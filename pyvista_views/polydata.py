@@ -188,7 +188,9 @@ def to_polydata(
     corners[:, :, :2] = xy[F[draw]]
     corners[:, :, 2] = (np.arange(n_faces) * step)[:, None]
     if shading == "flat":
-        mesh = soup(corners, F, draw, face_normals=np.asarray(m.face_normals())[draw], scalars=fields)
+        mesh = soup(
+            corners, F, draw, face_normals=np.asarray(m.face_normals())[draw], scalars=fields
+        )
     else:
         normals = np.asarray(m.vertex_normals())[F[draw]]
         mesh = soup(corners, F, draw, corner_normals=normals, scalars=fields)
@@ -222,8 +224,6 @@ def embedding_polydata(
         normals = igl.per_face_normals(V, F, np.array([0.0, 0.0, 1.0]))
         mesh = soup(V[F], F, draw, face_normals=normals, scalars=fields)
     else:
-        normals = igl.per_vertex_normals(
-            V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA
-        )
+        normals = igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA)
         mesh = soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)
     return mesh

@@ -5,8 +5,9 @@ Each model is a *cut* 3D model (``V``, ``F``) with its view; the mescher (glued 
 built on first use.
 
 >>> from meschers_igl.gallery import list_models, get_model
->>> list_models()
-['impossibagel', 'impossible_cube', 'penrose_stairs', 'penrose_triangle', 'reutersvard_triangle', 'window']
+>>> list_models()  # doctest: +NORMALIZE_WHITESPACE
+['impossibagel', 'impossible_cube', 'penrose_stairs', 'penrose_triangle',
+ 'reutersvard_triangle', 'window']
 >>> g = get_model("penrose_triangle", bar_length=4.0, bar_width=1.0, resolution=4)
 >>> round(float(abs(g.mescher.periods()).max()), 6)  # sqrt(3) * bar_length
 6.928203

@@ -18,7 +18,7 @@ from ..validate import as_positive
 from .penrose import _count
 from .polycube import box_union_surface
 
-CUBE_VIEW = (1.0, 0.8, 0.6)
+CUBE_VIEW = (1.0, 0.8, 0.4)
 CUBE_UP = (0.0, 0.0, 1.0)
 WINDOW_VIEW = (0.25, 0.2, 1.0)
 WINDOW_UP = (0.0, 1.0, 0.0)
@@ -37,14 +37,26 @@ def cube_frame_boxes(L: float, w: float) -> list:
     return boxes
 
 
+def _crossing(L: float, view, up) -> tuple[float, float]:
+    """Height ``z`` on the back vertical bar ``(0, 0, z)`` where the front top bar ``(L, y, L)``
+    crosses it on screen, and how much nearer the front bar is there (centre lines)."""
+    R = view_frame(view, up)
+    e0, e1 = R @ np.zeros(3), R @ np.array([0.0, 0.0, L])
+    f0, f1 = R @ np.array([L, 0.0, L]), R @ np.array([L, L, L])
+    A = np.stack([(e1 - e0)[:2], -(f1 - f0)[:2]], axis=1)
+    t, u = np.linalg.solve(A, (f0 - e0)[:2])
+    return float(t * L), float((f0 + u * (f1 - f0))[2] - (e0 + t * (e1 - e0))[2])
+
+
 def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int = 10):
     """Escher's impossible cube (the one held in *Belvedere*, 1958).
 
-    Seen along ``(1, 0.8, 0.6)``, the back vertical bar at the origin crosses the front top bar
-    ``(L,0,L)-(L,L,L)`` at 40% of its height.  That bar is cut just below the crossing, and the
-    part above the cut is moved toward the viewer by ``a = sqrt(2) L + 2.5 w`` along the view
-    direction (easing back to 0 at the top corner), so at the crossing the back bar passes in
-    front of the front bar.  The depth jumps by ``a`` at the cut: the mescher's period.
+    Seen along ``(1, 0.8, 0.4)``, the back vertical bar at the origin crosses the front top bar
+    ``(L,0,L)-(L,L,L)`` at about 60% of its height, ``d`` behind it.  The back bar is cut just
+    above the crossing, and the part below the cut is moved toward the viewer by
+    ``a = d + 2.5 w`` along the view direction (easing back to 0 at the bottom corner, where it
+    moves away from the bottom bars), so at the crossing the back bar passes in front of the
+    front bar.  The depth jumps by ``a`` at the cut: the mescher's period.
 
     Returns
     -------
@@ -55,18 +67,18 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     n = _count(resolution, "resolution")
     if not 8 * w <= L:
         raise MescherError(f"bar_width: expected at most size / 8 = {L / 8}, found {w}")
-    zc = 0.4 * L  # crossing height on the back vertical bar (for this view)
-    P = zc - 2.5 * w  # the cut
-    top = L - w / 2  # junction with the top corner
-    flat_end = zc + 2.0 * w
-    a = float(np.sqrt(2.0) * L + 2.5 * w)
+    zc, d = _crossing(L, CUBE_VIEW, CUBE_UP)
+    P = zc + 2.5 * w  # the cut, above the crossing
+    bottom = w / 2  # junction with the bottom corner
+    flat_start = zc - 2.0 * w
+    a = d + 2.5 * w
     r = (-w / 2, -w / 2), (w / 2, w / 2)
     V, F, side = box_union_surface(cube_frame_boxes(L, w), L / n, splits=[(2, P, *r)])
     in_bar = (np.abs(V[:, 0]) <= w / 2 + 1e-12) & (np.abs(V[:, 1]) <= w / 2 + 1e-12)
     z = V[:, 2]
-    upper = in_bar & ((z > P + 1e-12) | (side == 1))  # the moved part, from the cut up
-    phi = np.where(z <= flat_end, a, a * (top - z) / (top - flat_end))
-    phi = np.where(upper, np.clip(phi, 0.0, a), 0.0)
+    lower = in_bar & (z <= P + 1e-12) & (side == 0)  # the moved part, up to the cut
+    phi = np.where(z >= flat_start, a, a * (z - bottom) / (flat_start - bottom))
+    phi = np.where(lower, np.clip(phi, 0.0, a), 0.0)
     v = view_frame(CUBE_VIEW, CUBE_UP)[2]
     return V + phi[:, None] * v, F, CUBE_VIEW, CUBE_UP, a
 

@@ -454,6 +454,7 @@ class InverseOptions:
     lr_z: float = 1e-2
     lr_periods: float = 2e-2
     lr_offsets: float = 1e-3
+    lr_final: float = 0.05
     sigma_xy: tuple[float, float] = (3e-3, 2e-5)
     sigma_zeta: tuple[float, float] = (3e-4, 2e-5)
     gamma: float = 1e-2
@@ -557,8 +558,14 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
             par.F, xy, colors, par.offsets, res, sigma, opt.gamma, background, return_alpha=True
         )
 
+    base_lr = [[g["lr"] for g in o.param_groups] for o in (opt_xy, opt_z, opt_rest)]
     for it in range(opt.iters):
         t = it / max(opt.iters - 1, 1)
+        # cosine decay to lr_final: large early steps, then settle the per-face noise
+        decay = opt.lr_final + (1.0 - opt.lr_final) * 0.5 * (1.0 + math.cos(math.pi * t))
+        for o, lrs in zip((opt_xy, opt_z, opt_rest), base_lr):
+            for g, lr in zip(o.param_groups, lrs):
+                g["lr"] = lr * decay
         xy_step = it % 2 == 0
         if xy_step:
             xy = par.xy()
@@ -581,7 +588,7 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
         else:
             opt_z.step()
             opt_rest.step()
-        losses.append(float(loss))
+        losses.append(float(loss.detach()))
         zeta_np = zeta.detach().numpy()
         max_res = max(max_res, float(np.abs(d12 @ zeta_np).max(initial=0.0)))
         if callback is not None:

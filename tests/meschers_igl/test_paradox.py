@@ -1,4 +1,4 @@
-"""Real cut models from another tool (ParadoxToolkit, tests/data/paradox): issue 8.
+"""Real cut models from another tool (ParadoxToolkit, shipped in meschers_igl/data/paradox): issue 8.
 
 Every file is glued with only its JSON's ``view_dir`` and ``up``; the tool's own bookkeeping
 (``illusion_pairs``, ``verification``) is the independent oracle.
@@ -15,9 +15,10 @@ from scipy.spatial import cKDTree
 
 from meschers_igl import Mescher, MescherError
 from meschers_igl.cutmesh import camera_coordinates, glue_cut_mesh
+from meschers_igl.paradox import data_dir
 from meschers_igl.topology import boundary_loops, connected_components
 
-DATA = Path(__file__).resolve().parents[1] / "data" / "paradox"
+DATA = data_dir()
 NAMES = sorted(p.stem for p in DATA.glob("*.obj")) + sorted(
     "variants/" + p.stem for p in (DATA / "variants").glob("*.obj")
 )

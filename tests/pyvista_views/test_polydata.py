@@ -55,7 +55,9 @@ def test_flat_normals_are_the_meschers_face_normals_as_active_cell_normals(ball)
     mesh = to_polydata(m, order=draw, shading="flat")
     np.testing.assert_allclose(mesh.cell_data.active_normals, m.face_normals()[draw])
     # an embeddable mescher: zeta's normals are the 3D mesh's (libigl) normals
-    np.testing.assert_allclose(m.face_normals(), igl.per_face_normals(V, F, np.zeros(3)), atol=1e-12)
+    np.testing.assert_allclose(
+        m.face_normals(), igl.per_face_normals(V, F, np.zeros(3)), atol=1e-12
+    )
     assert mesh.point_data.active_normals is None
 
 
@@ -113,6 +115,8 @@ def test_embedding_soup_keeps_real_depth_and_libigl_normals(ball):
     V, F, _ = ball
     mesh = embedding_polydata(V, F, shading="flat")
     np.testing.assert_allclose(np.asarray(mesh.points).reshape(-1, 3, 3), V[F])
-    np.testing.assert_allclose(mesh.cell_data.active_normals, igl.per_face_normals(V, F, np.zeros(3)))
+    np.testing.assert_allclose(
+        mesh.cell_data.active_normals, igl.per_face_normals(V, F, np.zeros(3))
+    )
     with pytest.raises(MescherError, match="V"):
         embedding_polydata(V[:, :2], F)

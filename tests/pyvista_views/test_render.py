@@ -228,8 +228,9 @@ def test_env_map_shades_mescher_like_the_mesh_and_uniform_light_is_flat(ball):
     assert iou(mask(a), mask(b)) >= 0.98
     assert np.abs(a.astype(int) - b).max() <= 2
     assert luminance(a)[mask(a)].std() > 5  # the studio is not uniform
-    flat = render(m, order=order, env_map="uniform", lights=None, ambient=0.0, diffuse=1.0,
-                  window_size=SIZE)
+    flat = render(
+        m, order=order, env_map="uniform", lights=None, ambient=0.0, diffuse=1.0, window_size=SIZE
+    )
     assert np.abs(flat[mask(flat)].astype(int) - round(0.85 * 255)).max() <= 2
 
 
@@ -252,18 +253,38 @@ def test_env_map_relight_back_to_directional_lights(ball):
 
 def test_image_regression_sphere_smooth_scalars_isolines(ball, image_regression):
     V, F, m, order = ball
-    img = render(m, order=order, shading="smooth", scalars=V[:, 1], isolines=4,
-                 lights=[(1, 1, 1)], window_size=(96, 96))
+    img = render(
+        m,
+        order=order,
+        shading="smooth",
+        scalars=V[:, 1],
+        isolines=4,
+        lights=[(1, 1, 1)],
+        window_size=(96, 96),
+    )
     image_regression("sphere_smooth_isolines", img, mean=2.0, frac=0.02)
 
 
 def test_image_regression_ring_flat(ring, image_regression):
     m, *_ = ring
-    image_regression("ring_flat", render(m, lights=[(-1, 0, 0.5)], window_size=(96, 96)),
-                     mean=1.0, frac=0.01)
+    image_regression(
+        "ring_flat", render(m, lights=[(-1, 0, 0.5)], window_size=(96, 96)), mean=1.0, frac=0.01
+    )
 
 
 def test_image_regression_ring_studio(ring, image_regression):
     m, *_ = ring
     img = render(m, env_map="studio", lights=None, shading="smooth", window_size=(96, 96))
     image_regression("ring_studio", img, mean=1.0, frac=0.01)
+
+
+def test_real_depth_order_from_the_embedding_gives_the_meshs_picture(ball):
+    from meschers_igl import DepthOrder
+
+    V, F, m, _ = ball
+    order = DepthOrder.from_embedding(m, V[F][:, :, 2])
+    a = render(m, order, lights=[(1, -1, 1)], window_size=SIZE)
+    b = render((V, F), lights=[(1, -1, 1)], window_size=SIZE)
+    both = mask(a) & mask(b)
+    assert iou(mask(a), mask(b)) >= 0.98
+    assert np.corrcoef(luminance(a)[both], luminance(b)[both])[0, 1] >= 0.95

@@ -1,0 +1,423 @@
+"""Cut models to meschers, and meschers out to files MeshLab opens.
+
+Exports go through PyMeshLab's own writers (``MeshSet.save_current_mesh``), so every format it
+writes works (.ply, .obj, .off, .stl, ...); scalar fields become vertex colours through MeshLab's
+own colormaps (filter ``compute_color_from_scalar_per_vertex``: 'Viridis', 'RGB', 'Plasma',
+'Cividis', 'Turbo', 'RdPu').  STL has no vertex colours; OFF gets no normals (MeshLab's OFF
+writer and reader disagree on them).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pymeshlab
+
+from meschers_igl import Mescher, MescherError
+from meschers_igl.operators import view_frame
+from meschers_igl.validate import as_faces, as_points
+
+from ._filters import apply
+from .load import _as_path, load_artist_model
+
+#: MeshLab's colormap names (``compute_color_from_scalar_per_vertex``'s ``colormap`` enum).
+COLORMAPS = ("Viridis", "RGB", "Plasma", "Cividis", "Turbo", "RdPu")
+#: Default depth spread of :func:`export_render_mesh`, relative to the screen diagonal.
+RENDER_Z_SPREAD = 1e-2
+
+
+def _mescher(m: Any, name: str = "m") -> Mescher:
+    if not isinstance(m, Mescher):
+        raise MescherError(f"{name}: expected a meschers_igl.Mescher, found {type(m).__name__}")
+    return m
+
+
+def cut_model_to_mescher(
+    path_or_V_F: Any,
+    view=(0.0, 0.0, 1.0),
+    up=(0.0, 1.0, 0.0),
+    tol: float | None = None,
+    merge: Any = None,
+    merge_tol: float = 0.0,
+    return_report: bool = False,
+):
+    """A mescher and its depth order from a cut 3D model (paper Sec. 3.4-3.5).
+
+    A path is loaded and cleaned with :func:`load_artist_model` (exact duplicates only, so the
+    cut's front/back pairs survive); arrays are used as given.  Then
+    ``Mescher.from_cut_mesh(V, F, view, up, tol, merge, return_map=True)`` glues the cut and
+    ``DepthOrder.from_embedding(m, Zc)`` orders the faces that overlap on screen by the cut
+    model's own depths ``Zc[f, k] = (V @ R.T)[F[f, k], 2]``, ``R = view_frame(view, up)``.
+
+    Parameters
+    ----------
+    path_or_V_F : str, os.PathLike or (V (n,3), F (m,3))
+        A mesh file, or the cut model's arrays.
+    view : (3,) array_like, default: (0, 0, 1)
+        Direction from the model toward the orthographic camera.
+    up : (3,) array_like, default: (0, 1, 0)
+        Screen up.
+    tol : float, optional
+        Gluing tolerance relative to the model's bounding-box diagonal (see
+        :func:`meschers_igl.cutmesh.mescher_from_cut_mesh`).
+    merge : (k, 2) array_like of int, optional
+        Explicit vertex pairs to glue.  With a path they index the *file's* vertices and are
+        translated through the clean-up's ``vertex_map``.
+    merge_tol : float, default: 0.0
+        3D duplicate tolerance of the clean-up (only with a path).
+    return_report : bool, default: False
+        Also return the clean-up report (``None`` for arrays).
+
+    Returns
+    -------
+    m : Mescher
+        Face ``i`` is face ``i`` of the (cleaned) model.
+    order : DepthOrder
+        Arc ``i -> j`` when face ``i`` is behind face ``j`` where they overlap on screen.
+    report : CleanupReport or None
+        Only with ``return_report``.
+    """
+    from meschers_igl.order import DepthOrder
+
+    report = None
+    if isinstance(path_or_V_F, (str, os.PathLike)):
+        V, F, report = load_artist_model(path_or_V_F, merge_tol=merge_tol)
+        if merge is not None:
+            merge = _translate_pairs(merge, report.vertex_map, path_or_V_F)
+    elif isinstance(path_or_V_F, (tuple, list)) and len(path_or_V_F) == 2:
+        V = as_points(path_or_V_F[0], "path_or_V_F[0] (V)", 3)
+        F = as_faces(path_or_V_F[1], "path_or_V_F[1] (F)", V.shape[0])
+    else:
+        raise MescherError(
+            "path_or_V_F: expected a file path or a pair (V, F), found "
+            f"{type(path_or_V_F).__name__}"
+        )
+    m, _ = Mescher.from_cut_mesh(V, F, view=view, up=up, tol=tol, merge=merge, return_map=True)
+    Zc = (V @ view_frame(view, up).T)[:, 2][F]
+    order = DepthOrder.from_embedding(m, Zc)
+    return (m, order, report) if return_report else (m, order)
+
+
+def _translate_pairs(merge: Any, vmap: np.ndarray, path: Any) -> np.ndarray:
+    pairs = np.asarray(merge)
+    if pairs.ndim != 2 or pairs.shape[1] != 2 or not np.issubdtype(pairs.dtype, np.integer):
+        raise MescherError(f"merge: expected (k, 2) integer vertex pairs, found {pairs.shape}")
+    if pairs.size and (pairs.min() < 0 or pairs.max() >= vmap.size):
+        raise MescherError(
+            f"merge: expected vertex indices of '{path}' in [0, {vmap.size}), found "
+            f"{int(pairs.min())}..{int(pairs.max())}"
+        )
+    out = vmap[pairs]
+    if np.any(out < 0):
+        bad = pairs[np.any(out < 0, axis=1)][0].tolist()
+        raise MescherError(
+            f"merge: expected vertices that survive clean-up of '{path}', found pair {bad} "
+            "with a removed (unreferenced) vertex"
+        )
+    return out
+
+
+# ---------------------------------------------------------------------------------- colours
+def _colormap(colormap: str) -> str:
+    if colormap not in COLORMAPS:
+        raise MescherError(f"colormap: expected one of {COLORMAPS}, found {colormap!r}")
+    return colormap
+
+
+def _range(s: np.ndarray, vmin: float | None, vmax: float | None) -> tuple[float, float]:
+    lo = float(s.min()) if vmin is None else float(vmin)
+    hi = float(s.max()) if vmax is None else float(vmax)
+    if not (np.isfinite(lo) and np.isfinite(hi)) or hi < lo:
+        raise MescherError(f"vmin, vmax: expected finite vmin <= vmax, found {lo}, {hi}")
+    if hi == lo:  # MeshLab reads minval == maxval as "choose the range yourself"
+        hi = lo + 1.0
+    return lo, hi
+
+
+def scalars_to_colors(
+    scalars: Any, colormap: str = "Viridis", vmin: float | None = None, vmax: float | None = None
+) -> np.ndarray:
+    """Colours of ``scalars`` under MeshLab's colormap (what the exports write).
+
+    Parameters
+    ----------
+    scalars : (n,) array_like of float
+    colormap : str, default: 'Viridis'
+        One of :data:`COLORMAPS`.
+    vmin, vmax : float, optional
+        Values mapped to the ends of the colormap (default: the scalars' min and max); values
+        outside are clamped.
+
+    Returns
+    -------
+    (n, 4) float64
+        RGBA in [0, 1].
+    """
+    s = _as_scalars(scalars, "scalars", None)
+    ms = pymeshlab.MeshSet()
+    V = np.zeros((s.size, 3))
+    V[:, 0] = np.arange(s.size)
+    ms.add_mesh(pymeshlab.Mesh(V, v_scalar_array=s))
+    _color(ms, s, colormap, vmin, vmax)
+    return ms.current_mesh().vertex_color_matrix()
+
+
+def _as_scalars(scalars: Any, name: str, n: int | None) -> np.ndarray:
+    from meschers_igl.validate import as_float_array
+
+    s = as_float_array(scalars, name, (-1 if n is None else n,))
+    if s.size == 0:
+        raise MescherError(f"{name}: expected at least one value, found none")
+    return s
+
+
+def _color(ms: pymeshlab.MeshSet, s: np.ndarray, colormap: str, vmin, vmax) -> None:
+    lo, hi = _range(s, vmin, vmax)
+    apply(
+        ms,
+        "compute_color_from_scalar_per_vertex",
+        minval=lo,
+        maxval=hi,
+        perc=0.0,
+        zerosym=False,
+        colormap=_colormap(colormap),
+    )
+
+
+def _save(ms: pymeshlab.MeshSet, path: Path, colors: bool, normals: bool) -> Path:
+    """``save_current_mesh`` with the options this format has (unknown ones are dropped)."""
+    ext = path.suffix.lower()
+    params = {"save_vertex_color": colors, "save_vertex_normal": normals and ext != ".off"}
+    if ext == ".ply":
+        params["binary"] = True
+    while True:
+        try:
+            ms.save_current_mesh(str(path), **params)
+            return path
+        except pymeshlab.PyMeshLabException as exc:
+            msg = " ".join(str(exc).split())
+            bad = re.search(r"Parameter (\w+) not found", msg)
+            if bad and bad.group(1) in params:  # this format lacks the option: drop it
+                params.pop(bad.group(1))
+                continue
+            raise MescherError(
+                f"path: expected a file PyMeshLab can write, found '{path}' ({msg})"
+            ) from None
+
+
+def _write(
+    path: Any,
+    V: np.ndarray,
+    F: np.ndarray,
+    scalars: np.ndarray | None,
+    colormap: str,
+    vmin,
+    vmax,
+    label: str,
+    normals: np.ndarray | None = None,
+) -> Path:
+    p = _as_path(path)
+    if not p.parent.exists():
+        raise MescherError(f"path: expected a file in an existing folder, found '{p}'")
+    kw = {}
+    if scalars is not None:
+        kw["v_scalar_array"] = scalars
+    if normals is not None:
+        kw["v_normals_matrix"] = normals
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(V, F.astype(np.int32), **kw), label)
+    if scalars is not None:
+        _color(ms, scalars, colormap, vmin, vmax)
+    return _save(ms, p, colors=scalars is not None, normals=normals is not None)
+
+
+def export_cut_embedding(
+    m: Mescher,
+    path: str | os.PathLike,
+    scalars: Any = None,
+    cut_edges: Any = None,
+    colormap: str = "Viridis",
+    vmin: float | None = None,
+    vmax: float | None = None,
+) -> Path:
+    """Write the mescher's cut embedding (``m.cut_embedding``) to a file MeshLab opens.
+
+    Parameters
+    ----------
+    m : Mescher
+    path : str or os.PathLike
+        Format by extension (.ply, .obj, .off, .stl, ...).
+    scalars : (#V,) or (#Vc,) array_like, optional
+        Per mescher vertex (copied to each of its cut copies through ``vmap``) or per cut-model
+        vertex; written as vertex colours.
+    cut_edges : (k,) int, optional
+        Passed to ``m.cut_embedding`` (default: the homology generators).
+    colormap, vmin, vmax
+        See :func:`scalars_to_colors`.
+
+    Returns
+    -------
+    Path
+        The written file: ``#Vc`` vertices ``(x, y, depth)``, ``#F`` faces (face i is m's face i).
+    """
+    m = _mescher(m)
+    V, F, vmap = m.cut_embedding(cut_edges)
+    s = None
+    if scalars is not None:
+        s = np.asarray(scalars)
+        if s.ndim == 1 and s.shape[0] == m.n_vertices and V.shape[0] != m.n_vertices:
+            s = _as_scalars(s, "scalars", m.n_vertices)[vmap]
+        else:
+            s = _as_scalars(s, f"scalars (per mescher vertex: {m.n_vertices}, or)", V.shape[0])
+    return _write(path, V, F, s, colormap, vmin, vmax, "mescher_cut")
+
+
+def export_bent_embedding(
+    m: Mescher,
+    path: str | os.PathLike,
+    scalars: Any = None,
+    colormap: str = "Viridis",
+    vmin: float | None = None,
+    vmax: float | None = None,
+) -> Path:
+    """Write the mescher's bent embedding (``m.bent_embedding``: depth from the Hodge
+    decomposition's exact part) to a file MeshLab opens.
+
+    Parameters
+    ----------
+    m : Mescher
+    path : str or os.PathLike
+    scalars : (#V,) array_like, optional
+        Per-vertex values written as colours.
+    colormap, vmin, vmax
+        See :func:`scalars_to_colors`.
+
+    Returns
+    -------
+    Path
+        The written file: ``#V`` vertices ``(x, y, z)``, ``#F`` faces.
+    """
+    m = _mescher(m)
+    V, F = m.bent_embedding()
+    s = None if scalars is None else _as_scalars(scalars, "scalars", m.n_vertices)
+    return _write(path, V, F, s, colormap, vmin, vmax, "mescher_bent")
+
+
+def render_levels(order: Any, n_faces: int) -> tuple[np.ndarray, np.ndarray]:
+    """Back-to-front face permutation and a depth level per face for the flattened soup.
+
+    ``perm = order.linear_extension()``; ``level[j] = 1 + max(level[i])`` over the arcs
+    ``i -> j`` that agree with ``perm`` (the longest chain behind ``j``), so faces in front get
+    higher levels and faces with no arc stay at level 0.  Computed by relaxation on arrays (one
+    pass per level; networkx's longest path is a Python loop over nodes).
+
+    Parameters
+    ----------
+    order : DepthOrder, (n_faces,) permutation, or None
+        ``None``: faces in index order, all at level 0.
+    n_faces : int
+
+    Returns
+    -------
+    perm : (n_faces,) int64
+    level : (n_faces,) int64
+    """
+    from meschers_igl.order import DepthOrder
+
+    if order is None:
+        return np.arange(n_faces), np.zeros(n_faces, dtype=np.int64)
+    if isinstance(order, DepthOrder):
+        if order.n_faces != n_faces:
+            raise MescherError(
+                f"order: expected a DepthOrder over {n_faces} faces, found {order.n_faces}"
+            )
+        perm = np.asarray(order.linear_extension(), dtype=np.int64)
+        arcs = np.asarray(order.arcs, dtype=np.int64).reshape(-1, 2)
+    else:
+        perm = np.asarray(order)
+        if (
+            perm.shape != (n_faces,)
+            or not np.issubdtype(perm.dtype, np.integer)
+            or not np.array_equal(np.sort(perm), np.arange(n_faces))
+        ):
+            raise MescherError(
+                f"order: expected a DepthOrder or a permutation of {n_faces} faces, found "
+                f"{perm.dtype} array of shape {perm.shape}"
+            )
+        perm = perm.astype(np.int64)
+        pos = np.empty(n_faces, dtype=np.int64)
+        pos[perm] = np.arange(n_faces)
+        return perm, pos  # a bare permutation: every face its own level
+    pos = np.empty(n_faces, dtype=np.int64)
+    pos[perm] = np.arange(n_faces)
+    arcs = arcs[pos[arcs[:, 0]] < pos[arcs[:, 1]]]  # drop arcs a cycle forced to break
+    level = np.zeros(n_faces, dtype=np.int64)
+    for _ in range(n_faces):  # terminates: the kept arcs form a DAG, one pass per level
+        new = level.copy()
+        np.maximum.at(new, arcs[:, 1], level[arcs[:, 0]] + 1)
+        if np.array_equal(new, level):
+            break
+        level = new
+    return perm, level
+
+
+def export_render_mesh(
+    m: Mescher,
+    path: str | os.PathLike,
+    order: Any = None,
+    scalars: Any = None,
+    colormap: str = "Viridis",
+    vmin: float | None = None,
+    vmax: float | None = None,
+    z_spread: float = RENDER_Z_SPREAD,
+) -> Path:
+    """Write the flattened triangle soup a mescher renders as (paper Sec. 4.1).
+
+    Each face becomes its own three vertices ``(x, y, level * dz)``: the screen triangle, lifted
+    by its depth level in the order (see :func:`render_levels`) so a z-buffer (MeshLab's) draws
+    faces in front over faces behind; faces are written back to front (a linear extension), so
+    painter's-algorithm viewers agree.  Vertex normals are the mescher's face normals (camera
+    frame), so MeshLab's lighting shades the flat soup like the mescher.
+
+    Parameters
+    ----------
+    m : Mescher
+    path : str or os.PathLike
+    order : DepthOrder or (#F,) permutation, optional
+        ``None``: index order, every face at depth 0.
+    scalars : (#V,) array_like, optional
+        Per mescher vertex, copied to the corners; written as colours.
+    colormap, vmin, vmax
+        See :func:`scalars_to_colors`.
+    z_spread : float, default: 1e-2
+        Depth of the highest level, relative to the screen diagonal of ``m.xy``.
+
+    Returns
+    -------
+    Path
+        The written file: ``3 #F`` vertices and ``#F`` faces; file face ``k`` is mescher face
+        ``perm[k]`` with vertices ``3k, 3k+1, 3k+2``.
+    """
+    m = _mescher(m)
+    z_spread = float(z_spread)
+    if not np.isfinite(z_spread) or z_spread < 0:
+        raise MescherError(f"z_spread: expected a finite value >= 0, found {z_spread}")
+    perm, level = render_levels(order, m.n_faces)
+    xy = np.asarray(m.xy)
+    diag = float(np.linalg.norm(xy.max(axis=0) - xy.min(axis=0)))
+    top = int(level.max(initial=0))
+    dz = z_spread * diag / top if top > 0 else 0.0
+    Fm = np.asarray(m.F)[perm]
+    V = np.empty((3 * m.n_faces, 3))
+    V[:, :2] = xy[Fm.reshape(-1)]
+    V[:, 2] = np.repeat(level[perm] * dz, 3)
+    F = np.arange(3 * m.n_faces, dtype=np.int64).reshape(-1, 3)
+    N = np.repeat(np.asarray(m.face_normals())[perm], 3, axis=0)
+    s = None
+    if scalars is not None:
+        s = _as_scalars(scalars, "scalars", m.n_vertices)[Fm.reshape(-1)]
+    return _write(path, V, F, s, colormap, vmin, vmax, "mescher_render", normals=N)

@@ -1,0 +1,200 @@
+"""The gallery of impossible figures: topology after the seam merge, periods, depth orders."""
+
+from __future__ import annotations
+
+import warnings
+
+import igl
+import numpy as np
+import pytest
+
+from meschers_igl import Mescher, MescherError
+from meschers_igl.cutmesh import glue_cut_mesh
+from meschers_igl.gallery import GalleryModel, get_model, list_models
+from meschers_igl.gallery.bagel import torus_grid
+from meschers_igl.operators import view_frame
+from meschers_igl.topology import boundary_loops, connected_components
+
+NAMES = list_models()
+# name -> (Euler characteristic after gluing, connected components, impossible)
+EXPECTED = {
+    "penrose_triangle": (0, 1, True),
+    "penrose_stairs": (0, 1, True),
+    "impossible_cube": (-8, 1, True),
+    "reutersvard_triangle": (18, 9, False),  # 9 closed cubes
+    "window": (-6, 1, False),  # genus 4, a real object
+    "impossibagel": (0, 1, True),
+}
+
+
+@pytest.fixture(scope="module", params=NAMES)
+def model(request) -> GalleryModel:
+    return get_model(request.param)
+
+
+def test_list_models():
+    assert NAMES == sorted(EXPECTED)
+    with pytest.raises(MescherError, match="name: expected one of"):
+        get_model("blivet")
+    with pytest.raises(MescherError, match="params: expected parameters of 'penrose_triangle'"):
+        get_model("penrose_triangle", colour="red")
+    with pytest.raises(MescherError, match="bar_width"):
+        get_model("penrose_triangle", bar_length=1.0, bar_width=2.0)
+
+
+def test_cut_model_is_a_clean_outward_surface(model):
+    V, F = model.V, model.F
+    assert F.dtype == np.int64 and V.dtype == np.float64
+    assert igl.is_edge_manifold(F)[0]
+    assert igl.is_vertex_manifold(F)[np.unique(F)].all()
+    # outward: the face furthest along a generic direction faces that direction
+    d = np.array([0.31, 0.52, 0.79])
+    N = igl.per_face_normals(V, F, np.zeros(3))
+    far = np.argmax((V[F].mean(axis=1)) @ d)
+    assert N[far] @ d > 0
+
+
+def test_seam_merge_counts_and_euler_characteristic(model):
+    chi, comps, _ = EXPECTED[model.name]
+    m, vmap = model.mescher, model.vmap
+    n_loop_vertices = sum(lp.size for lp in boundary_loops(model.F))
+    assert m.n_vertices == model.V.shape[0] - n_loop_vertices // 2
+    np.testing.assert_array_equal(m.F, vmap[model.F])  # face i stays face i
+    assert m.euler_characteristic() == chi
+    assert connected_components(np.asarray(m.F), m.n_vertices)[0] == comps
+    assert not boundary_loops(np.asarray(m.F))
+
+
+def test_impossible_with_the_expected_period(model):
+    _, _, impossible = EXPECTED[model.name]
+    m = model.mescher
+    p = m.periods()
+    assert m.is_impossible() == impossible
+    if impossible:
+        assert np.abs(p).max() == pytest.approx(model.expected_period, rel=1e-9)
+        k = p / model.expected_period  # every loop crosses the seam a whole number of times
+        np.testing.assert_allclose(k, np.round(k), atol=1e-9)
+    else:
+        assert model.expected_period == 0.0
+        np.testing.assert_allclose(p, 0.0, atol=1e-9 * m.scale())
+        np.testing.assert_allclose(m.hodge().omega, 0.0, atol=1e-9 * m.scale())
+
+
+def test_depth_gap_of_the_cut_is_the_period(model):
+    """The period is the depth gap measured on the cut model itself."""
+    g = glue_cut_mesh(model.V, model.F, view=model.view, up=model.up)
+    gaps = [abs(p.depth_gap) for p in g["pairings"]]
+    if model.name in ("window",):
+        assert gaps == []
+    elif model.name == "reutersvard_triangle":
+        assert len(gaps) == 1  # the seam cube: a gap, but around a sphere, so no period
+    else:
+        assert gaps == pytest.approx([model.expected_period], rel=1e-12)
+        assert max(p.translation_residual for p in g["pairings"]) < 1e-12 * model.expected_period
+
+
+@pytest.mark.parametrize(("L", "w", "res"), [(4.0, 1.0, 4), (3.0, 0.5, 6), (7.5, 2.0, 3)])
+def test_penrose_triangle_period_is_sqrt3_bar_length(L, w, res):
+    g = get_model("penrose_triangle", bar_length=L, bar_width=w, resolution=res)
+    assert g.expected_period == pytest.approx(np.sqrt(3.0) * L, rel=1e-15)
+    p = np.sort(np.abs(g.mescher.periods()))
+    np.testing.assert_allclose(p, [0.0, np.sqrt(3.0) * L], atol=1e-9 * L)
+
+
+def test_resolution_refines_without_changing_the_figure():
+    coarse = get_model("penrose_stairs", resolution=1)
+    fine = get_model("penrose_stairs", resolution=3)
+    assert fine.F.shape[0] > 2 * coarse.F.shape[0]
+    np.testing.assert_allclose(fine.V.min(0), coarse.V.min(0))
+    np.testing.assert_allclose(fine.V.max(0), coarse.V.max(0))
+    assert np.abs(fine.mescher.periods()).max() == pytest.approx(
+        np.abs(coarse.mescher.periods()).max(), rel=1e-9
+    )
+
+
+def test_impossibagel_is_the_torus_with_the_cut_models_periods():
+    """with_periods on the ordinary torus gives, generator by generator, the periods of the
+    sheared cut torus glued by from_cut_mesh (same faces, so the same homology basis)."""
+    g = get_model("impossibagel", climb=1.7, resolution=6)
+    m = g.mescher
+    cut, vmap = Mescher.from_cut_mesh(g.V, g.F, view=g.view, up=g.up, return_map=True)
+    np.testing.assert_array_equal(vmap, g.vmap)
+    np.testing.assert_array_equal(cut.F, m.F)
+    np.testing.assert_allclose(cut.periods(), m.periods(), atol=1e-9)
+    assert sorted(np.abs(m.periods()).round(12).tolist()) == [0.0, 1.7]
+    # with_periods keeps the torus's exact part (its depth z) and adds a 1-form harmonic on
+    # the torus: closed, and co-closed in the torus's own metric
+    Vt, Ft, _ = torus_grid(2.0, 0.6, 24, 6, seam=False)
+    np.testing.assert_array_equal(Ft, m.F)
+    m0 = Mescher.from_mesh(Vt, Ft, view=g.view, up=g.up)
+    h = np.asarray(m.zeta) - m0.d01 @ (Vt @ view_frame(g.view, g.up)[2])
+    np.testing.assert_allclose(m0.d12 @ h, 0.0, atol=1e-10)
+    np.testing.assert_allclose(m0.d01.T @ (m0.star1 @ h), 0.0, atol=1e-10)
+    assert np.abs(h).max() > 0.01
+
+
+def _zbuffer(xy_pts: np.ndarray, C: np.ndarray, F: np.ndarray, margin: float = 1e-6):
+    """(P, #F) coverage and interpolated depth of every face at every screen point (brute
+    force, the independent oracle)."""
+    T = C[F]  # (#F, 3, 3)
+    a, b, c = T[:, 0, :2], T[:, 1, :2], T[:, 2, :2]
+    det = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    ok = np.abs(det) > 1e-12
+    det = np.where(ok, det, 1.0)
+    px, py = xy_pts[:, None, 0] - a[None, :, 0], xy_pts[:, None, 1] - a[None, :, 1]
+    l1 = (px * (c[:, 1] - a[:, 1]) - py * (c[:, 0] - a[:, 0])) / det
+    l2 = ((b[:, 0] - a[:, 0]) * py - (b[:, 1] - a[:, 1]) * px) / det
+    l0 = 1 - l1 - l2
+    cover = ok & (l0 > margin) & (l1 > margin) & (l2 > margin)
+    depth = l0 * T[:, 0, 2] + l1 * T[:, 1, 2] + l2 * T[:, 2, 2]
+    return cover, depth
+
+
+def test_order_agrees_with_a_zbuffer_of_the_cut_model(model):
+    C = model.V @ view_frame(model.view, model.up).T
+    rng = np.random.default_rng(7)
+    lo, hi = C[:, :2].min(0), C[:, :2].max(0)
+    pts = lo + rng.random((1500, 2)) * (hi - lo)
+    cover, depth = _zbuffer(pts, C, model.F)
+    tol = 1e-6 * np.ptp(C)
+    arcs = {tuple(a) for a in np.asarray(model.order.arcs).tolist()}
+    rank = np.empty(model.F.shape[0], dtype=np.int64)
+    rank[model.order.linear_extension()] = np.arange(model.F.shape[0])
+    n_checked = 0
+    for k in np.flatnonzero(cover.sum(1) > 1):  # points where faces overlap
+        f = np.flatnonzero(cover[k])
+        front = f[np.argmax(depth[k, f])]
+        for b in f[depth[k, f] < depth[k, front] - tol]:
+            assert (int(b), int(front)) in arcs and (int(front), int(b)) not in arcs
+            assert rank[b] < rank[front]  # drawn before: behind
+            n_checked += 1
+    assert n_checked > 100
+
+
+def test_no_order_cycles_after_one_subdivision(model):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a cycle warning would fail the test
+        assert model.order.cycles() == []
+        mc, oc = model.mescher.subdivide(order=model.order)
+        assert oc.cycles() == []
+    assert mc.n_faces == 4 * model.F.shape[0]
+    np.testing.assert_allclose(mc.periods(), model.mescher.periods(), atol=1e-9)
+    assert oc.n_arcs >= model.order.n_arcs
+
+
+def test_window_is_impossible_only_through_its_depth_order():
+    """The transom is in front of the left mullion and behind the right one (z-buffer of the
+    real 3D model), while the mescher has no period."""
+    W, H, w = 12.0, 8.0, 1.0
+    g = get_model("window", width=W, height=H, bar_width=w)
+    assert not g.mescher.is_impossible()
+    R = view_frame(g.view, g.up)
+    C = g.V @ R.T
+    fronts = []
+    for xm in (W / 3, 2 * W / 3):
+        q = np.array([xm + 0.1, H / 2 + 0.2, w]) @ R.T  # on the mullion's front face
+        cover, depth = _zbuffer(q[None, :2], C, g.F)
+        f = np.flatnonzero(cover[0])
+        fronts.append(depth[0, f].max() - q[2])
+    assert fronts[0] > 0.5 * w  # something (the transom) in front of the left mullion
+    assert fronts[1] == pytest.approx(0.0, abs=1e-9)  # the right mullion is the front
