@@ -177,7 +177,6 @@ def _headless_views():
     import pyvista
 
     import pyvista_views
-
     from pyvista_views._offscreen import has_display
 
     if not has_display():

@@ -271,41 +271,49 @@ def intersection_centroids(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np
     B = _ccw(B - o[:, None, :])
     k = A.shape[0]
     area2 = np.zeros(k)
-    num = np.zeros((k, 2))
-    mid = np.zeros((k, 2))
+    nx_, ny_ = np.zeros(k), np.zeros(k)
+    mx, my = np.zeros(k), np.zeros(k)
     cnt = np.zeros(k)
     for S, C, strict in ((A, B, False), (B, A, True)):
-        # inward normals of C's edges: left of each counter-clockwise edge
-        cn = np.stack([C[:, (c + 1) % 3] - C[:, c] for c in range(3)], axis=1)
-        cn = np.stack((-cn[..., 1], cn[..., 0]), axis=-1)  # (k, 3, 2)
+        sx, sy = S[..., 0], S[..., 1]
+        cx, cy = C[..., 0], C[..., 1]
+        # inward normals (-ey, ex) of C's counter-clockwise edges, and their offsets n . c
+        nx = [cy[:, c] - cy[:, (c + 1) % 3] for c in range(3)]
+        ny = [cx[:, (c + 1) % 3] - cx[:, c] for c in range(3)]
+        off = [nx[c] * cx[:, c] + ny[c] * cy[:, c] for c in range(3)]
         for e in range(3):
-            p, q = S[:, e], S[:, (e + 1) % 3]
-            d = q - p
+            px, py = sx[:, e], sy[:, e]
+            dx, dy = sx[:, (e + 1) % 3] - px, sy[:, (e + 1) % 3] - py
             t0, t1 = np.zeros(k), np.ones(k)
             ok = np.ones(k, dtype=bool)
             for c in range(3):
-                n = cn[:, c]
-                f = np.einsum("kd,kd->k", n, p - C[:, c])  # signed distance of p (times |n|)
-                g = np.einsum("kd,kd->k", n, d)  # its change along the edge
+                f = nx[c] * px + ny[c] * py - off[c]  # signed distance of p (times |n|)
+                g = nx[c] * dx + ny[c] * dy  # its change along the edge
                 par = g == 0.0
                 ok &= ~par | ((f > 0.0) if strict else (f >= 0.0))
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    t = -f / g
-                t0 = np.where(~par & (g > 0.0), np.maximum(t0, t), t0)
-                t1 = np.where(~par & (g < 0.0), np.minimum(t1, t), t1)
+                t = -f / np.where(par, 1.0, g)
+                t0 = np.where(g > 0.0, np.maximum(t0, t), t0)
+                t1 = np.where(g < 0.0, np.minimum(t1, t), t1)
             ok &= t1 > t0
-            a = p + t0[:, None] * d
-            b = p + t1[:, None] * d
-            cr = np.where(ok, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], 0.0)
+            ax, ay = px + t0 * dx, py + t0 * dy
+            bx, by = px + t1 * dx, py + t1 * dy
+            cr = np.where(ok, ax * by - ay * bx, 0.0)
             area2 += cr
-            num += (a + b) * cr[:, None]
-            mid += np.where(ok[:, None], 0.5 * (a + b), 0.0)
+            nx_ += (ax + bx) * cr
+            ny_ += (ay + by) * cr
+            mx += np.where(ok, 0.5 * (ax + bx), 0.0)
+            my += np.where(ok, 0.5 * (ay + by), 0.0)
             cnt += ok
-    good = area2 > 0.0
+    # fallbacks for empty or degenerate intersections: mean of the pieces' midpoints, or A's
+    # centroid when nothing is left
     cen = np.where(
-        (cnt > 0)[:, None], mid / np.maximum(cnt, 1.0)[:, None], A.mean(axis=1)
-    )  # fallbacks for empty or degenerate intersections
-    cen[good] = num[good] / (3.0 * area2[good, None])
+        (cnt > 0)[:, None],
+        np.stack((mx, my), axis=1) / np.maximum(cnt, 1.0)[:, None],
+        A.mean(axis=1),
+    )
+    good = area2 > 0.0
+    cen[good, 0] = nx_[good] / (3.0 * area2[good])
+    cen[good, 1] = ny_[good] / (3.0 * area2[good])
     return cen + o, 0.5 * np.maximum(area2, 0.0)
 
 

@@ -285,12 +285,20 @@ class Mescher:
         return 0.5 * self._dbl_area
 
     def face_normals(self) -> np.ndarray:
-        """(#F, 3) unit normals in the camera frame, z toward the viewer."""
-        return ops.face_normals(self._local_corners)
+        """(#F, 3) unit normals in the camera frame, z toward the viewer (cached, read-only)."""
+        return self._face_normals
+
+    @cached_property
+    def _face_normals(self) -> np.ndarray:
+        return _readonly(ops.face_normals(self._local_corners))
 
     def vertex_normals(self) -> np.ndarray:
-        """(#V, 3) area-weighted unit vertex normals from the faces' local frames."""
-        return ops.vertex_normals(self._local_corners, self._F, self.n_vertices)
+        """(#V, 3) area-weighted unit vertex normals from the faces' local frames (cached)."""
+        return self._vertex_normals
+
+    @cached_property
+    def _vertex_normals(self) -> np.ndarray:
+        return _readonly(ops.vertex_normals(self._local_corners, self._F, self.n_vertices))
 
     # ------------------------------------------------------------------ operators
     @cached_property

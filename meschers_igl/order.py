@@ -78,7 +78,8 @@ def _canonical_arcs(arcs: Any, n: int, name: str = "arcs") -> np.ndarray:
             f"{name}: expected arcs between two different faces (a face cannot be behind "
             f"itself), found {int(loops.sum())} self-loop(s), first arc {r} = {a[r].tolist()}"
         )
-    key = np.unique(a[:, 0] * np.int64(n) + a[:, 1])
+    key = np.sort(a[:, 0] * np.int64(n) + a[:, 1])  # sort + diff: faster than np.unique's hash
+    key = key[np.r_[True, key[1:] != key[:-1]]]
     return np.stack((key // n, key % n), axis=1)
 
 

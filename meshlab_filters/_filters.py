@@ -25,6 +25,7 @@ FILTERS: dict[str, str] = {
     "meshing_repair_non_manifold_vertices": "split vertices whose faces form several fans",
     "meshing_re_orient_faces_coherently": "orient each connected component coherently",
     "compute_color_from_scalar_per_vertex": "map per-vertex quality to colour (a colormap)",
+    "compute_normal_by_function_per_vertex": "set vertex normals (Mesh() recomputes given ones)",
     "get_topological_measures": "count non-manifold edges and vertices",
 }
 

@@ -26,6 +26,7 @@ from .load import _as_path, load_artist_model
 
 #: MeshLab's colormap names (``compute_color_from_scalar_per_vertex``'s ``colormap`` enum).
 COLORMAPS = ("Viridis", "RGB", "Plasma", "Cividis", "Turbo", "RdPu")
+_NORMAL_ATTR = "meschers_normal"
 #: Default depth spread of :func:`export_render_mesh`, relative to the screen diagonal.
 RENDER_Z_SPREAD = 1e-2
 
@@ -223,13 +224,17 @@ def _write(
     p = _as_path(path)
     if not p.parent.exists():
         raise MescherError(f"path: expected a file in an existing folder, found '{p}'")
-    kw = {}
-    if scalars is not None:
-        kw["v_scalar_array"] = scalars
-    if normals is not None:
-        kw["v_normals_matrix"] = normals
+    kw = {} if scalars is None else {"v_scalar_array": scalars}
     ms = pymeshlab.MeshSet()
     ms.add_mesh(pymeshlab.Mesh(V, F.astype(np.int32), **kw), label)
+    if normals is not None:
+        # pymeshlab.Mesh(v_normals_matrix=...) recomputes normals from the geometry; set them
+        # through custom attributes and MeshLab's per-vertex normal function instead.
+        mesh = ms.current_mesh()
+        names = [f"{_NORMAL_ATTR}_{c}" for c in "xyz"]
+        for i, name in enumerate(names):
+            mesh.add_vertex_custom_scalar_attribute(np.ascontiguousarray(normals[:, i]), name)
+        apply(ms, "compute_normal_by_function_per_vertex", x=names[0], y=names[1], z=names[2])
     if scalars is not None:
         _color(ms, scalars, colormap, vmin, vmax)
     return _save(ms, p, colors=scalars is not None, normals=normals is not None)

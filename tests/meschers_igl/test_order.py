@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import warnings
-from pathlib import Path
 
 import igl
 import networkx as nx
@@ -28,9 +27,10 @@ from meschers_igl.geometry2d import (
     triangles_overlap,
 )
 from meschers_igl.operators import view_frame
+from meschers_igl.paradox import data_dir
 from meschers_igl.topology import edge_topology
 
-PARADOX = Path(__file__).resolve().parents[1] / "data" / "paradox"
+PARADOX = data_dir()  # the ParadoxToolkit cut models shipped with the package
 
 
 # ---------------------------------------------------------------------------------- builders
@@ -153,6 +153,18 @@ def test_intersection_centroid_exact_and_monte_carlo():
     both = P[inA & inB]
     np.testing.assert_allclose(area[0], both.shape[0] / len(P) * 4.0, rtol=0.02)
     np.testing.assert_allclose(c[0], both.mean(0), atol=3e-3)
+
+
+def test_intersection_centroid_of_a_folded_pair_and_any_orientation():
+    # B folded over A along their shared edge (0,0)-(2,0): the overlap is B itself; the shared
+    # boundary must be counted once
+    A = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    B = np.array([[0.0, 0.0], [2.0, 0.0], [0.5, 0.5]])
+    for a, b in [(A, B), (A[::-1], B), (A, B[::-1]), (B, A), (B[::-1], A[::-1])]:
+        c, area = intersection_centroids(a[None], b[None])
+        np.testing.assert_allclose(area[0], 0.5, atol=1e-14)
+        np.testing.assert_allclose(c[0], B.mean(0), atol=1e-14)
+    assert triangles_overlap(A[None], B[None], 1e-9)[0]
 
 
 def test_broad_and_narrow_phase_match_brute_force():

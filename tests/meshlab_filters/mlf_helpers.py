@@ -2,11 +2,7 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
-
-PARADOX = Path(__file__).resolve().parents[1] / "data" / "paradox"
 
 
 def write_obj(path, V, faces):

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pymeshlab
 import pytest
-from mlf_helpers import PARADOX, ramp_ring, tris, write_obj
+from mlf_helpers import ramp_ring, tris, write_obj
 
 from meschers_igl import Mescher, MescherError
 from meschers_igl.order import DepthOrder
+from meschers_igl.paradox import paradox_model
 from meshlab_filters import (
     cut_model_to_mescher,
     export_bent_embedding,
@@ -33,12 +32,9 @@ def ring():
 
 @pytest.fixture(scope="module")
 def penrose():
-    meta = json.loads((PARADOX / "penrose_triangle.json").read_text())
-    cam = meta["camera"]
-    m, order, rep = cut_model_to_mescher(
-        PARADOX / "penrose_triangle.obj", view=cam["view_dir"], up=cam["up"], return_report=True
-    )
-    return m, order, rep, meta
+    pm = paradox_model("penrose_triangle")  # shipped with meschers_igl (ParadoxToolkit, GPL-3.0)
+    m, order, rep = cut_model_to_mescher(pm.obj, view=pm.view, up=pm.up, return_report=True)
+    return m, order, rep, pm
 
 
 def test_ring_cut_model_has_the_depth_gap_as_period(ring):
@@ -63,7 +59,8 @@ def test_ring_from_a_file_translates_merge_through_clean_up(tmp_path):
 
 
 def test_penrose_triangle_period_and_order(penrose):
-    m, order, rep, meta = penrose
+    m, order, rep, pm = penrose
+    meta = pm.meta
     gap = meta["verification"]["depth_gaps"][0]
     p = np.abs(m.periods())
     assert np.isclose(p.max(), gap, rtol=1e-5) and np.count_nonzero(p > 1e-6 * gap) == 1
@@ -71,13 +68,13 @@ def test_penrose_triangle_period_and_order(penrose):
     assert m.euler_characteristic() == meta["verification"]["glued_chi"]
     # the order is DepthOrder.from_embedding with the cut model's own depths V . view_dir
     V = np.loadtxt(
-        [ln[2:] for ln in (PARADOX / "penrose_triangle.obj").read_text().splitlines()
+        [ln[2:] for ln in pm.obj.read_text().splitlines()
          if ln.startswith("v ")]
     )  # fmt: skip
     view = np.asarray(meta["camera"]["view_dir"])
     # the loader keeps the file's vertices here (nothing to clean), so F indexes V
     assert rep.vertex_map.tolist() == list(range(V.shape[0]))
-    F = _cleaned_faces(PARADOX / "penrose_triangle.obj")
+    F = _cleaned_faces(pm.obj)
     expected = DepthOrder.from_embedding(m, (V @ view / np.linalg.norm(view))[F])
     assert order == expected and order.n_arcs > 0
     assert order.cycles(warn=False) == []

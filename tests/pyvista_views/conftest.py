@@ -15,14 +15,12 @@ import numpy as np
 import pytest
 import pyvista as pv
 
-from pyvista_views._offscreen import configure_headless, gl_available
+from pyvista_views._offscreen import configure_headless
 
 configure_headless()
 pv.OFF_SCREEN = True
 
 BASELINE = Path(__file__).parent / "baseline"
-
-requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL context")
 
 
 @pytest.fixture(autouse=True)

@@ -3,7 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import pyvista as pv
+
+from pyvista_views._offscreen import gl_available
+
+requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL context")
 
 
 def sphere(resolution: int = 24) -> tuple[np.ndarray, np.ndarray]:

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import requires_gl
-from pvv_helpers import ramp_ring
+from pvv_helpers import ramp_ring, requires_gl
 
 from meschers_igl import Mescher, MescherError
 from pyvista_views import compare

@@ -5,8 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import pyvista as pv
-from conftest import requires_gl
-from pvv_helpers import back_to_front, sphere
+from pvv_helpers import back_to_front, requires_gl, sphere
 
 from meschers_igl import Mescher, MescherError
 from pyvista_views import MescherViewer, plot, render

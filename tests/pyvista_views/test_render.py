@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import requires_gl
-from pvv_helpers import back_to_front, iou, luminance, mask, ramp_ring, sphere
+from pvv_helpers import back_to_front, iou, luminance, mask, ramp_ring, requires_gl, sphere
 
 from meschers_igl import Mescher, MescherError
 from pyvista_views import MescherScene, render
