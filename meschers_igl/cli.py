@@ -71,7 +71,9 @@ def _size(text: str) -> tuple[int, int]:
     except ValueError:
         w = h = 0
     if w <= 0 or h <= 0:
-        raise argparse.ArgumentTypeError(f"size: expected WIDTH,HEIGHT or N (pixels), found {text!r}")
+        raise argparse.ArgumentTypeError(
+            f"size: expected WIDTH,HEIGHT or N (pixels), found {text!r}"
+        )
     return w, h
 
 
@@ -144,7 +146,9 @@ def load_input(spec: str) -> tuple[Any, Any, str]:
     path = Path(spec)
     if path.suffix.lower() in (".ply", ".npz") or path.exists():
         if not path.is_file():
-            raise MescherError(f"INPUT: expected an existing .ply or .npz mescher file, found nothing at '{spec}'")
+            raise MescherError(
+                f"INPUT: expected an existing .ply or .npz mescher file, found nothing at '{spec}'"
+            )
         if path.suffix.lower() not in (".ply", ".npz"):
             raise MescherError(
                 f"INPUT: expected a .ply or .npz mescher file, found '{path.name}' "
@@ -166,9 +170,13 @@ def load_input(spec: str) -> tuple[Any, Any, str]:
 def _out_path(text: str, suffixes: Sequence[str], name: str = "OUT") -> Path:
     p = Path(text)
     if p.suffix.lower() not in suffixes:
-        raise MescherError(f"{name}: expected a file name ending in {' or '.join(suffixes)}, found '{text}'")
+        raise MescherError(
+            f"{name}: expected a file name ending in {' or '.join(suffixes)}, found '{text}'"
+        )
     if p.parent and not p.parent.exists():
-        raise MescherError(f"{name}: expected an existing folder for '{text}', found no '{p.parent}'")
+        raise MescherError(
+            f"{name}: expected an existing folder for '{text}', found no '{p.parent}'"
+        )
     return p
 
 
@@ -199,7 +207,9 @@ def _print_info(info: dict, label: str) -> None:
         f"boundary loops {info['boundary_loops']}, genus {info['genus']}"
     )
     print(f"  impossible: {'yes' if info['impossible'] else 'no'}")
-    print("  periods: " + (", ".join(f"{p:.6g}" for p in periods) if periods else "none (no loops)"))
+    print(
+        "  periods: " + (", ".join(f"{p:.6g}" for p in periods) if periods else "none (no loops)")
+    )
     if "depth_arcs" in info:
         print(f"  depth order: {info['depth_arcs']} arcs, {info['depth_cycles']} cycles")
 
@@ -343,7 +353,9 @@ def _cmd_view(args: argparse.Namespace) -> int:
         )
     import pyvista_views
 
-    pyvista_views.plot(m, order=order, shading=args.shading, window_size=args.size, off_screen=False)
+    pyvista_views.plot(
+        m, order=order, shading=args.shading, window_size=args.size, off_screen=False
+    )
     return 0
 
 
@@ -380,11 +392,25 @@ def build_parser() -> argparse.ArgumentParser:
                        formatter_class=raw, description="Every operation of the paper on the built-in gallery, "
                        "mescher vs cut vs bent, written to OUT/index.html with PNGs and metrics.json.",
                        epilog=_examples("study", "study --quick --models penrose_triangle,impossibagel --out study"))  # fmt: skip
-    p.add_argument("--models", action="append", metavar="NAMES", help="comma-separated gallery models (default: all)")
-    p.add_argument("--out", default="meschers_study", metavar="DIR", help="output folder (default: meschers_study)")
-    p.add_argument("--quick", action="store_true", help="small renders, one subdivision level (<= 2 minutes)")
+    p.add_argument(
+        "--models",
+        action="append",
+        metavar="NAMES",
+        help="comma-separated gallery models (default: all)",
+    )
+    p.add_argument(
+        "--out",
+        default="meschers_study",
+        metavar="DIR",
+        help="output folder (default: meschers_study)",
+    )
+    p.add_argument(
+        "--quick", action="store_true", help="small renders, one subdivision level (<= 2 minutes)"
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--no-other-tools", action="store_true", help="leave out the ParadoxToolkit section")
+    p.add_argument(
+        "--no-other-tools", action="store_true", help="leave out the ParadoxToolkit section"
+    )
     p.set_defaults(func=_cmd_study)
 
     p = sub.add_parser("info", help="counts, genus, components, impossible?, periods", formatter_class=raw,
@@ -398,14 +424,23 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Load and clean an artist's cut model with PyMeshLab, glue its seam into a mescher "
                        "seen from --view, and save it with its depth order. Prints the clean-up report.",
                        epilog=_examples("convert penrose_triangle.obj penrose.ply --view 0.577,-0.577,0.577 --up -0.408,0.408,0.816"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", help="mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...)")
+    p.add_argument(
+        "input", metavar="INPUT", help="mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...)"
+    )
     p.add_argument("output", metavar="OUT", help="the mescher file (.ply or .npz)")
     p.add_argument("--view", type=lambda s: _vector(s, "--view"), default=(0.0, 0.0, 1.0), metavar="X,Y,Z",
                    help="direction from the model toward the camera (default 0,0,1)")  # fmt: skip
     p.add_argument("--up", type=lambda s: _vector(s, "--up"), default=(0.0, 1.0, 0.0), metavar="X,Y,Z",
                    help="screen up (default 0,1,0)")  # fmt: skip
-    p.add_argument("--tol", type=float, default=None, help="gluing tolerance relative to the model's size")
-    p.add_argument("--merge-tol", type=_nonnegative, default=0.0, help="3D duplicate-vertex distance of the clean-up")
+    p.add_argument(
+        "--tol", type=float, default=None, help="gluing tolerance relative to the model's size"
+    )
+    p.add_argument(
+        "--merge-tol",
+        type=_nonnegative,
+        default=0.0,
+        help="3D duplicate-vertex distance of the clean-up",
+    )
     p.set_defaults(func=_cmd_convert)
 
     p = sub.add_parser("render", help="render a mescher head-on to a PNG", formatter_class=raw,
@@ -418,9 +453,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--light", action="append", type=lambda s: _vector(s, "--light"), metavar="X,Y,Z",
                    help="direction toward a directional light, camera frame (repeatable; default 1,1,1)")  # fmt: skip
     p.add_argument("--shading", choices=("flat", "smooth"), default="flat")
-    p.add_argument("--env", default=None, metavar="MAP", help="environment map: studio, sky, uniform or a lat-long image")
+    p.add_argument(
+        "--env",
+        default=None,
+        metavar="MAP",
+        help="environment map: studio, sky, uniform or a lat-long image",
+    )
     p.add_argument("--representation", choices=("mescher", "cut", "bent"), default="mescher")
-    p.add_argument("--subdivide", type=int, default=0, metavar="N", help="midpoint subdivision levels first")
+    p.add_argument(
+        "--subdivide", type=int, default=0, metavar="N", help="midpoint subdivision levels first"
+    )
     p.add_argument("--size", type=_size, default=(800, 800), metavar="W,H")
     p.set_defaults(func=_cmd_render)
 
@@ -430,7 +472,9 @@ def build_parser() -> argparse.ArgumentParser:
                        epilog=_examples("geodesic penrose_triangle --source 0 --target 30 -o distance.png"))  # fmt: skip
     p.add_argument("input", metavar="INPUT", help=inp)
     p.add_argument("--source", type=int, nargs="+", required=True, metavar="V")
-    p.add_argument("--target", type=int, default=None, metavar="V", help="draw and report a shortest path")
+    p.add_argument(
+        "--target", type=int, default=None, metavar="V", help="draw and report a shortest path"
+    )
     p.add_argument("--method", choices=("standard", "accurate"), default="standard")
     p.add_argument("-o", "--output", metavar="PNG", help="render the distance")
     p.add_argument("--save", metavar="NPY", help="save the (#V,) distances")
@@ -444,7 +488,9 @@ def build_parser() -> argparse.ArgumentParser:
                        epilog=_examples("smooth penrose_triangle -o smooth.ply --t-xy 0.05 --t-zeta 0.05"))  # fmt: skip
     p.add_argument("input", metavar="INPUT", help=inp)
     p.add_argument("-o", "--output", required=True, metavar="OUT", help=".ply or .npz")
-    p.add_argument("--t-xy", type=_nonnegative, default=0.0, help="diffusion time for xy (length^2)")
+    p.add_argument(
+        "--t-xy", type=_nonnegative, default=0.0, help="diffusion time for xy (length^2)"
+    )
     p.add_argument("--t-zeta", type=_nonnegative, default=0.0, help="diffusion time for the depths")
     p.add_argument("--iterations", type=int, default=1)
     p.set_defaults(func=_cmd_smooth)
@@ -488,6 +534,31 @@ def _cmd_info_or_list(args: argparse.Namespace) -> int:
     return _cmd_info(args)
 
 
+_VECTOR_OPTIONS = ("--view", "--up", "--light")
+
+
+def _join_negative_vectors(argv: list[str]) -> list[str]:
+    """``--up -0.4,0.4,0.8`` -> ``--up=-0.4,0.4,0.8``: argparse would take the leading minus of
+    a comma-separated vector for an option."""
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        tok = argv[i]
+        nxt = argv[i + 1] if i + 1 < len(argv) else ""
+        if (
+            tok in _VECTOR_OPTIONS
+            and len(nxt) > 1
+            and nxt[0] == "-"
+            and (nxt[1].isdigit() or nxt[1] == ".")
+        ):
+            out.append(f"{tok}={nxt}")
+            i += 2
+        else:
+            out.append(tok)
+            i += 1
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``meschers`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status.
 
@@ -500,7 +571,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if argv[:1] == ["inverse"]:  # hand everything after 'inverse' over, '--help' included
             args = argparse.Namespace(rest=argv[1:], func=_cmd_inverse)
         else:
-            args = parser.parse_args(argv)
+            args = parser.parse_args(_join_negative_vectors(argv))
         return int(args.func(args) or 0)
     except _UsageError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)

@@ -26,7 +26,7 @@ vertex, which keeps the arithmetic exact enough far from the origin.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
@@ -346,6 +346,7 @@ def overlapping_pairs(
     faces: np.ndarray | None = None,
     centroids: bool = False,
     chunk: int = _CHUNK,
+    pair_filter: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """All pairs of screen triangles that overlap with positive area.
 
@@ -362,6 +363,10 @@ def overlapping_pairs(
         Also return the centroid of each pair's intersection polygon.
     chunk : int
         Pairs per vectorized block (memory bound).
+    pair_filter : callable, optional
+        ``pair_filter(i, j) -> (k,) bool`` on candidate pairs (indices into ``T``, ``i < j``)
+        before the narrow phase: only pairs it keeps are tested (e.g. pairs whose parent faces
+        are ordered, in :meth:`DepthOrder.refine`).
 
     Returns
     -------
@@ -379,6 +384,8 @@ def overlapping_pairs(
     S = T[ids]
     out_p, out_c = [], []
     for cand in candidate_pairs(_min3(S), _max3(S), tol, chunk):
+        if pair_filter is not None:
+            cand = cand[pair_filter(ids[cand[:, 0]], ids[cand[:, 1]])]
         A, B = S[cand[:, 0]], S[cand[:, 1]]
         hit = triangles_overlap(A, B, tol)
         cand = cand[hit]

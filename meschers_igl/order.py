@@ -625,11 +625,16 @@ class DepthOrder:
                 f"m: expected a mescher with {self._n} faces (n_faces), found {F.shape[0]}"
             )
         T = xy[F]
-        pairs, _ = overlapping_pairs(T, _tol(tol, T), faces=np.concatenate((front, back)))
         is_f = np.zeros(self._n, dtype=bool)
         is_f[front] = True
         is_b = np.zeros(self._n, dtype=bool)
         is_b[back] = True
+        pairs, _ = overlapping_pairs(
+            T,
+            _tol(tol, T),
+            faces=np.concatenate((front, back)),
+            pair_filter=lambda i, j: is_f[i] != is_f[j],  # one face from each group
+        )
         i, j = pairs[:, 0], pairs[:, 1]
         new = np.concatenate((pairs[is_b[i] & is_f[j]], pairs[is_f[i] & is_b[j]][:, ::-1]))
         old = self._arcs[~(is_f[self._arcs[:, 0]] & is_b[self._arcs[:, 1]])]
@@ -676,12 +681,20 @@ class DepthOrder:
         if self.n_arcs == 0:
             return DepthOrder(nc, None, m=m_child)
         T = xy[F]
+        n = np.int64(self._n)
+        keys = self._arcs[:, 0] * n + self._arcs[:, 1]  # sorted (canonical arcs)
+
+        def parents_ordered(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+            pa, pb = parent[a], parent[b]
+            return _in_sorted(keys, pa * n + pb) | _in_sorted(keys, pb * n + pa)
+
         related = np.isin(parent, self._arcs)  # only children of faces with arcs can get one
-        pairs, _ = overlapping_pairs(T, _tol(tol, T), faces=np.flatnonzero(related))
+        pairs, _ = overlapping_pairs(
+            T, _tol(tol, T), faces=np.flatnonzero(related), pair_filter=parents_ordered
+        )
         pa, pb = parent[pairs[:, 0]], parent[pairs[:, 1]]
-        keys = self._arcs[:, 0] * np.int64(self._n) + self._arcs[:, 1]  # sorted (canonical)
-        fwd = _in_sorted(keys, pa * np.int64(self._n) + pb)
-        bwd = _in_sorted(keys, pb * np.int64(self._n) + pa)
+        fwd = _in_sorted(keys, pa * n + pb)
+        bwd = _in_sorted(keys, pb * n + pa)
         arcs = np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
         return DepthOrder(nc, arcs, m=m_child)
 

@@ -246,7 +246,7 @@ def tree_cotree(
     # vectorised scipy (csgraph) work.
     A = sp.csr_matrix((w, (edges[:, 0], edges[:, 1])), shape=(n_vertices, n_vertices))
     T = csgraph.minimum_spanning_tree(A).tocoo()
-    key = edges[:, 0] * np.int64(n_vertices) + edges[:, 1]
+    key = _undirected_keys(edges[:, 0], edges[:, 1], n_vertices)  # any stored orientation
     tkey = np.minimum(T.row, T.col).astype(np.int64) * n_vertices + np.maximum(T.row, T.col)
     in_tree = np.isin(key, tkey)
     # Dual graph over faces (+ one node for "outside" joined to boundary edges), edges not in T.
@@ -299,7 +299,8 @@ def generator_loops(
         return []
     Tm = csgraph.minimum_spanning_tree(A)
     Tsym = (Tm + Tm.T).tocsr()
-    key = edges[:, 0] * np.int64(n_vertices) + edges[:, 1]
+    key = _undirected_keys(edges[:, 0], edges[:, 1], n_vertices)
+    sorter = np.argsort(key)  # user edges may come in any order and orientation
     # Root each tree component and record parents (one scipy BFS per connected component).
     ncomp, labels = csgraph.connected_components(Tsym, directed=False)
     parent = np.full(n_vertices, -1, dtype=np.int64)
@@ -325,5 +326,6 @@ def generator_loops(
         verts = np.asarray([u] + pv[: iv + 1] + pu[:iu][::-1], dtype=np.int64)
         t, h = verts[:-1], verts[1:]
         k = np.minimum(t, h) * np.int64(n_vertices) + np.maximum(t, h)
-        loops.append((np.searchsorted(key, k).astype(np.int64), np.where(t < h, 1.0, -1.0)))
+        eidx = sorter[np.searchsorted(key, k, sorter=sorter)]
+        loops.append((eidx.astype(np.int64), np.where(edges[eidx, 0] == t, 1.0, -1.0)))
     return loops

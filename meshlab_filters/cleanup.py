@@ -255,10 +255,11 @@ def _orient_like_majority(F_before: np.ndarray, F_after: np.ndarray, labels: np.
     return F, flipped
 
 
-def _is_coherent(F: np.ndarray) -> bool:
-    """No directed half-edge appears twice (each edge used once per direction)."""
-    he = np.stack([F, np.roll(F, -1, axis=1)], axis=2).reshape(-1, 2)
-    return np.unique(he, axis=0).shape[0] == he.shape[0]
+def _is_coherent(F: np.ndarray, n_vertices: int) -> bool:
+    """No directed half-edge appears twice (each edge used at most once per direction)."""
+    key = F.reshape(-1) * np.int64(n_vertices) + np.roll(F, -1, axis=1).reshape(-1)
+    key.sort()
+    return not np.any(key[1:] == key[:-1])
 
 
 def _replace_current_mesh(ms: pymeshlab.MeshSet, V: np.ndarray, F: np.ndarray) -> None:
@@ -347,7 +348,7 @@ def clean_meshset(
     if not np.array_equal(F, F_after):
         _replace_current_mesh(ms, V, F)
     rep.components = int(n_comp)
-    rep.orientable = _is_coherent(F)
+    rep.orientable = _is_coherent(F, V.shape[0])
     rep.vertices_out, rep.faces_out = V.shape[0], F.shape[0]
     rep.vertex_map = _vertex_map(V0, F0, orig, V, merge_tol)
     return V, np.ascontiguousarray(F), rep

@@ -132,7 +132,9 @@ def _tools_table(tools: dict) -> str:
                     _num(_get(r, "input", "euler_characteristic")),
                     _num(_get(r, "expected", "glued_chi")),
                     _periods(r.get("periods")),
-                    _e(", ".join(f"{g:.4g}" for g in gaps)) if isinstance(gaps, list) else "&ndash;",
+                    _e(", ".join(f"{g:.4g}" for g in gaps))
+                    if isinstance(gaps, list)
+                    else "&ndash;",
                     _num(min(_get(r, "relighting", "iou") or [math.nan]), digits=4),
                     _num(min(_get(r, "relighting", "luminance_corr") or [math.nan]), digits=4),
                     _num(_get(r, "geodesic", "heat_accurate_error", "mean"), pct=True),
@@ -144,7 +146,10 @@ def _tools_table(tools: dict) -> str:
 
 
 def _section(sec: Any, record: dict, level: str = "h2") -> str:
-    parts = [f'<{level} id="{_e(sec.name)}">{_e(sec.title)}</{level}>', f"<p>{_e(sec.description)}</p>"]
+    parts = [
+        f'<{level} id="{_e(sec.name)}">{_e(sec.title)}</{level}>',
+        f"<p>{_e(sec.description)}</p>",
+    ]
     for fig in sec.figures:
         if not fig.file:
             continue
@@ -227,7 +232,7 @@ def write_report(
     body.append(
         "<h2 id='citation'>Citation</h2>"
         f"<p class='cite'>{_e(metrics.get('citation', ''))} "
-        f"<a href=\"{_e(metrics.get('doi', ''))}\">{_e(metrics.get('doi', ''))}</a></p>"
+        f'<a href="{_e(metrics.get("doi", ""))}">{_e(metrics.get("doi", ""))}</a></p>'
         "<p>All numbers are in <a href='metrics.json'>metrics.json</a>.</p>"
     )
     page = (

@@ -729,7 +729,9 @@ def _steps_model(
 
         if not m.is_impossible():
             # no harmonic part: the cut needs no seam and the bent model is the mescher itself
-            record["comparison"] = {"skipped": "no harmonic part: cut and bent embeddings equal the mescher"}
+            record["comparison"] = {
+                "skipped": "no harmonic part: cut and bent embeddings equal the mescher"
+            }
             return
         t = st.compare_time * scale * scale
         res = compare(

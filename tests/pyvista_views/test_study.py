@@ -1,0 +1,244 @@
+"""The comparison study: its measurements on hand-made cases, then one quick run end to end.
+
+The end-to-end run (``run_study(quick=True)`` on the smallest gallery model plus the
+ParadoxToolkit section) checks the paper's claims as numbers, not that files exist only:
+the mescher relights exactly like the cut model and the bent model does not; the mescher's
+geodesics beat the cut's and the bent's against exact covering distances; subdivision and
+smoothing keep the periods; the ParadoxToolkit triangle's period is the tool's depth gap.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pvv_helpers import requires_gl
+
+from meschers_igl import Mescher, MescherError, shapes
+from meschers_igl.cli import describe
+from meschers_igl.gallery import get_model
+from pyvista_views.report import referenced_images
+from pyvista_views.study import (
+    _sources,
+    compose,
+    distance_error,
+    image_agreement,
+    loop_periods,
+    run_study,
+    screen_to_pixel,
+    seam_gap,
+)
+
+
+# ------------------------------------------------------------------------------------------------
+# measurements on hand-sized cases
+# ------------------------------------------------------------------------------------------------
+def _image(mask: np.ndarray, grey: np.ndarray | float) -> np.ndarray:
+    img = np.full(mask.shape + (3,), 255, dtype=np.uint8)
+    img[mask] = np.broadcast_to(np.asarray(grey, dtype=np.uint8), mask.shape)[mask, None]
+    return img
+
+
+def test_image_agreement_hand_values():
+    ma = np.zeros((4, 4), bool)
+    ma[:2, :] = True  # 8 pixels
+    mb = np.zeros((4, 4), bool)
+    mb[1:3, :] = True  # 8 pixels, 4 shared
+    a = _image(ma, 51)  # luminance 0.2
+    b = _image(mb, 102)  # luminance 0.4
+    g = image_agreement(a, b)
+    assert g["iou"] == pytest.approx(4 / 12)
+    assert g["luminance_mae"] == pytest.approx(0.2, abs=1e-12)
+    assert g["luminance_corr"] == 0.0  # both constant on the overlap but different
+    same = image_agreement(a, a)
+    assert same == {"iou": 1.0, "luminance_mae": 0.0, "luminance_corr": 1.0}
+
+
+def test_image_agreement_correlation_is_affine_invariant():
+    rng = np.random.default_rng(0)
+    mask = np.ones((6, 5), bool)
+    grey = rng.integers(10, 120, size=(6, 5))
+    g = image_agreement(_image(mask, grey), _image(mask, 2 * grey + 5))
+    assert g["iou"] == 1.0
+    assert g["luminance_corr"] == pytest.approx(1.0, abs=1e-6)  # uint8 rounding only
+
+
+def test_image_agreement_rejects_mismatched_shapes():
+    with pytest.raises(MescherError, match=r"a, b: expected .* found \(2, 2, 3\) and \(3, 3, 3\)"):
+        image_agreement(np.zeros((2, 2, 3), np.uint8), np.zeros((3, 3, 3), np.uint8))
+
+
+def test_distance_error_hand_values():
+    d_exact = np.array([0.0, 1.0, 2.0, 4.0, np.inf])
+    d = np.array([0.0, 1.5, 2.0, 3.0, 7.0])
+    e = distance_error(d, d_exact)
+    assert e["n"] == 4  # the unreachable vertex is left out
+    assert e["mean"] == pytest.approx((0.5 + 1.0) / 4 / 4)
+    assert e["max"] == pytest.approx(1.0 / 4)
+    with pytest.raises(MescherError, match="d: expected shape"):
+        distance_error(d[:3], d_exact)
+
+
+def test_seam_gap_hand_values():
+    xy = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 0.3], [1.0, 0.0], [5.0, 5.0]])
+    vmap = np.array([0, 1, 0, 1, 2])  # vertex 0 copied with a 0.3 gap, vertex 1 coincident
+    assert seam_gap(xy, vmap) == pytest.approx(0.3)
+    assert seam_gap(xy[[0, 1, 4]], np.array([0, 1, 2])) == 0.0
+    with pytest.raises(MescherError, match="vmap: expected shape"):
+        seam_gap(xy, vmap[:3])
+
+
+def test_screen_to_pixel_maps_bounds_to_image_corners():
+    bounds = (-1.0, 3.0, 0.0, 2.0)
+    P = np.array([[-1.0, 2.0], [3.0, 0.0], [1.0, 1.0]])
+    np.testing.assert_allclose(
+        screen_to_pixel(P, bounds, (200, 100)), [[0, 0], [200, 100], [100, 50]]
+    )
+
+
+def test_one_source_per_component():
+    V1, F1 = shapes.icosphere(1)
+    V = np.vstack([V1, V1 + [5.0, 0, 0]])
+    F = np.vstack([F1, F1 + len(V1)])
+    m = Mescher.from_mesh(V, F)
+    s = _sources(m)
+    assert s.size == 2 and (s < len(V1)).sum() == 1
+    d = m.geodesic_distance(s)
+    assert np.isfinite(d).all() and np.allclose(d[s], 0.0)
+
+
+def test_loop_periods_match_periods_and_survive_smoothing():
+    g = get_model("penrose_triangle")
+    m = g.mescher
+    np.testing.assert_allclose(loop_periods(m, m.zeta), m.periods(), atol=1e-12)
+    h = float(np.mean(m.edge_lengths()))
+    ms = m.smooth(t_xy=h * h, t_zeta=4 * h * h)
+    assert not np.allclose(ms.zeta, m.zeta)  # smoothing did something ...
+    np.testing.assert_allclose(loop_periods(m, ms.zeta), m.periods(), atol=1e-10)  # ... not this
+    assert np.abs(m.periods()).max() == pytest.approx(g.expected_period, rel=1e-9)
+
+
+def test_compose_layout():
+    cells = [[np.zeros((10, 12, 3), np.uint8)] * 3] * 2
+    img = compose(cells, ["a", "b", "c"], ["r1", "r2"], [["x"] * 3] * 2)
+    assert img.size == (92 + 3 * 12, 20 + 2 * (10 + 18))
+    assert compose(cells).size == (36, 20)
+
+
+@pytest.mark.parametrize(
+    ("mesh", "expected"),
+    [
+        ("torus", {"genus": 1, "euler_characteristic": 0, "components": 1, "boundary_loops": 0}),
+        ("sphere", {"genus": 0, "euler_characteristic": 2, "components": 1, "boundary_loops": 0}),
+        ("annulus", {"genus": 0, "euler_characteristic": 0, "components": 1, "boundary_loops": 2}),
+    ],
+)
+def test_describe_topology(mesh, expected):
+    V, F = {"torus": lambda: shapes.torus(12, 6), "sphere": lambda: shapes.icosphere(1),
+            "annulus": lambda: shapes.annulus(12, 3)}[mesh]()  # fmt: skip
+    info = describe(Mescher.from_mesh(V, F))
+    assert {k: info[k] for k in expected} == expected
+    assert info["impossible"] is False  # an ordinary mesh has no harmonic depth
+
+
+# ------------------------------------------------------------------------------------------------
+# one quick run, end to end
+# ------------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    from pyvista_views._offscreen import gl_available
+
+    if not gl_available():
+        pytest.skip("no offscreen OpenGL context")
+    out = tmp_path_factory.mktemp("study")
+    return run_study(["penrose_triangle"], out=out, quick=True, progress=False)
+
+
+@requires_gl
+def test_study_writes_report_and_metrics(study):
+    out = study.out
+    assert study.errors == []
+    assert (out / "index.html").is_file() and (out / "metrics.json").is_file()
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["errors"] == [] and "10.1145/3731422" in metrics["citation"]
+    refs = referenced_images(out / "index.html")
+    pngs = sorted(p.name for p in out.glob("*.png"))
+    assert refs and all((out / r).is_file() for r in refs)  # only images that exist ...
+    assert sorted(set(refs)) == pngs  # ... and every figure is in the report
+    kinds = {"hodge", "render", "heat", "geodesic", "smoothing", "relight", "compare"}
+    assert {f"penrose_triangle_{k}.png" for k in kinds} <= set(pngs)
+    html = (out / "index.html").read_text()
+    assert (
+        "<table>" in html
+        and "Models from other tools" in html
+        and "doi.org/10.1145/3731422" in html
+    )
+
+
+@requires_gl
+def test_study_numbers_match_the_paper(study):
+    r = study.metrics["models"]["penrose_triangle"]
+    # subdivision, Hodge decomposition and smoothing keep the periods (sqrt(3) x bar length)
+    assert r["subdivision"]["period_drift"] < 1e-9
+    assert max(np.abs(r["hodge"]["periods"])) == pytest.approx(4 * np.sqrt(3), rel=1e-9)
+    assert r["hodge"]["reconstruction_error"] < 1e-12 and r["hodge"]["harmonic_closed"] < 1e-12
+    assert max(r["smoothing"]["period_drift"].values()) < 1e-9
+    assert r["heat"]["heat_conservation_error"] < 1e-10
+    # relighting: the mescher is the cut model pixel for pixel; the bent model's normals are wrong
+    mes, bent = r["relighting"]["mescher"], r["relighting"]["bent"]
+    assert min(mes["iou"]) > 0.99 and max(mes["luminance_mae"]) < 0.01
+    assert min(bent["luminance_mae"]) > 5 * max(max(mes["luminance_mae"]), 0.005)
+    # geodesics against exact covering distances: mescher < bent < cut (the seam blocks paths)
+    ge = r["comparison"]["geodesic_error_vs_exact"]
+    assert ge["mescher"]["mean"] < 0.05
+    assert ge["mescher"]["mean"] < ge["bent"]["mean"] < ge["cut"]["mean"]
+    assert r["geodesic"]["heat_accurate_error"]["mean"] < r["geodesic"]["heat_error"]["mean"]
+    assert 0.99 < r["geodesic"]["path_length_over_exact"] < 1.1
+    # smoothing opens the cut model's seam; the mescher keeps its period
+    assert r["comparison"]["seam_gap_after_smoothing"]["cut"] > 0.005
+    mp = r["comparison"]["max_period_after_smoothing"]
+    assert mp["mescher"] == pytest.approx(mp["before"], rel=1e-9) and mp["bent"] == 0.0
+
+
+@requires_gl
+def test_study_models_from_other_tools(study):
+    tools = study.metrics["other_tools"]
+    if not tools:
+        pytest.skip("ParadoxToolkit data not installed in meschers_igl/data/paradox")
+    assert set(tools) >= {"penrose_triangle", "penrose_stair"}
+    tri = tools["penrose_triangle"]
+    gap = max(tri["expected"]["depth_gaps"])
+    assert max(np.abs(tri["periods"])) == pytest.approx(gap, rel=1e-4)
+    assert min(tri["relighting"]["iou"]) >= 0.98
+    assert tools["penrose_stair"]["impossible"] is False  # boxes: impossible by the order only
+    for r in tools.values():
+        assert r["input"]["euler_characteristic"] == r["expected"]["glued_chi"]
+
+
+def _chromium() -> str | None:
+    return shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@requires_gl
+@pytest.mark.skipif(_chromium() is None, reason="headless Chromium not installed")
+def test_report_screenshot_in_headless_chromium(study, tmp_path):
+    shot = tmp_path / "shot.png"
+    cmd = [
+        _chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+        "--no-first-run", "--disable-background-networking", "--disable-component-update",
+        "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}",
+        "--window-size=1200,900", (study.out / "index.html").resolve().as_uri(),
+    ]  # fmt: skip
+    subprocess.run(cmd, capture_output=True, timeout=120, check=False)
+    assert shot.is_file(), "Chromium wrote no screenshot"
+    from PIL import Image
+
+    img = np.asarray(Image.open(shot).convert("L"), dtype=np.float64)
+    assert img.shape == (900, 1200)
+    dark = img < 128  # text, table rules, figures
+    assert dark.mean() > 0.01 and img.std() > 10, "the screenshot of the report is blank"
+    assert Path(shot).stat().st_size > 10_000

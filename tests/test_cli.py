@@ -1,0 +1,293 @@
+"""The ``meschers`` command line, in-process (``main(argv)``) and as a subprocess.
+
+What each subcommand computes is checked against the library (periods, face counts, distances);
+what a user error looks like is checked exactly: one line ``meschers: error: ...`` on stderr, a
+non-zero status, no traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from meschers_igl import load
+from meschers_igl.cli import build_parser, main
+from meschers_igl.gallery import get_model
+
+
+def _paradox_dir() -> Path | None:
+    """The ParadoxToolkit models: shipped in the package, else a copy under tests/data."""
+    import importlib.resources
+
+    for root in (
+        Path(str(importlib.resources.files("meschers_igl"))) / "data" / "paradox",
+        Path(__file__).parent / "data" / "paradox",
+    ):
+        if (root / "penrose_triangle.obj").is_file():
+            return root
+    return None
+
+
+DATA = _paradox_dir()
+SUBCOMMANDS = ("study", "info", "convert", "render", "geodesic", "smooth", "subdivide", "view")
+
+
+def _gl() -> bool:
+    try:
+        from pyvista_views._offscreen import gl_available
+
+        return bool(gl_available())
+    except Exception:  # noqa: BLE001 - no pyvista/GL at all: skip the rendering tests
+        return False
+
+
+requires_gl = pytest.mark.skipif(not _gl(), reason="no offscreen OpenGL context")
+
+
+def _one_error_line(capsys) -> str:
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1, f"expected one error line, found {err!r}"
+    assert lines[0].startswith("meschers: error: ") and "Traceback" not in err
+    return lines[0]
+
+
+# ------------------------------------------------------------------------------------------------
+# help
+# ------------------------------------------------------------------------------------------------
+def test_help_lists_every_subcommand(capsys):
+    assert main(["--help"]) == 0
+    out = capsys.readouterr().out
+    for name in (*SUBCOMMANDS, "inverse"):
+        assert name in out
+
+
+@pytest.mark.parametrize("command", SUBCOMMANDS)
+def test_each_subcommand_has_help_with_an_example(command, capsys):
+    assert main([command, "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "example:" in out and f"meschers {command}" in out
+
+
+def test_parser_covers_every_subcommand():
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    assert set(sub.choices) == {*SUBCOMMANDS, "inverse"}
+
+
+# ------------------------------------------------------------------------------------------------
+# info
+# ------------------------------------------------------------------------------------------------
+def test_info_gallery_model_json(capsys):
+    assert main(["info", "penrose_triangle", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    g = get_model("penrose_triangle")
+    m = g.mescher
+    assert (info["vertices"], info["edges"], info["faces"]) == (m.n_vertices, m.n_edges, m.n_faces)
+    assert info["genus"] == 1 and info["components"] == 1 and info["euler_characteristic"] == 0
+    assert info["impossible"] is True
+    assert max(np.abs(info["periods"])) == pytest.approx(g.expected_period, rel=1e-9)
+    assert info["depth_arcs"] == g.order.n_arcs
+
+
+def test_info_text_and_list(capsys):
+    assert main(["info", "window"]) == 0
+    out = capsys.readouterr().out
+    assert "genus 4" in out and "impossible: no" in out
+    assert main(["info", "--list"]) == 0
+    assert "penrose_triangle" in capsys.readouterr().out
+
+
+# ------------------------------------------------------------------------------------------------
+# user errors: one line, non-zero, no traceback
+# ------------------------------------------------------------------------------------------------
+def test_unknown_model(capsys):
+    assert main(["info", "penrose_circle"]) == 2
+    line = _one_error_line(capsys)
+    assert "INPUT" in line and "penrose_triangle" in line and "'penrose_circle'" in line
+
+
+def test_missing_file(tmp_path, capsys):
+    assert main(["info", str(tmp_path / "absent.ply")]) == 2
+    assert "absent.ply" in _one_error_line(capsys)
+
+
+def test_corrupt_file(tmp_path, capsys):
+    bad = tmp_path / "bad.ply"
+    bad.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nend_header\n\x00\x01")
+    assert main(["info", str(bad)]) == 2
+    _one_error_line(capsys)
+    bad_npz = tmp_path / "bad.npz"
+    bad_npz.write_text("not a zip")
+    assert main(["info", str(bad_npz)]) == 2
+    _one_error_line(capsys)
+
+
+def test_wrong_file_kind_suggests_convert(tmp_path, capsys):
+    obj = tmp_path / "model.obj"
+    obj.write_text("v 0 0 0\n")
+    assert main(["info", str(obj)]) == 2
+    assert "meschers convert" in _one_error_line(capsys)
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["render", "penrose_triangle"], "-o/--output"),
+        (["render", "penrose_triangle", "-o", "x.png", "--light", "1,2"], "--light: expected 3"),
+        (["render", "penrose_triangle", "-o", "x.png", "--shading", "glossy"], "glossy"),
+        (["smooth", "penrose_triangle", "-o", "x.ply", "--t-xy", "-1"], ">= 0"),
+        (["frobnicate"], "frobnicate"),
+        ([], "required"),
+    ],
+)
+def test_bad_options(argv, fragment, capsys):
+    assert main(argv) == 2
+    assert fragment in _one_error_line(capsys)
+
+
+def test_bad_output_name(tmp_path, capsys):
+    assert main(["subdivide", "penrose_triangle", "-o", str(tmp_path / "x.obj")]) == 2
+    assert ".ply or .npz" in _one_error_line(capsys)
+
+
+def test_bad_source_vertex(capsys):
+    assert main(["geodesic", "penrose_triangle", "--source", "100000"]) == 2
+    assert "source" in _one_error_line(capsys)
+
+
+def test_view_without_display(monkeypatch, capsys):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(sys, "platform", "linux")
+    assert main(["view", "penrose_triangle"]) == 2
+    assert "display" in _one_error_line(capsys)
+
+
+def test_unknown_study_model(tmp_path, capsys):
+    assert main(["study", "--quick", "--models", "nope", "--out", str(tmp_path / "s")]) == 2
+    assert "models" in _one_error_line(capsys)
+
+
+# ------------------------------------------------------------------------------------------------
+# the processing subcommands do what the library does
+# ------------------------------------------------------------------------------------------------
+def test_subdivide_then_info(tmp_path, capsys):
+    out = tmp_path / "fine.ply"
+    assert main(["subdivide", "penrose_triangle", "-o", str(out), "--levels", "2"]) == 0
+    m, order = load(out, return_order=True)
+    g = get_model("penrose_triangle")
+    assert m.n_faces == 16 * g.mescher.n_faces and order is not None
+    # a loaded file picks its own generators (orientation may flip): compare the magnitudes
+    np.testing.assert_allclose(
+        np.sort(np.abs(m.periods())), np.sort(np.abs(g.mescher.periods())), atol=1e-12
+    )
+    capsys.readouterr()
+    assert main(["info", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["faces"] == m.n_faces
+
+
+def test_smooth_keeps_periods(tmp_path, capsys):
+    out = tmp_path / "smooth.npz"
+    assert (
+        main(["smooth", "impossibagel", "-o", str(out), "--t-xy", "0.05", "--t-zeta", "0.05"]) == 0
+    )
+    m0 = get_model("impossibagel").mescher
+    m = load(out, return_order=False)
+    assert not np.allclose(m.xy, m0.xy)
+    zeta0, zeta1 = np.asarray(m0.zeta), np.asarray(m.zeta)
+    for e, s in m0.homology_generators():  # the same loops carry the same depth gain
+        assert float(s @ zeta1[e]) == pytest.approx(float(s @ zeta0[e]), abs=1e-10)
+    assert "largest period change" in capsys.readouterr().out
+
+
+def test_geodesic_saves_distances(tmp_path, capsys):
+    npy = tmp_path / "d.npy"
+    assert (
+        main(
+            ["geodesic", "penrose_triangle", "--source", "3", "--target", "30", "--save", str(npy)]
+        )
+        == 0
+    )
+    d = np.load(npy)
+    m = get_model("penrose_triangle").mescher
+    np.testing.assert_allclose(d, m.geodesic_distance(3), atol=1e-12)
+    assert d[3] == pytest.approx(0.0, abs=1e-12)
+    assert "shortest path 3 -> 30" in capsys.readouterr().out
+
+
+@pytest.mark.skipif(DATA is None, reason="ParadoxToolkit models not installed")
+def test_convert_paradox_model(tmp_path, capsys):
+    meta = json.loads((DATA / "penrose_triangle.json").read_text())
+    view = ",".join(map(str, meta["camera"]["view_dir"]))
+    up = ",".join(map(str, meta["camera"]["up"]))
+    out = tmp_path / "penrose.ply"
+    assert (
+        main(["convert", str(DATA / "penrose_triangle.obj"), str(out), "--view", view, "--up", up])
+        == 0
+    )
+    text = capsys.readouterr().out
+    assert "wrote" in text and "periods" in text
+    m, order = load(out, return_order=True)
+    assert order is not None and order.n_arcs > 0
+    gap = max(meta["verification"]["depth_gaps"])
+    assert np.abs(m.periods()).max() == pytest.approx(gap, rel=1e-4)
+    assert m.euler_characteristic() == meta["verification"]["glued_chi"]
+
+
+def test_inverse_delegates_every_argument(monkeypatch):
+    seen = []
+    fake = types.ModuleType("meschers_igl.inverse.cli")
+    fake.inverse_main = lambda args: seen.append(list(args)) or 0
+    monkeypatch.setitem(sys.modules, "meschers_igl.inverse.cli", fake)
+    argv = ["inverse", "t.png", "--light", "0,0,1", "--out", "fit", "--help"]
+    assert main(argv) == 0
+    assert seen == [argv[1:]]
+
+
+@requires_gl
+def test_render_png(tmp_path):
+    from PIL import Image
+
+    out = tmp_path / "r.png"
+    assert (
+        main(
+            ["render", "penrose_triangle", "-o", str(out), "--size", "96,64", "--shading", "smooth"]
+        )
+        == 0
+    )
+    img = np.asarray(Image.open(out).convert("RGB"))
+    assert img.shape == (64, 96, 3)
+    covered = (img != 255).any(axis=2).mean()
+    assert 0.1 < covered < 0.9  # an object on a white background
+
+
+# ------------------------------------------------------------------------------------------------
+# as a subprocess (what a user's shell runs)
+# ------------------------------------------------------------------------------------------------
+def _run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", "meschers_igl.cli", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+def test_subprocess_info_and_error():
+    ok = _run("info", "penrose_triangle")
+    assert ok.returncode == 0 and "impossible: yes" in ok.stdout
+    bad = _run("info", "no_such_model")
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.count("\n") == 1 and bad.stderr.startswith("meschers: error: INPUT")
+    assert "Traceback" not in bad.stderr
+
+
+def test_importing_the_cli_does_not_import_pyvista():
+    code = "import sys, meschers_igl.cli; sys.exit(int(any(m in sys.modules for m in ('pyvista', 'pymeshlab', 'torch'))))"
+    assert subprocess.run([sys.executable, "-c", code], timeout=60).returncode == 0
