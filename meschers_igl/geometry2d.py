@@ -207,11 +207,15 @@ def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndar
     -------
     (k,) bool
     """
-    o = A[:, 0, :]
+    return _sat(A[..., 0], A[..., 1], B[..., 0], B[..., 1], tol)
+
+
+def _sat(ax, ay, bx, by, tol: float) -> np.ndarray:
+    """:func:`triangles_overlap` on corner coordinates given as (k, 3) arrays."""
+    ox, oy = ax[:, :1], ay[:, :1]
     # shift to A's first corner: fewer cancellation errors far from the origin
-    ax, ay = A[..., 0] - o[:, None, 0], A[..., 1] - o[:, None, 1]
-    bx, by = B[..., 0] - o[:, None, 0], B[..., 1] - o[:, None, 1]
-    alive = np.arange(A.shape[0])
+    ax, ay, bx, by = ax - ox, ay - oy, bx - ox, by - oy
+    alive = np.arange(ax.shape[0])
     for side in range(2):
         for e in range(3):
             px, py = (ax, ay) if side == 0 else (bx, by)
@@ -223,8 +227,7 @@ def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndar
             keep = lap > tol * np.sqrt(nx * nx + ny * ny)
             alive = alive[keep]
             ax, ay, bx, by = ax[keep], ay[keep], bx[keep], by[keep]
-    out = np.zeros(A.shape[0], dtype=bool)
-    out[alive] = True
+    out = np.zeros(keep.shape[0] if False else out_len(alive), dtype=bool)
     return out
 
 

@@ -529,7 +529,8 @@ class Mescher:
     def cut_embedding(self, cut_edges=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(V, F, vmap)``: 3D mesh integrated on the mescher cut open (paper Sec. 4.6).
 
-        Default cut: the homology generators.  Across the cut the depth jumps by the period.
+        Default cut: exactly where breadth-first integration disagrees (a seam across each
+        impossible loop); across it the depth jumps by the period.
         """
         from .embedding import cut_embedding
 

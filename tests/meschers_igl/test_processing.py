@@ -139,3 +139,20 @@ def test_cut_embedding_rejects_insufficient_cut(itorus):
     m = Mescher.from_mesh(V, F)
     Vc, Fc, vmap = m.cut_embedding(cut_edges=[])
     assert Vc.shape[0] == m.n_vertices
+
+
+def test_cut_embedding_of_impossible_ring_with_boundary():
+    """A ring (two boundary loops) climbing 0.5 per turn is cut across, boundary to boundary."""
+    V, F = shapes.annulus(24, 4)
+    m0 = Mescher.from_mesh(V, F)
+    ang = np.unwrap(np.arctan2(m0.xy[:, 1], m0.xy[:, 0])[m0.F], axis=1)
+    m = Mescher.from_corner_depths(m0.F, m0.xy, 0.5 * ang / (2 * np.pi))
+    assert np.allclose(np.abs(m.periods()), [0.5])
+    Vc, Fc, vmap = m.cut_embedding()
+    assert Vc.shape[0] == m.n_vertices + 4  # one radial seam of 4 vertices
+    dup = np.flatnonzero(np.bincount(vmap) == 2)
+    for v in dup:
+        d = Vc[vmap == v, 2]
+        assert np.isclose(d.max() - d.min(), 0.5)
+    m2 = Mescher.from_corner_depths(m.F, m.xy, Vc[Fc][:, :, 2])
+    assert np.allclose(m2.zeta, m.zeta, atol=1e-12)
