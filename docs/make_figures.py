@@ -25,7 +25,7 @@ def main() -> None:
         m, order = gm.mescher, gm.order
         row = [render(m, order=order, lights=[light], window_size=(240, 240)) for light in LIGHTS[:2]]
         row.append(
-            render(m, order=order, lights=None, scalars=m.hodge().z, window_size=(240, 240))
+            render(m, order=order, scalars=m.hodge().z, window_size=(240, 240))
         )
         tiles.append(np.concatenate(row, axis=1))
     Image.fromarray(np.concatenate(tiles, axis=0)).save(OUT / "gallery.png")

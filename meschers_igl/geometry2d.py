@@ -215,7 +215,8 @@ def _sat(ax, ay, bx, by, tol: float) -> np.ndarray:
     ox, oy = ax[:, :1], ay[:, :1]
     # shift to A's first corner: fewer cancellation errors far from the origin
     ax, ay, bx, by = ax - ox, ay - oy, bx - ox, by - oy
-    alive = np.arange(ax.shape[0])
+    k = ax.shape[0]
+    alive = np.arange(k)
     for side in range(2):
         for e in range(3):
             px, py = (ax, ay) if side == 0 else (bx, by)
@@ -227,7 +228,8 @@ def _sat(ax, ay, bx, by, tol: float) -> np.ndarray:
             keep = lap > tol * np.sqrt(nx * nx + ny * ny)
             alive = alive[keep]
             ax, ay, bx, by = ax[keep], ay[keep], bx[keep], by[keep]
-    out = np.zeros(keep.shape[0] if False else out_len(alive), dtype=bool)
+    out = np.zeros(k, dtype=bool)
+    out[alive] = True
     return out
 
 
@@ -385,16 +387,16 @@ def overlapping_pairs(
     if ids.size < 2:
         return np.zeros((0, 2), dtype=np.int64), (np.zeros((0, 2)) if centroids else None)
     S = T[ids]
+    X, Y = np.ascontiguousarray(S[..., 0]), np.ascontiguousarray(S[..., 1])  # (m, 3) each
     out_p, out_c = [], []
     for cand in candidate_pairs(_min3(S), _max3(S), tol, chunk):
         if pair_filter is not None:
             cand = cand[pair_filter(ids[cand[:, 0]], ids[cand[:, 1]])]
-        A, B = S[cand[:, 0]], S[cand[:, 1]]
-        hit = triangles_overlap(A, B, tol)
-        cand = cand[hit]
+        i, j = cand[:, 0], cand[:, 1]
+        cand = cand[_sat(X[i], Y[i], X[j], Y[j], tol)]
         out_p.append(ids[cand])
         if centroids:
-            out_c.append(intersection_centroids(A[hit], B[hit])[0])
+            out_c.append(intersection_centroids(S[cand[:, 0]], S[cand[:, 1]])[0])
     pairs = np.concatenate(out_p) if out_p else np.zeros((0, 2), dtype=np.int64)
     srt = np.lexsort((pairs[:, 1], pairs[:, 0]))
     pairs = pairs[srt]

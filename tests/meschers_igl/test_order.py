@@ -456,6 +456,22 @@ def test_refine_equals_the_order_of_the_refined_embedding():
         o.refine(parent + 1, m2)
 
 
+def test_mescher_subdivide_carries_the_order():
+    V, F = torus(16, 8)
+    view, up = (0.3, -0.8, 0.5), (0.0, 0.0, 1.0)
+    m = Mescher.from_mesh(V, F, view=view, up=up)
+    Zc = camera(V, view, up)[F][:, :, 2]
+    o = DepthOrder.from_embedding(m, Zc)
+    m2, o2, parent = m.subdivide(order=o, return_face_parent=True)
+    # the children's depths are their parents' planes: interpolate them at the child corners
+    T = m.xy[m.F]
+    Fp = np.repeat(parent, 3)
+    B = barycentric(m2.xy[m2.F].reshape(-1, 2), T[Fp])
+    Zc2 = np.einsum("kc,kc->k", B, Zc[Fp]).reshape(-1, 3)
+    assert o2 == DepthOrder.from_embedding(m2, Zc2)
+    assert o2.n_arcs > o.n_arcs
+
+
 # ---------------------------------------------------------------------------------- graph algorithms
 def test_linear_extension_is_a_topological_order_of_a_random_dag():
     rng = np.random.default_rng(5)
