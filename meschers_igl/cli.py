@@ -360,7 +360,15 @@ def _cmd_view(args: argparse.Namespace) -> int:
 
 
 def _cmd_inverse(args: argparse.Namespace) -> int:
-    from .inverse.cli import inverse_main
+    try:
+        from .inverse.cli import inverse_main
+    except ModuleNotFoundError as exc:
+        if exc.name != f"{__package__}.inverse.cli":
+            raise  # a missing dependency (torch): its own message says how to install it
+        raise MescherError(
+            "inverse: expected the inverse-rendering module meschers_igl.inverse.cli, found it "
+            "missing from this installation"
+        ) from None
 
     return int(inverse_main(list(args.rest)) or 0)
 

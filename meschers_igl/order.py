@@ -509,11 +509,18 @@ class DepthOrder:
         path climb steep, nearly edge-on strips for free).  On a globally integrable mescher the
         integral does not depend on the path at all, and one spanning forest gives every pair
         (``dz = phi(v_j) - phi(v_i) + ...`` with ``phi`` zeta integrated from a root).  On an
-        impossible mescher it depends on the path's homotopy class: the faces on the ``i`` side
-        are grouped into patches (mesh-connected faces within a screen cell of size ``radius``),
-        one ``scipy.sparse.csgraph.dijkstra`` tree is grown from each patch, and each pair is
-        integrated along that tree (from ``v_i`` back to the patch's seed, then out to ``v_j``),
-        a path that stays within ``radius``-ish of the shortest one.
+        impossible mescher it depends on the path's homotopy class, so the paths are real
+        shortest paths: one ``scipy.sparse.csgraph.dijkstra`` tree per source vertex ``v_i``
+        (blocks of sources per call), zeta integrated along each tree by pointer jumping.  When
+        ``#sources * #V`` exceeds 3e7, or ``radius`` is given, sources share trees: the faces on
+        the ``i`` side are grouped into patches (mesh-connected faces within a screen cell of
+        size ``radius``), one tree grows from each patch's seed and each pair is integrated from
+        ``v_i`` back to the seed, then out to ``v_j`` -- a path within about ``radius`` of the
+        shortest one.
+
+        Pairs whose two shortest paths of different homotopy class have (nearly) the same length
+        are ambiguous by nature: the percept is unstable there, and which one wins is not
+        specified.
 
         Parameters
         ----------
@@ -522,7 +529,8 @@ class DepthOrder:
             As in :meth:`from_embedding`.
         radius : float, optional
             Screen size of the patches sharing one Dijkstra tree (impossible meschers only);
-            default 1/20 of the screen box diagonal.  Smaller is more faithful and slower.
+            by default exact per-source trees when affordable, else 1/20 of the screen box
+            diagonal.  Smaller is more faithful and slower.
 
         Returns
         -------

@@ -217,25 +217,26 @@ def penrose_soup(length: float = 5.0, width: float = 1.0, extent: float = 0.8):
             quad_normals.append(n)
             quad_offsets.append(off)
     Q = np.asarray(quads)  # (#Q, 4, 3)
+    # merge corners that coincide in 3D so that shared edges are not drawn as outlines
+    Vq, qidx = np.unique(Q.reshape(-1, 3).round(9), axis=0, return_inverse=True)
+    qidx = qidx.reshape(-1, 4)
     # camera frame: z toward the viewer along (1, 1, 1); screen axes rotated below
     view = np.ones(3) / math.sqrt(3.0)
     right = np.array([1.0, -1.0, 0.0]) / math.sqrt(2.0)
     up = np.cross(view, right)
     R = np.stack([right, up, view])
-    C = Q @ R.T
+    C = Vq @ R.T
     N = np.asarray(quad_normals) @ R.T
     # rotate the screen so that the X bar (the bottom side) is horizontal
     dx = np.array([1.0, 0.0, 0.0]) @ R.T
     ang = -math.atan2(dx[1], dx[0])
     rot = np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]])
-    xy = C[..., :2].reshape(-1, 2) @ rot.T
+    xy = C[:, :2] @ rot.T
     N[:, :2] = N[:, :2] @ rot.T
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     scale = 2.0 * extent / float((hi - lo).max())
     xy = (xy - 0.5 * (lo + hi)) * scale
-    nq = Q.shape[0]
-    base = 4 * np.arange(nq)[:, None]
-    F = np.concatenate([base + [0, 1, 2], base + [0, 2, 3]]).astype(np.int64)
+    F = np.concatenate([qidx[:, [0, 1, 2]], qidx[:, [0, 2, 3]]]).astype(np.int64)
     # keep the counter-clockwise screen orientation of the quads (all face the viewer)
     normals = np.concatenate([N, N])
     offsets = np.concatenate([quad_offsets, quad_offsets]).astype(np.float64)
@@ -621,52 +622,6 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
 # ---------------------------------------------------------------------------------------------
 
 
-def screen_overlaps(xy: np.ndarray, F: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-    """Pairs of faces whose screen triangles overlap with positive area.
-
-    Candidates come from a k-d tree on face centroids (radius: the two largest circumradii about
-    the centroid); each candidate is decided exactly by the separating-axis test on the six edge
-    normals, an axis separating when the projections overlap by at most ``tol`` (so faces that
-    only share an edge or a vertex do not overlap).
-
-    Parameters
-    ----------
-    xy : (#V, 2) float
-    F : (#F, 3) int
-
-    Returns
-    -------
-    (P, 2) int64
-        ``i < j`` per row.
-    """
-    from scipy.spatial import cKDTree
-
-    P = np.asarray(xy, dtype=np.float64)[np.asarray(F)]
-    cen = P.mean(axis=1)
-    rad = np.linalg.norm(P - cen[:, None], axis=2).max(axis=1)
-    top = np.sort(rad)[-2:].sum() if rad.size > 1 else 0.0
-    pairs = cKDTree(cen).query_pairs(top, output_type="ndarray").astype(np.int64)
-    if pairs.size == 0:
-        return np.zeros((0, 2), dtype=np.int64)
-    i, j = pairs[:, 0], pairs[:, 1]
-    near = np.linalg.norm(cen[i] - cen[j], axis=1) < rad[i] + rad[j]
-    i, j = i[near], j[near]
-    A, B = P[i], P[j]  # (P, 3, 2)
-    separated = np.zeros(i.shape[0], dtype=bool)
-    for T in (A, B):
-        for k in range(3):
-            e = T[:, (k + 1) % 3] - T[:, k]
-            axis = np.stack([-e[:, 1], e[:, 0]], axis=1)
-            pa = np.einsum("pvd,pd->pv", A, axis)
-            pb = np.einsum("pvd,pd->pv", B, axis)
-            scale = np.linalg.norm(axis, axis=1) + 1e-300
-            gap = np.minimum(pa.max(1), pb.max(1)) - np.maximum(pa.min(1), pb.min(1))
-            separated |= gap / scale <= tol
-    keep = ~separated
-    out = np.stack([i[keep], j[keep]], axis=1)
-    return np.sort(out, axis=1)
-
-
 def extract_order(m: Mescher, offsets: np.ndarray):
     """The partial depth order of a fitted mescher: overlapping faces compared by offset.
 
@@ -679,17 +634,19 @@ def extract_order(m: Mescher, offsets: np.ndarray):
     Returns
     -------
     DepthOrder
-        Arc ``i -> j`` (i behind j) for each pair of faces that overlap on screen and have
+        Arc ``i -> j`` (i behind j) for each pair of faces that overlap on screen with positive
+        area (:func:`meschers_igl.geometry2d.overlapping_pairs`) and have
         ``offsets[i] < offsets[j]``; equal offsets give no arc.
     """
+    from ..geometry2d import overlapping_pairs
     from ..order import DepthOrder
 
     o = np.asarray(offsets, dtype=np.float64)
     if o.shape != (m.n_faces,):
         raise MescherError(f"offsets: expected shape ({m.n_faces},), found {o.shape}")
-    pairs = screen_overlaps(np.asarray(m.xy), np.asarray(m.F))
+    pairs, _ = overlapping_pairs(np.asarray(m.xy)[np.asarray(m.F)])
     i, j = pairs[:, 0], pairs[:, 1]
     back = np.where(o[i] < o[j], i, j)
     front = np.where(o[i] < o[j], j, i)
     arcs = np.stack([back, front], axis=1)[o[i] != o[j]]
-    return DepthOrder(m.n_faces, arcs)
+    return DepthOrder(m.n_faces, arcs, m=m)
