@@ -90,7 +90,7 @@ def load(path: str | os.PathLike, return_order: bool | None = None):
     if has_order:
         from .order import DepthOrder
 
-        order = DepthOrder(m.n_faces, arcs)
+        order = DepthOrder(m.n_faces, arcs, m=m)
     if return_order or (return_order is None and has_order):
         return m, order
     return m

@@ -156,10 +156,12 @@ def compare(
         "bent": bent_m.smooth(t_xy=t, t_zeta=t),
     }
     d_m = np.asarray(m.geodesic_distance(source))
-    d_cut = np.asarray(cut_m.geodesic_distance(np.flatnonzero(vmap == source)))
-    d_bent = np.asarray(bent_m.geodesic_distance(source))
     first_copy = np.full(np.asarray(m.xy).shape[0], -1, dtype=np.int64)
     first_copy[vmap[::-1]] = np.arange(vmap.size)[::-1]
+    # The cut model is a real mesh: its source is one point (one copy of a seam vertex), and
+    # each vertex is read at one copy, as a user of that model would see it.
+    d_cut = np.asarray(cut_m.geodesic_distance(int(first_copy[source])))
+    d_bent = np.asarray(bent_m.geodesic_distance(source))
     distances = {"mescher": d_m, "cut": d_cut[first_copy], "bent": d_bent}
     finite = np.isfinite(d_m)
     clim = (0.0, float(d_m[finite].max()) if finite.any() else 1.0)

@@ -299,8 +299,9 @@ def _signed_scaled_dist(
     for k, (sx, sy, tx, ty) in enumerate(((ax, ay, bx, by), (bx, by, cx, cy), (cx, cy, ax, ay))):
         ex, ey = tx - sx, ty - sy
         wx, wy = px - sx, py - sy
-        # inside iff p is on the interior side of every edge, whatever the orientation
-        side = ((ex * wy - ey * wx) * area2) > 0
+        # inside iff p is on the interior side of every edge, whatever the orientation; closed
+        # triangles, so that a pixel centre on an interior edge is covered by both faces
+        side = ((ex * wy - ey * wx) * area2) >= 0
         inside = side if inside is None else inside & side
         u = ((wx * ex + wy * ey) / (ex * ex + ey * ey + eps)).clamp(0.0, 1.0)
         rx, ry = wx - u * ex, wy - u * ey
@@ -309,6 +310,7 @@ def _signed_scaled_dist(
         if sil is not None:
             dks = torch.where(sil[:, k], dk.clamp(max=big), big)
             d2s = dks if d2s is None else torch.minimum(d2s, dks)
+    inside = inside & (area2 != 0)  # a degenerate face covers nothing
     x = torch.where(inside, d2, -d2) / sigma
     xs = None if sil is None else torch.where(inside, d2s, -d2s) / sigma
     return x, xs

@@ -1,0 +1,408 @@
+"""Inverse rendering (paper Section 4.5): the soft rasterizer and the mescher fit."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from meschers_igl import Mescher, MescherError  # noqa: E402
+from meschers_igl.inverse import optimize as opt  # noqa: E402
+from meschers_igl.inverse import rasterizer as ras  # noqa: E402
+
+D64 = torch.float64
+
+
+@pytest.fixture(autouse=True)
+def _one_thread():
+    # the CI machine has two cores shared by xdist workers: keep torch to one thread
+    old = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(old)
+
+
+def _t(a, dtype=D64):
+    return torch.as_tensor(np.asarray(a), dtype=dtype)
+
+
+# --------------------------------------------------------------------------- packaging
+
+
+def test_import_does_not_load_torch():
+    code = "import sys, meschers_igl.inverse; print('torch' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_missing_torch_says_how_to_install():
+    code = (
+        "import sys; sys.modules['torch'] = None\n"
+        "try:\n    from meschers_igl.inverse import soft_rasterize\n"
+        "except ImportError as e:\n    print(e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "pip install 'meschers[inverse]'" in out.stdout
+    assert "torch==2.13.0" in out.stdout
+
+
+# --------------------------------------------------------------------------- rasterizer
+
+
+def test_pixel_centers_hand_values():
+    c = ras.pixel_centers(2, dtype=D64).numpy()
+    np.testing.assert_array_equal(c, [[-0.5, 0.5], [0.5, 0.5], [-0.5, -0.5], [0.5, -0.5]])
+    c = ras.pixel_centers((1, 4), dtype=D64).numpy()
+    np.testing.assert_array_equal(c[:, 0], [-0.75, -0.25, 0.25, 0.75])
+    np.testing.assert_array_equal(c[:, 1], 0.0)
+
+
+def _inside_oracle(P, pts):
+    """Strictly inside a triangle, by barycentric coordinates (independent of the rasterizer)."""
+    T = np.column_stack([P[1] - P[0], P[2] - P[0]])
+    lam = np.linalg.solve(T, (pts - P[0]).T).T
+    return (lam[:, 0] > 0) & (lam[:, 1] > 0) & (lam.sum(1) < 1)
+
+
+@pytest.mark.parametrize("flip", [False, True])
+def test_hard_coverage_is_the_triangle(flip):
+    rng = np.random.default_rng(0)
+    P = rng.uniform(-0.9, 0.9, (3, 2))
+    F = np.array([[0, 2, 1]] if flip else [[0, 1, 2]])
+    res = 48
+    _, alpha = ras.soft_rasterize(
+        _t(F, torch.long), _t(P), _t([[0.3, 0.3, 0.3]]), _t([0.5]), res, sigma=1e-9,
+        return_alpha=True,
+    )  # fmt: skip
+    inside = _inside_oracle(P, ras.pixel_centers(res, dtype=D64).numpy()).reshape(res, res)
+    assert inside.sum() > 50
+    np.testing.assert_array_equal(alpha.numpy() > 0.5, inside)
+
+
+def test_coverage_is_sigmoid_of_scaled_squared_distance():
+    # a huge triangle whose bottom edge is the line y = 0: coverage depends on y alone
+    P = np.array([[-50.0, 0.0], [50.0, 0.0], [0.0, 50.0]])
+    res, sigma = 8, 0.05
+    _, alpha = ras.soft_rasterize(
+        _t([[0, 1, 2]], torch.long), _t(P), _t([[1.0, 1.0, 1.0]]), _t([0.5]), res, sigma=sigma,
+        return_alpha=True,
+    )  # fmt: skip
+    y = 1.0 - (2.0 * np.arange(res) + 1.0) / res  # row centres
+    expect = 1.0 / (1.0 + np.exp(-np.sign(y) * y**2 / sigma))
+    expect[expect < ras.COVERAGE_CUTOFF] = 0.0  # culled pairs
+    np.testing.assert_allclose(alpha.numpy(), np.repeat(expect[:, None], res, 1), atol=1e-12)
+
+
+def test_shared_edges_leave_no_seam_and_plain_softras_does():
+    # a square as two triangles: the diagonal is interior, the outline is the silhouette
+    P = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    F = _t([[0, 1, 2], [0, 2, 3]], torch.long)
+    col = _t([[0.2, 0.4, 0.6], [0.2, 0.4, 0.6]])
+    kw = dict(resolution=9, sigma=1e-4, return_alpha=True)  # pixel centres on the diagonal
+    img, alpha = ras.soft_rasterize(F, _t(P), col, _t([0.5, 0.5]), **kw)
+    np.testing.assert_array_equal(
+        ras.silhouette_edges(F.numpy(), P), [[True, True, False], [False, True, True]]
+    )
+    inner = alpha.numpy()[2:7, 2:7]
+    np.testing.assert_allclose(inner, 1.0, atol=1e-12)  # the diagonal too
+    np.testing.assert_allclose(img.numpy()[2:7, 2:7], np.broadcast_to([0.2, 0.4, 0.6], (5, 5, 3)))
+    _, plain = ras.soft_rasterize(F, _t(P), col, _t([0.5, 0.5]), silhouette=None, **kw)
+    # SoftRas's 1 - (1 - 1/2)^2 on the diagonal
+    np.testing.assert_allclose(np.diag(plain.numpy())[4], 0.75, atol=1e-12)
+
+
+def _brute_force(P, F, colors, offsets, res, sigma, gamma, bg):
+    """Dense numpy SoftRas (every face on every pixel, same culling rule): the reference."""
+    pts = ras.pixel_centers(res, dtype=D64).numpy()
+    T = P[F]  # (nf, 3, 2)
+    n = len(F)
+    x = np.empty((n, len(pts)))
+    for f in range(n):  # tiny case: loops are fine in a reference
+        a, b, c = T[f]
+        d2 = np.full(len(pts), np.inf)
+        for s, t in ((a, b), (b, c), (c, a)):
+            e = t - s
+            u = np.clip(((pts - s) @ e) / (e @ e), 0, 1)
+            d2 = np.minimum(d2, (((pts - s) - u[:, None] * e) ** 2).sum(1))
+        ins = _inside_oracle(T[f], pts) | _inside_oracle(T[f][[0, 2, 1]], pts)
+        x[f] = np.where(ins, d2, -d2) / sigma
+    D = 0.5 * (1 + np.tanh(0.5 * x))  # the logistic function without overflow
+    D[D < ras.COVERAGE_CUTOFF] = 0.0
+    alpha = 1 - np.prod(1 - D, axis=0)
+    logit = np.log(np.where(D > 0, D, 1e-300)) + offsets[:, None] / gamma
+    w = np.where(D > 0, np.exp(logit - logit.max(0)), 0.0)
+    col = (w.T @ colors) / np.maximum(w.sum(0), 1e-300)[:, None]
+    img = alpha[:, None] * col + (1 - alpha[:, None]) * np.asarray(bg)
+    return img.reshape(res, res, 3), alpha.reshape(res, res)
+
+
+def test_windowed_rasterizer_matches_dense_reference():
+    rng = np.random.default_rng(3)
+    P = rng.uniform(-1.1, 1.1, (12, 2))
+    F = np.array([rng.choice(12, 3, replace=False) for _ in range(10)])
+    colors = rng.uniform(0, 1, (10, 3))
+    offsets = rng.uniform(0.2, 0.8, 10)
+    res, sigma, gamma, bg = 24, 3e-3, 5e-2, (1.0, 0.9, 0.8)
+    img, alpha = ras.soft_rasterize(
+        _t(F, torch.long), _t(P), _t(colors), _t(offsets), res, sigma, gamma, bg,
+        return_alpha=True, silhouette=None,
+    )  # fmt: skip
+    ref_img, ref_alpha = _brute_force(P, F, colors, offsets, res, sigma, gamma, bg)
+    np.testing.assert_allclose(alpha.numpy(), ref_alpha, atol=1e-12)
+    np.testing.assert_allclose(img.numpy(), ref_img, atol=1e-12)
+
+
+def test_offsets_decide_the_z_order():
+    P = _t([[-0.8, -0.8], [0.8, -0.8], [0.0, 0.8], [-0.8, 0.8], [0.0, -0.8], [0.8, 0.8]])
+    F = _t([[0, 1, 2], [3, 4, 5]], torch.long)
+    red_green = _t([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    centre = 8 * 16 + 8  # pixel (8, 8) of 16 x 16, inside both
+    for offsets, winner in (([0.3, 0.6], 1), ([0.6, 0.3], 0)):
+        img = ras.soft_rasterize(F, P, red_green, _t(offsets), 16, 1e-4, 1e-3)
+        np.testing.assert_allclose(img.reshape(-1, 3)[centre], red_green[winner], atol=1e-12)
+
+
+def test_lambertian_hand_values():
+    n = _t([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [0.6, 0.0, 0.8]])
+    c = ras.lambertian(n, [(0.0, 0.0, 2.0)], ambient=0.25).numpy()
+    np.testing.assert_allclose(c[:, 0], [1.0, 0.25, 0.25 + 0.75 * 0.8])
+    c = ras.lambertian(n, [(1, 0, 0), (0, 0, 1)], [(1, 0, 0), (0, 0, 1)], ambient=0.0).numpy()
+    np.testing.assert_allclose(c, [[0, 0, 1], [0, 0, 0], [0.6, 0, 0.8]], atol=1e-15)
+    with pytest.raises(MescherError, match="lights"):
+        ras.lambertian(n, [(0.0, 0.0, 0.0)])
+    with pytest.raises(MescherError, match="light_colors"):
+        ras.lambertian(n, [(0.0, 0.0, 1.0)], light_colors=[(1, 1, 1), (1, 1, 1)])
+
+
+def test_bad_input_names_the_argument():
+    F = _t([[0, 1, 2]], torch.long)
+    xy = _t([[0, 0], [1, 0], [0, 1]])
+    col = _t([[1.0, 1.0, 1.0]])
+    with pytest.raises(MescherError, match="offsets"):
+        ras.soft_rasterize(F, xy, col, _t([0.1, 0.2]))
+    with pytest.raises(MescherError, match="colors"):
+        ras.soft_rasterize(F, xy, _t([[1.0], [1.0]]), _t([0.1]))
+    with pytest.raises(MescherError, match="sigma"):
+        ras.soft_rasterize(F, xy, col, _t([0.1]), sigma=0.0)
+    with pytest.raises(MescherError, match="resolution"):
+        ras.soft_rasterize(F, xy, col, _t([0.1]), resolution=(0, 4))
+    with pytest.raises(MescherError, match="silhouette"):
+        ras.soft_rasterize(F, xy, col, _t([0.1]), silhouette=np.ones((2, 3), bool))
+
+
+def _random_mescher(seed=0, n=5):
+    """A bumpy height-field grid as an (embeddable) mescher."""
+    rng = np.random.default_rng(seed)
+    g = np.linspace(-0.7, 0.7, n)
+    X, Y = np.meshgrid(g, g)
+    V = np.column_stack([X.ravel(), Y.ravel(), 0.3 * rng.standard_normal(n * n)])
+    V[:, :2] += 0.03 * rng.standard_normal((n * n, 2))
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
+    a = (i * n + j).ravel()
+    F = np.concatenate([np.column_stack([a, a + 1, a + n + 1]), np.column_stack([a, a + n + 1, a + n])])
+    return Mescher.from_mesh(V, F), V, F
+
+
+def test_normals_from_zeta_match_the_core_and_the_embedding():
+    m, V, F = _random_mescher()
+    n = ras.face_normals_from_zeta(
+        _t(m.F, torch.long), _t(m.xy), _t(m.zeta), _t(m.face_edges, torch.long),
+        _t(m.face_edge_signs),
+    ).numpy()  # fmt: skip
+    np.testing.assert_allclose(n, m.face_normals(), atol=1e-12)
+    N = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    np.testing.assert_allclose(n, N / np.linalg.norm(N, axis=1, keepdims=True), atol=1e-12)
+
+
+def test_gradcheck_xy_colors_offsets():
+    F = _t([[0, 1, 2], [1, 3, 2], [0, 4, 1]], torch.long)
+    xy = _t([[-0.5, -0.5], [0.5, -0.45], [0.05, 0.6], [0.7, 0.5], [0.1, -0.9]]).requires_grad_()
+    col = torch.rand(3, 3, dtype=D64, generator=torch.Generator().manual_seed(0)).requires_grad_()
+    off = _t([0.3, 0.35, 0.33]).requires_grad_()
+
+    def f(xy, col, off):
+        return ras.soft_rasterize(F, xy, col, off, 8, 1e-2, 1e-2, return_alpha=True)
+
+    assert torch.autograd.gradcheck(f, (xy, col, off), eps=1e-6, atol=1e-6)
+
+
+def test_gradcheck_through_zeta_normals_and_shading():
+    m, _, _ = _random_mescher(seed=1, n=3)
+    F, fe, fs = _t(m.F, torch.long), _t(m.face_edges, torch.long), _t(m.face_edge_signs)
+    xy = _t(m.xy).requires_grad_()
+    zeta = _t(m.zeta).requires_grad_()
+    off = _t(np.linspace(0.2, 0.4, m.n_faces))
+
+    def f(xy, zeta):
+        n = ras.face_normals_from_zeta(F, xy, zeta, fe, fs)
+        col = ras.lambertian(n, [(0.3, 0.4, 1.0), (-0.5, 0.2, 0.6)], ambient=0.1)
+        return ras.soft_rasterize(F, xy, col, off, 6, 5e-3, 1e-2)
+
+    assert torch.autograd.gradcheck(f, (xy, zeta), eps=1e-6, atol=1e-6)
+
+
+# --------------------------------------------------------------------------- parametrization
+
+
+def test_torus_mescher_is_the_torus():
+    m, off = opt.torus_mescher(0.6, 0.2, 16, 8)
+    assert (m.n_vertices, m.n_faces, m.euler_characteristic()) == (128, 256, 0)
+    np.testing.assert_allclose(m.periods(), 0.0, atol=1e-12)
+    # offsets order the near half (normals toward the viewer) in front of the far half
+    front = m.face_normals()[:, 2] > 0
+    assert off[front].mean() > off[~front].mean()
+    assert off.min() >= 0.25 - 1e-12 and off.max() <= 0.75 + 1e-12
+
+
+def test_torus_for_target_recovers_annulus_radii():
+    res = 128
+    c = ras.pixel_centers(res, dtype=D64).numpy().reshape(res, res, 2) - [0.1, -0.05]
+    r = np.linalg.norm(c, axis=-1)
+    img = np.ones((res, res, 3))
+    img[(r > 0.3) & (r < 0.7)] = 0.4
+    m, _ = opt.torus_for_target(img, n_major=32, n_minor=8)
+    rr = np.linalg.norm(np.asarray(m.xy) - [0.1, -0.05], axis=1)
+    assert abs(rr.min() - 0.3) < 0.01 and abs(rr.max() - 0.7) < 0.01
+
+
+def test_closed_harmonic_basis_is_closed_and_dual():
+    m, _ = opt.torus_mescher(0.6, 0.2, 24, 8)
+    H = opt.closed_harmonic_basis(m)
+    assert np.abs(m.d12 @ H).max() < 1e-14
+    # periods of h_j around generator i: the identity
+    P = np.stack([m.with_zeta(H[:, k]).periods() for k in range(H.shape[1])], axis=1)
+    np.testing.assert_allclose(P, np.eye(H.shape[1]), atol=1e-9)
+
+
+def test_parametrization_round_trip_and_periods():
+    m, off = opt.torus_mescher(0.6, 0.2, 16, 8)
+    m = m.with_periods([0.3, -0.1])
+    par = opt.MescherParametrization(m, off, lam=5.0)
+    with torch.no_grad():
+        np.testing.assert_allclose(par.xy().numpy(), m.xy, atol=1e-5)
+        zeta = par.zeta().numpy()
+    np.testing.assert_allclose(zeta, m.zeta, atol=1e-5)
+    np.testing.assert_allclose(m.with_zeta(zeta).periods(), [0.3, -0.1], atol=1e-12)
+    assert np.abs(m.d12 @ zeta).max() < 1e-13
+
+
+def test_sobolev_matrix_is_spd_identity_plus_laplacian():
+    m, _ = opt.torus_mescher(0.6, 0.2, 12, 6)
+    for kind in ("cotan", "uniform"):
+        M = opt.sobolev_matrix(m, 3.0, kind)
+        np.testing.assert_allclose(M @ np.ones(m.n_vertices), 1.0, atol=1e-12)  # L 1 = 0
+        assert abs(M - M.T).max() < 1e-12
+        assert np.linalg.eigvalsh(M.toarray()).min() > 1.0 - 1e-9
+    with pytest.raises(MescherError, match="laplacian"):
+        opt.sobolev_matrix(m, 1.0, "robust")
+
+
+# --------------------------------------------------------------------------- the fit
+
+
+def _fit_tiny(iters=40, callback=None):
+    """A 32 x 32 impossible-torus picture, fitted from an ordinary torus."""
+    light = [(0.3, 0.5, 1.0)]
+    truth, off = opt.torus_mescher(0.55, 0.25, 24, 8)
+    truth = truth.with_periods([0.8, 0.0])
+    target = ras.render_mescher(truth, off, lights=light, resolution=32)
+    init, off0 = opt.torus_mescher(0.5, 0.2, 24, 8)
+    o = opt.InverseOptions(iters=iters, resolution=32, sigma_xy=(1e-3, 1e-4),
+                           sigma_zeta=(1e-3, 1e-4))  # fmt: skip
+    return opt.fit_mescher(target, init, off0, lights=light, options=o, callback=callback), target
+
+
+def test_fit_keeps_every_iterate_a_mescher_and_lowers_the_loss():
+    seen = []
+
+    def check(it, state):
+        seen.append(float(np.abs(init_d12 @ state["zeta"]).max()))
+
+    init_d12 = opt.torus_mescher(0.5, 0.2, 24, 8)[0].d12
+    result, target = _fit_tiny(callback=check)
+    assert len(seen) == 40
+    assert max(seen) < 1e-10 and result.max_residual < 1e-10
+    losses = np.asarray(result.losses)
+    assert losses[-6:].mean() < 0.5 * losses[:6].mean()
+    assert isinstance(result.mescher, Mescher)
+    assert np.abs(result.mescher.integrability_residual()).max() < 1e-10
+    assert result.image.shape == (32, 32, 3) and result.alpha.shape == (32, 32)
+    # the fit moved toward the target's climb around the hole (harmonic part)
+    assert result.mescher.periods()[0] > 0.05
+
+
+def test_fit_rejects_bad_target():
+    m, off = opt.torus_mescher(0.5, 0.2, 12, 6)
+    with pytest.raises(MescherError, match="target"):
+        opt.fit_mescher(np.ones((8, 9, 3)), m, off)
+    with pytest.raises(MescherError, match="offsets"):
+        opt.fit_mescher(np.ones((8, 8, 3)), m, np.zeros(3), options=opt.InverseOptions(iters=1))
+
+
+def test_metrics_hand_values():
+    a = np.zeros((4, 4), bool)
+    b = np.zeros((4, 4), bool)
+    a[:2] = True
+    b[1:3] = True
+    assert opt.silhouette_iou(a, b) == pytest.approx(4 / 12)
+    assert opt.psnr(np.zeros((2, 2)), np.full((2, 2), 0.1)) == pytest.approx(20.0)
+    m, _ = opt.torus_mescher(0.6, 0.2, 12, 6)
+    size = np.ptp(m.xy, axis=0).max()
+    assert opt.max_period_ratio(m.with_periods([0.16, 0.0])) == pytest.approx(0.16 / size)
+
+
+def test_extract_order_puts_the_higher_offset_in_front():
+    # two separate triangles overlapping on screen, and a third far away
+    F = np.array([[0, 1, 2], [3, 4, 5], [6, 7, 8]])
+    xy = np.array([[-0.8, -0.8], [0.6, -0.8], [-0.8, 0.6], [0.8, 0.8], [-0.6, 0.8], [0.8, -0.6],
+                   [2, 2], [3, 2], [2, 3]], float)  # fmt: skip
+    m = Mescher.from_mesh(np.column_stack([xy, np.zeros(9)]), F)
+    order = opt.extract_order(m, np.array([0.7, 0.2, 0.5]))
+    np.testing.assert_array_equal(order.arcs, [[1, 0]])
+    order = opt.extract_order(m, np.array([0.2, 0.7, 0.5]))
+    np.testing.assert_array_equal(order.arcs, [[0, 1]])
+
+
+def test_penrose_target_is_a_penrose_triangle():
+    xy, F, N, off, _ = opt.penrose_soup()
+    # three visible normals, the cube axes seen along (1, 1, 1): orthonormal, n_z = 1/sqrt(3)
+    U = np.unique(N.round(9), axis=0)
+    assert U.shape == (3, 3)
+    np.testing.assert_allclose(U @ U.T, np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(U[:, 2], 1 / math.sqrt(3), atol=1e-12)
+    img = opt.penrose_target(64)
+    mask = opt.target_mask(img)
+    from scipy import ndimage
+
+    # a ring: one object with one hole
+    assert ndimage.label(mask)[1] == 1 and ndimage.label(~mask)[1] == 2
+
+
+def test_cli_end_to_end(tmp_path):
+    from meschers_igl.inverse.cli import inverse_main
+
+    out = tmp_path / "fit"
+    rc = inverse_main(["penrose", "--light", "0.4,0.25,1", "--out", str(out), "--iters", "6",
+                       "--resolution", "32", "--torus", "24,8", "--no-progress"])  # fmt: skip
+    assert rc == 0
+    for name in ("mescher.ply", "render.png", "loss.png", "before_after.png", "metrics.json"):
+        assert (out / name).stat().st_size > 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["max_abs_d12_zeta"] < 1e-10 and len(metrics["periods"]) == 2
+    from meschers_igl import load
+
+    m = load(out / "mescher.ply", return_order=False)
+    assert m.n_faces == 2 * 24 * 8
+
+
+def test_cli_rejects_bad_light(tmp_path):
+    from meschers_igl.inverse.cli import inverse_main
+
+    with pytest.raises(MescherError, match="--light"):
+        inverse_main(["penrose", "--light", "0,1", "--out", str(tmp_path)])
