@@ -1,6 +1,6 @@
 """Figures for the README (fixed camera; re-run after changing the renderer).
 
-    python docs/make_figures.py
+python docs/make_figures.py
 """
 
 from __future__ import annotations
@@ -23,10 +23,10 @@ def main() -> None:
     for name in ["penrose_triangle", "penrose_stairs", "impossible_cube", "impossibagel"]:
         gm = gallery.get_model(name)
         m, order = gm.mescher, gm.order
-        row = [render(m, order=order, lights=[light], window_size=(240, 240)) for light in LIGHTS[:2]]
-        row.append(
-            render(m, order=order, scalars=m.hodge().z, window_size=(240, 240))
-        )
+        row = [
+            render(m, order=order, lights=[light], window_size=(240, 240)) for light in LIGHTS[:2]
+        ]
+        row.append(render(m, order=order, scalars=m.hodge().z, window_size=(240, 240)))
         tiles.append(np.concatenate(row, axis=1))
     Image.fromarray(np.concatenate(tiles, axis=0)).save(OUT / "gallery.png")
     print(f"wrote {OUT / 'gallery.png'}")
