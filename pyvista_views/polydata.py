@@ -1,13 +1,24 @@
-"""Meschers (and real meshes) as PyVista triangle soups ready for head-on rendering.
+"""Meschers (and real meshes) as PyVista meshes ready for head-on rendering.
 
-A mescher has no absolute depth, so it is drawn flat (paper Section 4.1): every triangle lies in a
-plane ``z = const`` and its shade comes from normals derived from zeta, not from the flat geometry.
-Overlaps are resolved by the painter's algorithm in a linear extension of the depth order: the
-face drawn k-th sits at ``z = k * step``, so under the orthographic camera looking down -z the
-z-buffer reproduces the draw order exactly (no depth fighting), and the xy image is unchanged.
+A mescher has no absolute depth, so it is drawn flat (paper Section 4.1): its shade comes from
+normals derived from zeta, not from the flat geometry, and overlaps are resolved by the painter's
+algorithm in a linear extension of the depth order.  Two layouts do this:
 
-Each face gets its own three points (a soup): that is what lets one face sit at its own depth, and
-it also gives per-corner normals and scalars for free.
+``"indexed"`` (what :mod:`.render` uses)
+    The mescher's own ``#V`` vertices at ``z = 0`` and its faces as cells in drawing order.  All
+    fragments have the same depth, so OpenGL's depth test decides by drawing order alone: with
+    VTK's default ``GL_LEQUAL`` the *last* coplanar fragment wins (cells back to front), with
+    ``GL_LESS`` the *first* (cells front to back, which also lets the GPU reject hidden fragments
+    before shading them; see :func:`pyvista_views.render.use_early_z`).  No per-face copies: the
+    same number of points as an ordinary mesh.
+``"soup"``
+    Each face gets its own three points at ``z = k * step`` for the face drawn k-th, so under the
+    orthographic camera looking down -z the z-buffer reproduces the drawing order with any depth
+    test and any renderer (exporters, vtk.js).  Per-corner values come for free, which isolines on
+    a mescher and some baked-colour combinations need (:func:`needs_soup`).
+
+Flat shading sets the faces' normals as the *active cell normals* (VTK ignores point normals with
+flat interpolation); smooth shading sets per-vertex normals as active point normals (Gouraud).
 """
 
 from __future__ import annotations
@@ -27,6 +38,11 @@ from meschers_igl.validate import as_choice, as_faces, as_float_array, as_points
 PAINTER_DEPTH_FRACTION = 1e-3
 
 SHADINGS = ("flat", "smooth")
+LAYOUTS = ("soup", "indexed")
+
+#: Field-data names under which :func:`to_polydata` (``embed=True``) stores the mescher itself,
+#: so that ``poly.mescher.to_mescher()`` and the ``.mescher`` writer recover it exactly.
+FIELD_EDGES, FIELD_ZETA, FIELD_ARCS, FIELD_HAS_ORDER = "edges", "zeta", "depth_arcs", "has_order"
 
 
 def draw_order(order: object, n_faces: int) -> np.ndarray:
@@ -146,6 +162,122 @@ def soup(
     return mesh
 
 
+def screen_facing(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """+1 for cells counter-clockwise on screen (or degenerate), -1 for clockwise ones.
+
+    Parameters
+    ----------
+    points : (n, 3) or (n, 2) float64
+    cells : (k, 3) int64
+
+    Returns
+    -------
+    (k,) float64
+        The sign of the screen-space signed area: VTK's two-sided lighting flips the normal of a
+        clockwise (back-facing) triangle, and baked shading must do the same.
+    """
+    p = np.asarray(points)[:, :2]
+    a, b, c = p[cells[:, 0]], p[cells[:, 1]], p[cells[:, 2]]
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    return np.where(cross < 0, -1.0, 1.0)
+
+
+def split_by_facing(cells: np.ndarray, facing: np.ndarray, n_points: int) -> tuple:
+    """Give clockwise cells their own copy of every vertex they share with counter-clockwise ones.
+
+    Then each point is used by cells of one facing only, so a per-point colour can carry the
+    flipped normal of back-facing cells (baked smooth shading) while front-facing neighbours keep
+    theirs.  Only vertices on a fold (where facing changes) are copied.
+
+    Returns
+    -------
+    cells : (k, 3) int64
+        Cells indexing the extended point list.
+    source : (n_points + c,) int64
+        Original point of each point (``arange(n_points)`` then the ``c`` copied ones).
+    """
+    ccw = facing > 0
+    used = np.zeros((2, n_points), dtype=bool)
+    used[0, cells[ccw].reshape(-1)] = True
+    used[1, cells[~ccw].reshape(-1)] = True
+    mixed = np.flatnonzero(used[0] & used[1])
+    if mixed.size == 0:
+        return cells, np.arange(n_points, dtype=np.int64)
+    copy_of = np.full(n_points, -1, dtype=np.int64)
+    copy_of[mixed] = n_points + np.arange(mixed.size)
+    out = cells.copy()
+    cw = out[~ccw]
+    out[~ccw] = np.where(copy_of[cw] >= 0, copy_of[cw], cw)
+    return out, np.concatenate([np.arange(n_points, dtype=np.int64), mixed])
+
+
+def indexed(
+    points: np.ndarray,
+    F: np.ndarray,
+    draw: np.ndarray,
+    face_normals: np.ndarray | None = None,
+    vertex_normals: np.ndarray | None = None,
+    scalars: dict[str, tuple[np.ndarray, str]] | None = None,
+) -> pv.PolyData:
+    """An indexed triangle mesh with normals and scalars, cells in draw order.
+
+    Parameters
+    ----------
+    points : (#V, 3) float64
+    F : (#F, 3) int64
+    draw : (k,) int64
+        Source face of each cell, in drawing order.
+    face_normals : (#F, 3) float64, optional
+        Flat shading: ``face_normals[draw]`` become the active cell normals.
+    vertex_normals : (#V, 3) float64, optional
+        Smooth shading: active point normals; vertices on a fold between counter-clockwise and
+        clockwise cells are split (:func:`split_by_facing`) so that baked colours stay exact.
+    scalars : dict, optional
+        From :func:`as_scalars`: vertex values become point data, face values cell data.
+
+    Returns
+    -------
+    pyvista.PolyData
+        ``cell_data["face_id"]`` (source face) and ``point_data["vertex_id"]`` (source vertex).
+    """
+    cells = F[draw]
+    n = points.shape[0]
+    source = np.arange(n, dtype=np.int64)
+    if vertex_normals is not None:
+        cells, source = split_by_facing(cells, screen_facing(points, cells), n)
+        if source.shape[0] > n:
+            points = points[source]
+    mesh = pv.PolyData.from_regular_faces(points, cells)
+    mesh.cell_data["face_id"] = draw
+    mesh.point_data["vertex_id"] = source
+    if face_normals is not None:
+        mesh.cell_data.active_normals = np.asarray(face_normals)[draw]
+    if vertex_normals is not None:
+        mesh.point_data.active_normals = np.asarray(vertex_normals)[source]
+    for key, (values, location) in (scalars or {}).items():
+        if location == "vertex":
+            mesh.point_data[key] = values[source]
+        else:
+            mesh.cell_data[key] = values[draw]
+    mesh.set_active_scalars(next(iter(scalars)) if scalars else None)
+    return mesh
+
+
+def needs_soup(shading: str, scalars: dict[str, tuple[np.ndarray, str]], isolines: bool) -> bool:
+    """Whether a layer must be a soup rather than an indexed mesh.
+
+    Isolines on a mescher are hidden by the faces drawn after them through per-face depths, and
+    baked colours (environment maps) multiply an albedo and an irradiance that must live at the
+    same place: per face for flat shading, per vertex for smooth shading.  A per-vertex scalar
+    with flat shading (or a per-face one with smooth shading) varies where the other is constant,
+    which only per-corner values represent.
+    """
+    if isolines:
+        return True
+    wanted = "face" if shading == "flat" else "vertex"
+    return any(location != wanted for _, location in scalars.values())
+
+
 def _painter_step(xy: np.ndarray, n_faces: int) -> float:
     extent = np.ptp(xy, axis=0)
     diagonal = float(np.hypot(*extent)) or 1.0
@@ -153,9 +285,16 @@ def _painter_step(xy: np.ndarray, n_faces: int) -> float:
 
 
 def to_polydata(
-    m: Any, order: object = None, shading: str = "flat", scalars: object = None
+    m: Any,
+    order: object = None,
+    shading: str = "flat",
+    scalars: object = None,
+    layout: str = "soup",
+    *,
+    front_to_back: bool = False,
+    embed: bool = False,
 ) -> pv.PolyData:
-    """The flattened mescher as a triangle soup drawn back to front (paper Section 4.1).
+    """The flattened mescher, drawn back to front (paper Section 4.1).
 
     Parameters
     ----------
@@ -164,44 +303,80 @@ def to_polydata(
         Back-to-front order (:func:`draw_order`); ``None`` draws in face-index order.
     shading : {"flat", "smooth"}
         ``"flat"``: ``m.face_normals()`` (from zeta) as the active cell normals.  ``"smooth"``:
-        ``m.vertex_normals()`` at each corner as active point normals, interpolated (Gouraud).
-        Never use PyVista's ``smooth_shading=True`` on the result: it recomputes normals from the
-        flattened geometry, which are all (0, 0, 1).
+        ``m.vertex_normals()`` as active point normals, interpolated (Gouraud).  Never use
+        PyVista's ``smooth_shading=True`` on the result: it recomputes normals from the flattened
+        geometry, which are all (0, 0, 1).
     scalars : None, (#V,) or (#F,) array_like, or dict name -> array
         Scalar fields; the first one is the active scalars.
+    layout : {"soup", "indexed"}
+        ``"soup"``: ``3 #F`` points ``(x, y, k * step)`` for the face drawn k-th (renders right
+        with any depth test, any renderer).  ``"indexed"``: the ``#V`` vertices at ``z = 0``
+        (plus copies on folds for smooth shading, :func:`split_by_facing`), right with VTK's
+        default ``GL_LEQUAL`` depth test (module docstring).
+    front_to_back : bool, default: False
+        Indexed layout only: cells in reverse drawing order, for a ``GL_LESS`` depth test
+        (:func:`pyvista_views.render.use_early_z`).
+    embed : bool, default: False
+        Also store the mescher in field data (``"edges"`` (#E, 2), ``"zeta"`` (#E,), and
+        ``"depth_arcs"`` (#A, 2) with ``"has_order"`` when ``order`` is a DepthOrder) so that
+        ``poly.mescher.to_mescher()`` recovers ``m`` (and the order) exactly.
 
     Returns
     -------
     pyvista.PolyData
-        ``3 #F`` points ``(x, y, k * step)`` for the face drawn k-th, ``#F`` triangles in draw
-        order, ``cell_data["face_id"]``, ``point_data["vertex_id"]``, normals, scalars, and
-        ``field_data["painter_step"]``.
+        Cells in drawing order with ``cell_data["face_id"]``, ``point_data["vertex_id"]``,
+        normals, scalars and ``field_data["painter_step"]`` (0 for the indexed layout).
     """
     shading = as_choice(shading, "shading", SHADINGS)
+    layout = as_choice(layout, "layout", LAYOUTS)
     F = np.asarray(m.F, dtype=np.int64)
     xy = np.asarray(m.xy, dtype=np.float64)
     n_faces = F.shape[0]
     draw = draw_order(order, n_faces)
     fields = as_scalars(scalars, xy.shape[0], n_faces)
-    step = _painter_step(xy, n_faces)
-    corners = np.empty((n_faces, 3, 3))
-    corners[:, :, :2] = xy[F[draw]]
-    corners[:, :, 2] = (np.arange(n_faces) * step)[:, None]
-    if shading == "flat":
-        mesh = soup(
-            corners, F, draw, face_normals=np.asarray(m.face_normals())[draw], scalars=fields
+    if layout == "indexed":
+        points = np.zeros((xy.shape[0], 3))
+        points[:, :2] = xy
+        flat = shading == "flat"
+        mesh = indexed(
+            points,
+            F,
+            draw[::-1] if front_to_back else draw,
+            face_normals=m.face_normals() if flat else None,
+            vertex_normals=None if flat else m.vertex_normals(),
+            scalars=fields,
         )
+        step = 0.0
     else:
-        normals = np.asarray(m.vertex_normals())[F[draw]]
-        mesh = soup(corners, F, draw, corner_normals=normals, scalars=fields)
+        step = _painter_step(xy, n_faces)
+        corners = np.empty((n_faces, 3, 3))
+        corners[:, :, :2] = xy[F[draw]]
+        corners[:, :, 2] = (np.arange(n_faces) * step)[:, None]
+        if shading == "flat":
+            normals = np.asarray(m.face_normals())[draw]
+            mesh = soup(corners, F, draw, face_normals=normals, scalars=fields)
+        else:
+            normals = np.asarray(m.vertex_normals())[F[draw]]
+            mesh = soup(corners, F, draw, corner_normals=normals, scalars=fields)
     mesh.field_data["painter_step"] = np.array([step])
+    if embed:
+        mesh.field_data[FIELD_EDGES] = np.asarray(m.edges, dtype=np.int64)
+        mesh.field_data[FIELD_ZETA] = np.asarray(m.zeta, dtype=np.float64)
+        arcs = getattr(order, "arcs", None)
+        mesh.field_data[FIELD_HAS_ORDER] = np.array([arcs is not None])
+        if arcs is not None:
+            mesh.field_data[FIELD_ARCS] = np.asarray(arcs, dtype=np.int64).reshape(-1, 2)
     return mesh
 
 
 def embedding_polydata(
-    V: np.ndarray, F: np.ndarray, shading: str = "flat", scalars: object = None
+    V: np.ndarray,
+    F: np.ndarray,
+    shading: str = "flat",
+    scalars: object = None,
+    layout: str = "soup",
 ) -> pv.PolyData:
-    """A real 3D mesh (a cut or bent embedding, or any ordinary mesh) as a z-buffered soup.
+    """A real 3D mesh (a cut or bent embedding, or any ordinary mesh), z-buffered.
 
     Normals are libigl's (``per_face_normals``; area-weighted ``per_vertex_normals``, the same
     weighting as a mescher's vertex normals), so a mescher of this mesh and the mesh itself get
@@ -214,16 +389,22 @@ def embedding_polydata(
     F : (#F, 3) int64
     shading : {"flat", "smooth"}
     scalars : as in :func:`to_polydata`, per vertex or face of this mesh.
+    layout : {"soup", "indexed"}
+        One triangle per face with its own corners, or the mesh's own vertices (split on folds
+        for smooth shading, :func:`split_by_facing`).
     """
     shading = as_choice(shading, "shading", SHADINGS)
+    layout = as_choice(layout, "layout", LAYOUTS)
     V = as_points(V, "V", 3)
     F = as_faces(F, "F", n_vertices=V.shape[0])
     fields = as_scalars(scalars, V.shape[0], F.shape[0])
     draw = np.arange(F.shape[0], dtype=np.int64)
     if shading == "flat":
         normals = igl.per_face_normals(V, F, np.array([0.0, 0.0, 1.0]))
-        mesh = soup(V[F], F, draw, face_normals=normals, scalars=fields)
-    else:
-        normals = igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA)
-        mesh = soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)
-    return mesh
+        if layout == "indexed":
+            return indexed(V, F, draw, face_normals=normals, scalars=fields)
+        return soup(V[F], F, draw, face_normals=normals, scalars=fields)
+    normals = igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA)
+    if layout == "indexed":
+        return indexed(V, F, draw, vertex_normals=normals, scalars=fields)
+    return soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)

@@ -73,7 +73,9 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
     try:
         img = Image.open(path).convert("RGB")
     except (OSError, ValueError) as exc:
-        raise MescherError(f"TARGET: expected a readable image file, found {path!r} ({exc})") from exc
+        raise MescherError(
+            f"TARGET: expected a readable image file, found {path!r} ({exc})"
+        ) from exc
     if img.width != img.height:
         raise MescherError(
             f"TARGET: expected a square image (it spans [-1, 1]^2), found {img.width}x{img.height}"

@@ -316,7 +316,8 @@ def max_period_ratio(m: Mescher) -> float:
 def _sparse_to_torch(A: sp.spmatrix, dtype) -> torch.Tensor:
     A = sp.coo_matrix(A)
     idx = torch.as_tensor(np.vstack([A.row, A.col]).astype(np.int64))
-    return torch.sparse_coo_tensor(idx, torch.as_tensor(A.data, dtype=dtype), A.shape).coalesce()
+    val = torch.as_tensor(A.data, dtype=dtype)
+    return torch.sparse_coo_tensor(idx, val, A.shape, check_invariants=False).coalesce()
 
 
 def sobolev_matrix(m: Mescher, lam: float, laplacian: str = "cotan") -> sp.csc_matrix:
@@ -391,18 +392,18 @@ class MescherParametrization:
 
     def __init__(self, m: Mescher, offsets=None, lam: float = 10.0, laplacian: str = "cotan"):
         self.m0 = m
-        self.F = torch.as_tensor(np.asarray(m.F), dtype=torch.long)
-        edges = np.asarray(m.edges)
+        self.F = torch.tensor(np.asarray(m.F), dtype=torch.long)
+        edges = np.array(m.edges)
         self.tail = torch.as_tensor(edges[:, 0], dtype=torch.long)
         self.head = torch.as_tensor(edges[:, 1], dtype=torch.long)
-        self.face_edges = torch.as_tensor(np.asarray(m.face_edges), dtype=torch.long)
-        self.face_edge_signs = torch.as_tensor(np.asarray(m.face_edge_signs), dtype=torch.float64)
+        self.face_edges = torch.tensor(np.asarray(m.face_edges), dtype=torch.long)
+        self.face_edge_signs = torch.tensor(np.asarray(m.face_edge_signs), dtype=torch.float64)
         self.H = torch.as_tensor(closed_harmonic_basis(m), dtype=torch.float64)
         h = m.hodge()
         self.M = _sparse_to_torch(sobolev_matrix(m, lam, laplacian), torch.float32)
         f32 = torch.float32
-        xy0 = torch.as_tensor(np.asarray(m.xy), dtype=f32)
-        z0 = torch.as_tensor(np.asarray(h.z), dtype=f32)[:, None]
+        xy0 = torch.tensor(np.asarray(m.xy), dtype=f32)
+        z0 = torch.tensor(np.asarray(h.z), dtype=f32)[:, None]
         # omega = H @ periods exactly for the dual basis: start from the given periods
         self.u_xy = to_differential(self.M, xy0).detach().requires_grad_(True)
         self.u_z = to_differential(self.M, z0).detach().requires_grad_(True)

@@ -366,9 +366,7 @@ def soft_rasterize(
     if F.ndim != 2 or F.shape[1] != 3:
         raise MescherError(f"F: expected shape (#F, 3), found {tuple(F.shape)}")
     if colors.ndim != 2 or colors.shape[0] != F.shape[0]:
-        raise MescherError(
-            f"colors: expected shape ({F.shape[0]}, C), found {tuple(colors.shape)}"
-        )
+        raise MescherError(f"colors: expected shape ({F.shape[0]}, C), found {tuple(colors.shape)}")
     if offsets.shape != (F.shape[0],):
         raise MescherError(f"offsets: expected shape ({F.shape[0]},), found {tuple(offsets.shape)}")
     dt = xy.dtype
@@ -450,12 +448,16 @@ def render_mescher(
     (H, W, 3) float64 ndarray in [0, 1], and (H, W) alpha with ``return_alpha``.
     """
     dt = torch.float64
-    F = torch.as_tensor(np.asarray(m.F), dtype=torch.long)
-    xy = torch.as_tensor(np.asarray(m.xy), dtype=dt)
-    zeta = torch.as_tensor(np.asarray(m.zeta), dtype=dt)
-    fe = torch.as_tensor(np.asarray(m.face_edges), dtype=torch.long)
-    fs = torch.as_tensor(np.asarray(m.face_edge_signs), dtype=dt)
-    o = torch.zeros(F.shape[0], dtype=dt) if offsets is None else torch.as_tensor(offsets, dtype=dt)
+    F = torch.tensor(np.asarray(m.F), dtype=torch.long)
+    xy = torch.tensor(np.asarray(m.xy), dtype=dt)
+    zeta = torch.tensor(np.asarray(m.zeta), dtype=dt)
+    fe = torch.tensor(np.asarray(m.face_edges), dtype=torch.long)
+    fs = torch.tensor(np.asarray(m.face_edge_signs), dtype=dt)
+    o = (
+        torch.zeros(F.shape[0], dtype=dt)
+        if offsets is None
+        else torch.tensor(np.asarray(offsets), dtype=dt)
+    )
     with torch.no_grad():
         n = face_normals_from_zeta(F, xy, zeta, fe, fs)
         colors = lambertian(n, lights, light_colors, ambient, albedo)

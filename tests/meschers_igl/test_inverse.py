@@ -29,7 +29,7 @@ def _one_thread():
 
 
 def _t(a, dtype=D64):
-    return torch.as_tensor(np.asarray(a), dtype=dtype)
+    return torch.tensor(np.array(a), dtype=dtype)
 
 
 # --------------------------------------------------------------------------- packaging
@@ -205,7 +205,9 @@ def _random_mescher(seed=0, n=5):
     V[:, :2] += 0.03 * rng.standard_normal((n * n, 2))
     i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1), indexing="ij")
     a = (i * n + j).ravel()
-    F = np.concatenate([np.column_stack([a, a + 1, a + n + 1]), np.column_stack([a, a + n + 1, a + n])])
+    F = np.concatenate(
+        [np.column_stack([a, a + 1, a + n + 1]), np.column_stack([a, a + n + 1, a + n])]
+    )
     return Mescher.from_mesh(V, F), V, F
 
 
@@ -309,7 +311,7 @@ def test_sobolev_matrix_is_spd_identity_plus_laplacian():
 LIGHT = [(0.3, 0.5, 1.0)]
 
 
-def _fit_tiny(iters=40, callback=None):
+def _fit_tiny(iters=100, callback=None):
     """A 32 x 32 impossible-torus picture, fitted from a smaller ordinary torus."""
     truth, off = opt.torus_mescher(0.55, 0.25, 24, 8)
     truth = truth.with_periods([0.8, 0.0])
@@ -330,7 +332,7 @@ def test_fit_keeps_every_iterate_a_mescher_and_lowers_the_loss():
 
     init_d12 = opt.torus_mescher(0.5, 0.2, 24, 8)[0].d12
     result, target, before = _fit_tiny(callback=check)
-    assert len(seen) == 40
+    assert len(seen) == 100
     assert max(seen) < 1e-10 and result.max_residual < 1e-10
     # the loss at one sigma: the final render against the initial one, both nearly hard
     mse_before = np.mean((before - target) ** 2)
@@ -368,7 +370,7 @@ def test_metrics_hand_values():
 def test_extract_order_puts_the_higher_offset_in_front():
     # two separate triangles overlapping on screen, and a third far away
     F = np.array([[0, 1, 2], [3, 4, 5], [6, 7, 8]])
-    xy = np.array([[-0.8, -0.8], [0.6, -0.8], [-0.8, 0.6], [0.8, 0.8], [-0.6, 0.8], [0.8, -0.6],
+    xy = np.array([[-0.8, -0.8], [0.8, -0.8], [0.0, 0.8], [-0.8, 0.8], [0.0, -0.8], [0.8, 0.8],
                    [2, 2], [3, 2], [2, 3]], float)  # fmt: skip
     m = Mescher.from_mesh(np.column_stack([xy, np.zeros(9)]), F)
     order = opt.extract_order(m, np.array([0.7, 0.2, 0.5]))
@@ -380,7 +382,8 @@ def test_extract_order_puts_the_higher_offset_in_front():
 def test_penrose_target_is_a_penrose_triangle():
     xy, F, N, off, _ = opt.penrose_soup()
     # three visible normals, the cube axes seen along (1, 1, 1): orthonormal, n_z = 1/sqrt(3)
-    U = np.unique(N.round(9), axis=0)
+    _, first = np.unique(N.round(9), axis=0, return_index=True)
+    U = N[first]
     assert U.shape == (3, 3)
     np.testing.assert_allclose(U @ U.T, np.eye(3), atol=1e-12)
     np.testing.assert_allclose(U[:, 2], 1 / math.sqrt(3), atol=1e-12)
