@@ -11,6 +11,8 @@ from ._offscreen import configure_headless
 
 configure_headless()  # before any render window exists (EGL when there is no display)
 
+# PyVista registries (also declared as entry points, so an installed `meschers` needs no import).
+from . import accessor, fileio, plugin, theme  # noqa: E402, F401
 from .compare import compare  # noqa: E402
 from .envmap import EnvironmentMap  # noqa: E402
 from .interactive import MescherViewer, plot  # noqa: E402

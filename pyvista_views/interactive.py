@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import pyvista as pv
 
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_index_array
@@ -273,6 +274,10 @@ def plot(
     -------
     (H, W, 3) uint8 or None
     """
+    backend = jupyter_backend or getattr(pv.global_theme, "jupyter_backend", None)
+    if backend == "client":
+        # vtk.js draws with its own depth test: cells back to front (render.use_early_z).
+        kwargs.setdefault("early_z", False)
     viewer = MescherViewer(
         m,
         order,

@@ -11,6 +11,14 @@ algorithm in a linear extension of the depth order.  Two layouts do this:
     ``GL_LESS`` the *first* (cells front to back, which also lets the GPU reject hidden fragments
     before shading them; see :func:`pyvista_views.render.use_early_z`).  No per-face copies: the
     same number of points as an ordinary mesh.
+``"provoking"`` (what :mod:`.render` uses for flat shading)
+    The indexed layout without cell data: each cell is rotated (orientation kept) so that its
+    *last* corner, OpenGL's provoking vertex, is a vertex no other cell ends with (vertices are
+    copied where needed, about ``#F`` points in all), and that vertex carries the face's normal.
+    Drawn with ``flat`` varyings (:func:`pyvista_views.render.use_flat_varyings`) every fragment
+    gets its face's normal exactly as with cell normals, without the per-primitive lookup
+    (``gl_PrimitiveID``) that VTK's cell normals cost on software rasterizers.  Only for drawing:
+    a plain VTK pipeline would interpolate those normals.
 ``"soup"``
     Each face gets its own three points at ``z = k * step`` for the face drawn k-th, so under the
     orthographic camera looking down -z the z-buffer reproduces the drawing order with any depth
@@ -38,7 +46,7 @@ from meschers_igl.validate import as_choice, as_faces, as_float_array, as_points
 PAINTER_DEPTH_FRACTION = 1e-3
 
 SHADINGS = ("flat", "smooth")
-LAYOUTS = ("soup", "indexed")
+LAYOUTS = ("soup", "indexed", "provoking")
 
 #: Field-data names under which :func:`to_polydata` (``embed=True``) stores the mescher itself,
 #: so that ``poly.mescher.to_mescher()`` and the ``.mescher`` writer recover it exactly.
@@ -211,6 +219,47 @@ def split_by_facing(cells: np.ndarray, facing: np.ndarray, n_points: int) -> tup
     return out, np.concatenate([np.arange(n_points, dtype=np.int64), mixed])
 
 
+def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Rotate cells so that each one's last corner is a point no other cell ends with.
+
+    Greedy and vectorized: for corner 0, 1, 2 in turn, each still unassigned cell takes that
+    corner if no cell owns its vertex yet (the first such cell per vertex wins); cells left over
+    get a copy of their corner 2.  A closed mesh has about twice as many faces as vertices, so
+    about ``#F - #V`` copies are unavoidable.
+
+    Parameters
+    ----------
+    cells : (k, 3) int64
+    n_points : int
+
+    Returns
+    -------
+    cells : (k, 3) int64
+        Each row a rotation of the input row (same orientation), its last entry unique.
+    source : (n_points + c,) int64
+        Original point of each point (``arange(n_points)``, then the ``c`` copies).
+    """
+    k = cells.shape[0]
+    corner = np.full(k, -1, dtype=np.int64)
+    owned = np.zeros(n_points, dtype=bool)
+    for c in range(3):
+        free = np.flatnonzero(corner < 0)
+        v = cells[free, c]
+        ok = ~owned[v]
+        _, first = np.unique(v[ok], return_index=True)
+        winners = free[ok][first]
+        corner[winners] = c
+        owned[cells[winners, c]] = True
+    out = cells.copy()
+    for c in (0, 1):  # bring corner c to the end: (a, b, c) -> (b, c, a) or (c, a, b)
+        rows = corner == c
+        out[rows] = np.roll(cells[rows], 2 - c, axis=1)
+    rest = np.flatnonzero(corner < 0)
+    source = np.concatenate([np.arange(n_points, dtype=np.int64), out[rest, 2]])
+    out[rest, 2] = n_points + np.arange(rest.size)
+    return out, source
+
+
 def indexed(
     points: np.ndarray,
     F: np.ndarray,
@@ -218,6 +267,7 @@ def indexed(
     face_normals: np.ndarray | None = None,
     vertex_normals: np.ndarray | None = None,
     scalars: dict[str, tuple[np.ndarray, str]] | None = None,
+    provoking: bool = False,
 ) -> pv.PolyData:
     """An indexed triangle mesh with normals and scalars, cells in draw order.
 
@@ -234,6 +284,9 @@ def indexed(
         clockwise cells are split (:func:`split_by_facing`) so that baked colours stay exact.
     scalars : dict, optional
         From :func:`as_scalars`: vertex values become point data, face values cell data.
+    provoking : bool, default: False
+        With ``face_normals``: the ``"provoking"`` layout (module docstring,
+        :func:`provoking_cells`): the normals go to each cell's last point, no cell normals.
 
     Returns
     -------
@@ -245,12 +298,19 @@ def indexed(
     source = np.arange(n, dtype=np.int64)
     if vertex_normals is not None:
         cells, source = split_by_facing(cells, screen_facing(points, cells), n)
-        if source.shape[0] > n:
-            points = points[source]
+    elif provoking and face_normals is not None:
+        cells, source = provoking_cells(cells, n)
+    if source.shape[0] > n:
+        points = points[source]
     mesh = pv.PolyData.from_regular_faces(points, cells)
     mesh.cell_data["face_id"] = draw
     mesh.point_data["vertex_id"] = source
-    if face_normals is not None:
+    if face_normals is not None and provoking:
+        normals = np.zeros((source.shape[0], 3))
+        normals[:, 2] = 1.0  # points that end no cell: never read, but a unit vector
+        normals[cells[:, 2]] = np.asarray(face_normals)[draw]
+        mesh.point_data.active_normals = normals
+    elif face_normals is not None:
         mesh.cell_data.active_normals = np.asarray(face_normals)[draw]
     if vertex_normals is not None:
         mesh.point_data.active_normals = np.asarray(vertex_normals)[source]
@@ -308,13 +368,14 @@ def to_polydata(
         geometry, which are all (0, 0, 1).
     scalars : None, (#V,) or (#F,) array_like, or dict name -> array
         Scalar fields; the first one is the active scalars.
-    layout : {"soup", "indexed"}
+    layout : {"soup", "indexed", "provoking"}
         ``"soup"``: ``3 #F`` points ``(x, y, k * step)`` for the face drawn k-th (renders right
         with any depth test, any renderer).  ``"indexed"``: the ``#V`` vertices at ``z = 0``
         (plus copies on folds for smooth shading, :func:`split_by_facing`), right with VTK's
-        default ``GL_LEQUAL`` depth test (module docstring).
+        default ``GL_LEQUAL`` depth test.  ``"provoking"``: for drawing with ``flat`` varyings
+        only (module docstring); its cells' corners are rotated.
     front_to_back : bool, default: False
-        Indexed layout only: cells in reverse drawing order, for a ``GL_LESS`` depth test
+        Indexed and provoking layouts: cells in reverse drawing order, for a ``GL_LESS`` depth test
         (:func:`pyvista_views.render.use_early_z`).
     embed : bool, default: False
         Also store the mescher in field data (``"edges"`` (#E, 2), ``"zeta"`` (#E,), and
@@ -334,7 +395,7 @@ def to_polydata(
     n_faces = F.shape[0]
     draw = draw_order(order, n_faces)
     fields = as_scalars(scalars, xy.shape[0], n_faces)
-    if layout == "indexed":
+    if layout != "soup":
         points = np.zeros((xy.shape[0], 3))
         points[:, :2] = xy
         flat = shading == "flat"
@@ -345,6 +406,7 @@ def to_polydata(
             face_normals=m.face_normals() if flat else None,
             vertex_normals=None if flat else m.vertex_normals(),
             scalars=fields,
+            provoking=layout == "provoking",
         )
         step = 0.0
     else:
@@ -364,7 +426,7 @@ def to_polydata(
         mesh.field_data[FIELD_ZETA] = np.asarray(m.zeta, dtype=np.float64)
         arcs = getattr(order, "arcs", None)
         mesh.field_data[FIELD_HAS_ORDER] = np.array([arcs is not None])
-        if arcs is not None:
+        if arcs is not None and len(arcs):  # VTK arrays cannot be empty: no arcs, no array
             mesh.field_data[FIELD_ARCS] = np.asarray(arcs, dtype=np.int64).reshape(-1, 2)
     return mesh
 
@@ -389,9 +451,10 @@ def embedding_polydata(
     F : (#F, 3) int64
     shading : {"flat", "smooth"}
     scalars : as in :func:`to_polydata`, per vertex or face of this mesh.
-    layout : {"soup", "indexed"}
+    layout : {"soup", "indexed", "provoking"}
         One triangle per face with its own corners, or the mesh's own vertices (split on folds
-        for smooth shading, :func:`split_by_facing`).
+        for smooth shading, :func:`split_by_facing`; for flat shading with ``"provoking"``,
+        normals on each cell's last point, :func:`provoking_cells`).
     """
     shading = as_choice(shading, "shading", SHADINGS)
     layout = as_choice(layout, "layout", LAYOUTS)
@@ -401,10 +464,12 @@ def embedding_polydata(
     draw = np.arange(F.shape[0], dtype=np.int64)
     if shading == "flat":
         normals = igl.per_face_normals(V, F, np.array([0.0, 0.0, 1.0]))
-        if layout == "indexed":
-            return indexed(V, F, draw, face_normals=normals, scalars=fields)
+        if layout != "soup":
+            return indexed(
+                V, F, draw, face_normals=normals, scalars=fields, provoking=layout == "provoking"
+            )
         return soup(V[F], F, draw, face_normals=normals, scalars=fields)
     normals = igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA)
-    if layout == "indexed":
+    if layout != "soup":
         return indexed(V, F, draw, vertex_normals=normals, scalars=fields)
     return soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)

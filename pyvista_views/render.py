@@ -1,28 +1,39 @@
 """Head-on rendering of meschers and of real meshes with one camera, one light rig, one path.
 
-Every picture of the project goes through two functions:
+Every picture of the project goes through :class:`MescherScene`, which is also PyVista's plotter
+component ``plotter.mescher`` (registered by :mod:`pyvista_views.plugin` and the
+``pyvista.plotter_components`` entry point):
 
-- :func:`add_mescher` / :func:`add_embedding` put a mescher (flattened, painter-ordered soup) or a
-  real mesh (z-buffered soup) into a :class:`pyvista.Plotter` and return a :class:`Layer`;
+- :func:`add_mescher` / :func:`add_embedding` put a mescher (flattened, drawn in the order's
+  linear extension) or a real mesh (z-buffered) into a :class:`pyvista.Plotter` and return a
+  :class:`Layer`;
 - :func:`relight` lights every layer of a plotter, with VTK directional lights or, for an
-  environment map, with irradiance baked per corner.
+  environment map, with irradiance baked per face or per vertex.
 
-:class:`MescherScene` keeps a plotter, its layers and the camera together (the plotter component
-``plotter.mescher`` of issue 9 is meant to be this class), and :func:`render` is the one-shot
-wrapper of DESIGN.md.  The camera is always orthographic, looking down -z with y up, so the camera
-frame of DESIGN.md is the scene frame and ``bounds = (xmin, xmax, ymin, ymax)`` is exactly the
-image's extent.
+:func:`render` is the one-shot wrapper of DESIGN.md; :func:`~pyvista_views.compare.compare` and
+:func:`~pyvista_views.interactive.plot` use the same scene.  The camera is always orthographic,
+looking down -z with y up, so the camera frame of DESIGN.md is the scene frame and
+``bounds = (xmin, xmax, ymin, ymax)`` is exactly the image's extent.
+
+A mescher is drawn as an *indexed* mesh at ``z = 0`` (:mod:`.polydata`): its cells go front to
+back and the renderer's depth test is ``GL_LESS`` (:func:`use_early_z`), so the first fragment
+drawn at a pixel, the frontmost in the depth order, wins and every hidden fragment is rejected
+before it is shaded.  That costs what an ordinary mesh of the same size costs.  Isolines on a
+mescher (and scalar/shading combinations that baked lighting cannot represent per face or per
+vertex) use the per-face-depth soup instead (:func:`~pyvista_views.polydata.needs_soup`).
 """
 
 from __future__ import annotations
 
+import functools
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import pyvista as pv
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_choice, as_float_array, as_positive
@@ -30,14 +41,24 @@ from meschers_igl.validate import as_choice, as_float_array, as_positive
 from . import _offscreen
 from .envmap import EnvironmentMap, as_env_map
 from .lights import DirectionalLight, as_lights, lambert, set_vtk_lights
-from .polydata import SHADINGS, embedding_polydata, to_polydata
+from .polydata import (
+    SHADINGS,
+    as_scalars,
+    embedding_polydata,
+    needs_soup,
+    screen_facing,
+    to_polydata,
+)
+from .theme import COLOR, LIGHT_RIG
 
 #: Matte grey: lit faces stay below the white background (silhouettes are measurable).
-DEFAULT_COLOR = (0.85, 0.85, 0.85)
-DEFAULT_LIGHTS = ((1.0, 1.0, 1.0),)
+DEFAULT_COLOR = COLOR
+#: The key light of the study's rig (:data:`pyvista_views.theme.LIGHT_RIG`), toward (1, 1, 1).
+DEFAULT_LIGHTS = LIGHT_RIG[:1]
 DEFAULT_MARGIN = 0.05
 REPRESENTATIONS = ("mescher", "cut", "bent")
 _BAKED = "_shaded_rgb"
+_GL_LESS, _GL_LEQUAL = 0x0201, 0x0203
 
 
 @dataclass
@@ -47,7 +68,7 @@ class Layer:
     Attributes
     ----------
     mesh : pyvista.PolyData
-        The soup being drawn (:func:`~pyvista_views.polydata.to_polydata`).
+        What is drawn (:func:`~pyvista_views.polydata.to_polydata`).
     actor : pyvista.Actor
     kind : {"mescher", "embedding"}
     shading : {"flat", "smooth"}
@@ -58,6 +79,8 @@ class Layer:
     ambient, diffuse : float
         Matte material: ``colour * (ambient + diffuse * irradiance)``, no specular.
     isolines : pyvista.Actor or None
+    layout : {"provoking", "indexed", "soup"}
+        :mod:`.polydata`; a soup's points are the corners of its cells, 3 per cell.
     """
 
     mesh: pv.PolyData
@@ -69,6 +92,7 @@ class Layer:
     ambient: float
     diffuse: float
     isolines: Any = None
+    layout: str = "soup"
     _mapper_state: tuple = field(default=(), repr=False)
 
     @property
@@ -77,35 +101,51 @@ class Layer:
         b = self.mesh.bounds
         return (b[0], b[1], b[2], b[3])
 
-    def corner_normals(self) -> np.ndarray:
-        """(3k, 3) unit normals per soup corner, as the shader sees them.
+    @property
+    def shading_location(self) -> str:
+        """Where baked colours live: ``"cell"`` for a flat indexed mesh, else ``"point"``."""
+        return "cell" if (self.layout != "soup" and self.shading == "flat") else "point"
+
+    def shading_normals(self) -> np.ndarray:
+        """Unit normals as the shader sees them, at :attr:`shading_location`.
 
         VTK's two-sided lighting flips the normal of a triangle whose screen winding is
-        clockwise; baked shading does the same so both paths agree.
-        """
-        if self.shading == "flat":
-            n = np.repeat(np.asarray(self.mesh.cell_data.active_normals), 3, axis=0)
-        else:
-            n = np.asarray(self.mesh.point_data.active_normals, dtype=np.float64)
-        p = np.asarray(self.mesh.points).reshape(-1, 3, 3)
-        e1, e2 = p[:, 1, :2] - p[:, 0, :2], p[:, 2, :2] - p[:, 0, :2]
-        facing = np.where(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] < 0, -1.0, 1.0)
-        return n * np.repeat(facing, 3)[:, None]
+        clockwise; baked shading does the same so both paths agree (an indexed smooth mesh is
+        split on folds, so each point belongs to cells of one winding).
 
-    def corner_albedo(self) -> np.ndarray:
-        """(3k, 3) linear RGB base colour per corner (colour-mapped scalars or the colour)."""
-        n_points = self.mesh.n_points
+        Returns
+        -------
+        (#cells, 3) or (#points, 3) float64
+        """
+        cells = self.mesh.regular_faces
+        facing = screen_facing(self.mesh.points, cells)
+        if self.shading == "flat":
+            if self.layout == "provoking":  # each cell's normal sits on its last point
+                n = np.asarray(self.mesh.point_data.active_normals, dtype=np.float64)[cells[:, 2]]
+            else:
+                n = np.asarray(self.mesh.cell_data.active_normals, dtype=np.float64)
+            n = n * facing[:, None]
+            return n if self.layout != "soup" else np.repeat(n, 3, axis=0)
+        point_facing = np.ones(self.mesh.n_points)
+        point_facing[cells] = facing[:, None]
+        n = np.asarray(self.mesh.point_data.active_normals, dtype=np.float64)
+        return n * point_facing[:, None]
+
+    def albedo(self) -> np.ndarray:
+        """(n, 3) linear RGB base colour at :attr:`shading_location` (colour-mapped or plain)."""
+        location = self.shading_location
+        n = self.mesh.n_cells if location == "cell" else self.mesh.n_points
         if self.scalars is None:
-            return np.broadcast_to(np.asarray(self.color, float), (n_points, 3))
+            return np.broadcast_to(np.asarray(self.color, float), (n, 3))
         if self.scalars in self.mesh.point_data:
             values = np.asarray(self.mesh.point_data[self.scalars], dtype=np.float64)
         else:
-            values = np.repeat(np.asarray(self.mesh.cell_data[self.scalars], float), 3)
+            values = np.asarray(self.mesh.cell_data[self.scalars], dtype=np.float64)
+            if location == "point":  # a soup: 3 corners per cell
+                values = np.repeat(values, 3)
         lut = self.actor.mapper.lookup_table
         rgba = lut.MapScalars(numpy_to_vtk(np.ascontiguousarray(values)), 0, -1)
-        from vtkmodules.util.numpy_support import vtk_to_numpy
-
-        return vtk_to_numpy(rgba).reshape(n_points, -1)[:, :3] / 255.0
+        return vtk_to_numpy(rgba).reshape(n, -1)[:, :3] / 255.0
 
 
 def _check_material(color: object, ambient: float, diffuse: float) -> tuple:
@@ -117,11 +157,12 @@ def _check_material(color: object, ambient: float, diffuse: float) -> tuple:
     )
 
 
-def _add_soup(
+def _add_layer(
     plotter: pv.Plotter,
     mesh: pv.PolyData,
     kind: str,
     shading: str,
+    layout: str,
     *,
     color: object,
     cmap: str,
@@ -134,7 +175,7 @@ def _add_soup(
     name: str | None,
 ) -> Layer:
     rgb, ambient, diffuse = _check_material(color, ambient, diffuse)
-    active = mesh.active_scalars_name  # set by the soup builders from the user's fields only
+    active = mesh.active_scalars_name  # set by the builders from the user's fields only
     if active is not None and clim is None:
         values = mesh.active_scalars
         clim = (float(np.min(values)), float(np.max(values)))
@@ -148,12 +189,15 @@ def _add_soup(
         ambient=ambient,
         diffuse=diffuse,
         specular=0.0,
-        interpolation="flat" if shading == "flat" else "gouraud",
+        # Point normals need Gouraud interpolation; "provoking" then makes them flat varyings.
+        interpolation="flat" if (shading == "flat" and layout != "provoking") else "gouraud",
         smooth_shading=False,  # would recompute normals from the flat geometry (FACTS.md)
         lighting=True,
         name=name,
         reset_camera=False,
     )
+    if layout == "provoking":
+        use_flat_varyings(actor)
     mapper = actor.mapper
     layer = Layer(
         mesh,
@@ -164,6 +208,7 @@ def _add_soup(
         active,
         ambient,
         diffuse,
+        layout=layout,
         _mapper_state=(
             mapper.GetScalarVisibility(),
             mapper.GetScalarMode(),
@@ -171,9 +216,13 @@ def _add_soup(
             mapper.GetColorMode(),
         ),
     )
-    if not (isinstance(isolines, (int, np.integer)) and isolines == 0):
+    if _wants_isolines(isolines):
         layer.isolines = _add_isolines(plotter, layer, isolines, clim, isoline_color, isoline_lift)
     return layer
+
+
+def _wants_isolines(isolines: object) -> bool:
+    return not (isinstance(isolines, (int, np.integer)) and isolines == 0)
 
 
 def _add_isolines(
@@ -242,15 +291,100 @@ def _representation_kwargs(**kw: Any) -> dict:
     }
 
 
+#: Renderers whose depth test is ``GL_LESS`` while they draw (:func:`use_early_z`).
+_EARLY_Z: weakref.WeakSet = weakref.WeakSet()
+
+
+def use_early_z(renderer: Any) -> None:
+    """Make ``renderer`` draw with the depth test ``GL_LESS`` (VTK's default is ``GL_LEQUAL``).
+
+    An indexed mescher lies at ``z = 0``: every fragment has the same depth, so the test decides
+    by drawing order alone.  With ``GL_LESS`` the *first* fragment drawn at a pixel wins, so the
+    cells go front to back (the reverse linear extension) and the GPU rejects each hidden
+    fragment before shading it (early depth test); with ``GL_LEQUAL`` they would go back to
+    front and every fragment would be shaded, about twice the work on a closed surface.
+    Real meshes in the same renderer are z-buffered as usual (distinct depths: the test's
+    equality case never arises).  Set on the renderer's start event and restored on its end
+    event, so other renderers and VTK's own passes keep their state.
+    """
+    if renderer in _EARLY_Z:
+        return
+
+    def depth_func(func: int) -> Any:
+        def callback(obj: Any, _event: str) -> None:
+            window = obj.GetRenderWindow()
+            state = window.GetState() if hasattr(window, "GetState") else None
+            if state is not None:
+                state.vtkglDepthFunc(func)
+
+        return callback
+
+    renderer.AddObserver("StartEvent", depth_func(_GL_LESS))
+    renderer.AddObserver("EndEvent", depth_func(_GL_LEQUAL))
+    _EARLY_Z.add(renderer)
+
+
+_FLAT_VARYINGS = (
+    ("out vec3 normalVCVSOutput;", "flat out vec3 normalVCVSOutput;"),
+    ("in vec3 normalVCVSOutput;", "flat in vec3 normalVCVSOutput;"),
+)
+
+
+def use_flat_varyings(actor: Any) -> None:
+    """Make ``actor``'s per-point normals ``flat`` varyings: each triangle takes the normal of
+    its last (provoking) vertex for all its fragments.
+
+    With the ``"provoking"`` layout (:func:`~pyvista_views.polydata.provoking_cells`) that is
+    the face's own normal, so flat shading costs what an ordinary mesh costs; VTK's cell normals
+    give the same picture but read ``gl_PrimitiveID``, which software rasterizers (Mesa's
+    llvmpipe) pay for per triangle.  Done with VTK's shader replacements, after VTK's own.
+    """
+    prop = actor.GetShaderProperty()
+    (vs_old, vs_new), (fs_old, fs_new) = _FLAT_VARYINGS
+    prop.AddVertexShaderReplacement(vs_old, False, vs_new, False)
+    prop.AddFragmentShaderReplacement(fs_old, False, fs_new, False)
+
+
+@functools.lru_cache(maxsize=1)
+def flat_varyings_work() -> bool:
+    """Whether :func:`use_flat_varyings` gives flat shading here (tried once per process).
+
+    Two triangles whose provoking normals face the light and whose other normals face away:
+    with flat varyings both are lit evenly; if this VTK's shaders do not match the replacement,
+    they come out graded and the renderer falls back to cell normals.
+    """
+    try:
+        plotter = _offscreen.new_plotter((16, 8), off_screen=True)
+        P = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [2, 0, 0], [2, 1, 0]], float)
+        mesh = pv.PolyData.from_regular_faces(P, np.array([[0, 1, 2], [1, 3, 4]]))
+        normals = np.tile([0.0, 0.0, -1.0], (5, 1))
+        normals[[2, 4]] = (0.0, 0.0, 1.0)
+        mesh.point_data.active_normals = normals
+        actor = plotter.add_mesh(
+            mesh, color="white", ambient=0.0, diffuse=1.0, specular=0.0, interpolation="gouraud"
+        )
+        use_flat_varyings(actor)
+        set_view(plotter, (0.0, 2.0, 0.0, 1.0))
+        set_vtk_lights(plotter, [DirectionalLight(np.array([0.0, 0.0, 1.0]))])
+        image = plotter.screenshot(return_img=True)[..., :3].astype(int)
+        plotter.close()
+    except Exception:  # any VTK/GL failure: fall back to cell normals, always correct
+        return False
+    lit = image[2:7, 9:14].reshape(-1, 3)  # inside the second triangle, away from its edges
+    return bool(lit.size) and bool((np.abs(lit - 255) <= 1).all())
+
+
 def add_mescher(
     plotter: pv.Plotter,
     m: Any,
     order: object = None,
     shading: str = "flat",
     scalars: object = None,
+    *,
+    early_z: bool = True,
     **kwargs: Any,
 ) -> Layer:
-    """Add a mescher to ``plotter`` as a flattened soup drawn back to front.
+    """Add a mescher to ``plotter``, flattened and drawn in the order's linear extension.
 
     Parameters
     ----------
@@ -258,6 +392,10 @@ def add_mescher(
     m : meschers_igl.Mescher
     order, shading, scalars
         As in :func:`~pyvista_views.polydata.to_polydata`.
+    early_z : bool, default: True
+        Draw the indexed mesh front to back with a ``GL_LESS`` depth test (:func:`use_early_z`,
+        fastest); ``False`` draws it back to front with VTK's default test, which also displays
+        right where the scene is exported or drawn by another renderer (vtk.js, glTF).
     **kwargs
         ``color`` (material colour), ``cmap``, ``clim``, ``isolines`` (a count of evenly spaced
         levels in ``clim`` or the levels), ``isoline_color``, ``ambient`` (0.2), ``diffuse`` (0.8),
@@ -268,9 +406,18 @@ def add_mescher(
     Layer
     """
     opts = _representation_kwargs(**kwargs)
-    mesh = to_polydata(m, order=order, shading=shading, scalars=scalars)
+    shading = as_choice(shading, "shading", SHADINGS)
+    F = np.asarray(m.F)
+    fields = as_scalars(scalars, np.asarray(m.xy).shape[0], F.shape[0])
+    layout = _layout(shading, fields, _wants_isolines(opts["isolines"]))
+    front_to_back = layout != "soup" and bool(early_z)
+    mesh = to_polydata(
+        m, order=order, shading=shading, scalars=scalars, layout=layout, front_to_back=front_to_back
+    )
+    if front_to_back:
+        use_early_z(plotter.renderer)
     lift = 0.5 * float(mesh.field_data["painter_step"][0])
-    return _add_soup(plotter, mesh, "mescher", shading.lower(), isoline_lift=lift, **opts)
+    return _add_layer(plotter, mesh, "mescher", shading, layout, isoline_lift=lift, **opts)
 
 
 def add_embedding(
@@ -281,15 +428,25 @@ def add_embedding(
     scalars: object = None,
     **kwargs: Any,
 ) -> Layer:
-    """Add a real 3D mesh (cut or bent embedding, or any mesh) as a z-buffered soup.
+    """Add a real 3D mesh (cut or bent embedding, or any mesh), z-buffered.
 
     Same camera, lights and material as :func:`add_mescher`, so a mescher and its embeddings line
     up pixel for pixel.  ``V`` is in the camera frame; other arguments as in :func:`add_mescher`.
     """
     opts = _representation_kwargs(**kwargs)
-    mesh = embedding_polydata(V, F, shading=shading, scalars=scalars)
+    shading = as_choice(shading, "shading", SHADINGS)
+    V = np.asarray(V, dtype=np.float64)
+    fields = as_scalars(scalars, V.shape[0] if V.ndim == 2 else -1, np.asarray(F).shape[0])
+    layout = _layout(shading, fields, False)
+    mesh = embedding_polydata(V, F, shading=shading, scalars=scalars, layout=layout)
     lift = 1e-4 * float(np.hypot(*np.ptp(np.asarray(mesh.points)[:, :2], axis=0)) or 1.0)
-    return _add_soup(plotter, mesh, "embedding", shading.lower(), isoline_lift=lift, **opts)
+    return _add_layer(plotter, mesh, "embedding", shading, layout, isoline_lift=lift, **opts)
+
+
+def _layout(shading: str, fields: dict, isolines: bool) -> str:
+    if needs_soup(shading, fields, isolines):
+        return "soup"
+    return "provoking" if shading == "flat" and flat_varyings_work() else "indexed"
 
 
 def _use_vtk_lighting(layer: Layer) -> None:
@@ -303,11 +460,16 @@ def _use_vtk_lighting(layer: Layer) -> None:
 
 
 def _use_baked(layer: Layer, irradiance: np.ndarray) -> None:
-    rgb = layer.corner_albedo() * (layer.ambient + layer.diffuse * irradiance)
-    layer.mesh.point_data[_BAKED] = np.clip(np.rint(255.0 * rgb), 0, 255).astype(np.uint8)
+    rgb = layer.albedo() * (layer.ambient + layer.diffuse * irradiance)
+    baked = np.clip(np.rint(255.0 * rgb), 0, 255).astype(np.uint8)
     mapper = layer.actor.mapper
+    if layer.shading_location == "cell":
+        layer.mesh.cell_data[_BAKED] = baked
+        mapper.SetScalarModeToUseCellFieldData()
+    else:
+        layer.mesh.point_data[_BAKED] = baked
+        mapper.SetScalarModeToUsePointFieldData()
     mapper.SetScalarVisibility(True)
-    mapper.SetScalarModeToUsePointFieldData()
     mapper.SelectColorArray(_BAKED)
     mapper.SetColorModeToDirectScalars()
     layer.actor.prop.lighting = False
@@ -324,8 +486,9 @@ def relight(
     Without an environment map the lights are VTK directional lights (the light kit and
     headlight removed) and each layer's matte material gives
     ``colour * (ambient + diffuse * sum_i I_i max(0, n . l_i))``.  With one, VTK lighting is off
-    and the same formula with ``E_env(n) + sum_i ...`` as irradiance is evaluated per corner
-    (:mod:`.envmap`) and drawn as colours.  Call ``plotter.render()`` before a screenshot.
+    and the same formula with ``E_env(n) + sum_i ...`` as irradiance is evaluated per face (flat
+    indexed meshes) or per point (:mod:`.envmap`) and drawn as colours.  Call
+    ``plotter.render()`` before a screenshot.
 
     Returns
     -------
@@ -341,7 +504,7 @@ def relight(
     else:
         plotter.remove_all_lights()
         for layer in layers:
-            n = layer.corner_normals()
+            n = layer.shading_normals()
             _use_baked(layer, env.irradiance(n) + lambert(n, directional))
     return directional, env
 
@@ -405,46 +568,64 @@ def set_view(plotter: pv.Plotter, bounds: Sequence[float]) -> None:
 class MescherScene:
     """A plotter with meschers and embeddings, a fixed head-on camera and a relightable rig.
 
+    This is PyVista's plotter component ``plotter.mescher`` (:mod:`pyvista_views.plugin`):
+    ``pv.Plotter().mescher`` is a scene bound to that plotter, and a scene that makes its own
+    plotter is that plotter's ``.mescher``.
+
     Parameters
     ----------
     plotter : pyvista.Plotter, optional
-        Use this plotter (its light kit is removed at the first :meth:`relight`); by default a new
-        one (offscreen when ``pyvista.OFF_SCREEN`` is set or there is no display).
-    window_size : (int, int)
-        (width, height) in pixels for a new plotter.
+        Use this plotter (its light kit is replaced by the scene's lights at the first layer); by
+        default a new one (offscreen when ``pyvista.OFF_SCREEN`` is set or there is no display).
+    window_size : (int, int), optional
+        (width, height) in pixels of a new plotter (default 800 x 800), or of ``plotter``.
     background : color
+        Of a new plotter.
     off_screen : bool, optional
     anti_aliasing : bool
         Off by default so that image extents and silhouettes are exact.
+    early_z : bool, default: True
+        :func:`add_mescher`'s drawing mode for every mescher added.
 
     Examples
     --------
-    >>> scene = MescherScene(window_size=(400, 400))          # doctest: +SKIP
-    >>> scene.add(m, order=order, shading="smooth")           # doctest: +SKIP
-    >>> scene.view(); scene.relight([(1, 1, 1)])              # doctest: +SKIP
-    >>> a = scene.screenshot(); scene.relight([(-1, 0, 1)])   # doctest: +SKIP
-    >>> b = scene.screenshot()                                # same geometry, new light
+    >>> pl = pv.Plotter(off_screen=True)                     # doctest: +SKIP
+    >>> pl.mescher.add(m, order=order, shading="smooth")     # framed head-on, key light
+    >>> a = pl.mescher.screenshot()                          # doctest: +SKIP
+    >>> pl.mescher.relight((-1, 0, 1))                       # same geometry, new light
+    >>> b = pl.mescher.screenshot()                          # doctest: +SKIP
     """
 
     def __init__(
         self,
         plotter: pv.Plotter | None = None,
         *,
-        window_size: tuple[int, int] = (800, 800),
+        window_size: tuple[int, int] | None = None,
         background: object = "white",
         off_screen: bool | None = None,
         anti_aliasing: bool = False,
+        early_z: bool = True,
     ) -> None:
-        self.window_size = _as_window_size(window_size)
         if plotter is None:
+            self.window_size = _as_window_size((800, 800) if window_size is None else window_size)
             plotter = _offscreen.new_plotter(
                 self.window_size, off_screen, background, anti_aliasing
             )
+            # This scene is the new plotter's component (what ``plotter.mescher`` would build).
+            plotter.__dict__["mescher"] = self
+            components = plotter.__dict__.setdefault("_components", [])
+            components.append(self)
+        else:
+            if window_size is not None:
+                plotter.window_size = list(_as_window_size(window_size))
+            self.window_size = _as_window_size(tuple(plotter.window_size))
         self.plotter = plotter
+        self.early_z = bool(early_z)
         self.layers: list[Layer] = []
         self.bounds: tuple[float, float, float, float] | None = None
         self.lights: list[DirectionalLight] = []
         self.env_map: EnvironmentMap | None = None
+        self._lit = False
         self._box: list[tuple[float, float, float, float]] = []
 
     # -- content ---------------------------------------------------------------------------
@@ -456,7 +637,10 @@ class MescherScene:
         scalars: object = None,
         **kwargs: Any,
     ) -> Layer:
-        """Add a mescher (:func:`add_mescher`); it is lit by the current lights."""
+        """Add a mescher (:func:`add_mescher`), lit by the scene's lights (the key light of the
+        study's rig until :meth:`relight` is called) and framed head-on unless :meth:`view`
+        fixed the bounds."""
+        kwargs.setdefault("early_z", self.early_z)
         layer = add_mescher(self.plotter, m, order, shading, scalars, **kwargs)
         self._box.append(_xy_box(np.asarray(m.xy)))
         return self._adopt(layer)
@@ -487,10 +671,12 @@ class MescherScene:
 
     def _adopt(self, layer: Layer) -> Layer:
         self.layers.append(layer)
-        if self.env_map is not None:
+        if not self._lit:
+            self.relight(DEFAULT_LIGHTS)
+        elif self.env_map is not None:
             relight(self.plotter, [layer], self.lights, self.env_map)
-        if self.bounds is not None:
-            set_view(self.plotter, self.bounds)  # the z range may have grown
+        # The z range may have grown; without fixed bounds the camera frames every layer.
+        set_view(self.plotter, self.bounds if self.bounds is not None else self._auto_bounds())
         return layer
 
     def clear(self) -> None:
@@ -503,21 +689,27 @@ class MescherScene:
         self._box.clear()
 
     # -- camera and light ------------------------------------------------------------------
+    def _auto_bounds(self, margin: float = DEFAULT_MARGIN) -> tuple[float, float, float, float]:
+        if not self._box:
+            raise MescherError("bounds: expected bounds or at least one layer, found neither")
+        boxes = np.array(self._box)
+        box = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
+        size = self.plotter.window_size
+        return default_bounds(box, (int(size[0]), int(size[1])), margin)
+
     def view(self, bounds: object = None, margin: float = DEFAULT_MARGIN) -> tuple:
         """Fix the camera; ``bounds=None`` frames every layer's xy box plus ``margin``."""
-        if bounds is None:
-            if not self._box:
-                raise MescherError("bounds: expected bounds or at least one layer, found neither")
-            boxes = np.array(self._box)
-            box = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
-            bounds = default_bounds(box, self.window_size, margin)
-        self.bounds = as_bounds(bounds)
+        self.bounds = as_bounds(self._auto_bounds(margin) if bounds is None else bounds)
         set_view(self.plotter, self.bounds)
         return self.bounds
 
     def relight(self, lights: object = DEFAULT_LIGHTS, env_map: object = None) -> None:
-        """Change the lighting of every layer (no geometry rebuilt); see :func:`relight`."""
+        """Change the lighting of every layer (no geometry rebuilt); see :func:`relight`.
+
+        ``lights`` may be one direction ``(x, y, z)`` toward a light (``relight((1, 0, 1))``).
+        """
         self.lights, self.env_map = relight(self.plotter, self.layers, lights, env_map)
+        self._lit = True
 
     def screenshot(self) -> np.ndarray:
         """(H, W, 3) uint8 of the current state (renders first, as VTK needs after a relight)."""
@@ -530,6 +722,11 @@ class MescherScene:
     def close(self) -> None:
         """Release the plotter and its GL context."""
         self.plotter.close()
+
+    def __plotter_close__(self) -> None:
+        """PyVista's component hook: drop the layers with the plotter."""
+        self.layers.clear()
+        self._box.clear()
 
     def __enter__(self) -> MescherScene:
         return self
@@ -656,6 +853,9 @@ def render(
     with MescherScene(
         window_size=window_size, background=background, anti_aliasing=anti_aliasing
     ) as scene:
+        scene.relight(directional, env)  # before the layer, so it is lit (and baked) once
+        if bounds is not None:
+            scene.view(bounds)
         if isinstance(m, (tuple, list)):
             if representation != "mescher" or len(m) != 2:
                 raise MescherError(
@@ -669,6 +869,6 @@ def render(
             scene.add(m, order=order, shading=shading, scalars=scalars, **kwargs)
         else:
             scene.add_embedding(m, kind=representation, shading=shading, scalars=scalars, **kwargs)
-        scene.view(bounds)
-        scene.relight(directional, env)
+        if bounds is None:
+            scene.view()
         return scene.screenshot()

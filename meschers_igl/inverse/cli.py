@@ -4,7 +4,8 @@ Recovers a mescher from a picture (paper Section 4.5): the target image spans th
 ``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights.  Writes into ``DIR``:
 
 - ``mescher.ply``: the recovered mescher with its extracted depth order (``meschers_igl.save``);
-- ``render.png``: its final render; ``loss.png``: the loss curve;
+- ``render.png``: its final render; ``target.png``: the target as fitted; ``loss.png``: the
+  loss curve;
 - ``before_after.png``: target, initialization and result side by side;
 - ``metrics.json``: silhouette IoU, PSNR, periods and ``max |period| / size``.
 
@@ -104,8 +105,12 @@ def _figures(out: Path, target, before, after, losses) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(5, 3.2), dpi=120)
-    ax.semilogy(np.arange(len(losses)), losses, lw=0.8)
-    ax.set_xlabel("step (xy and zeta steps alternate)")
+    steps = np.arange(len(losses))
+    # the two kinds of step render with different sigma: their losses are two curves
+    ax.semilogy(steps[0::2], losses[0::2], lw=0.8, label="xy steps")
+    ax.semilogy(steps[1::2], losses[1::2], lw=0.8, label="zeta steps")
+    ax.legend()
+    ax.set_xlabel("step")
     ax.set_ylabel("loss")
     ax.set_title("inverse rendering loss")
     fig.tight_layout()
@@ -192,6 +197,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     m = result.mescher
     order = extract_order(m, result.offsets)
     save(m, out / "mescher.ply", order=order)
+    _save_png(out / "target.png", target)
     _save_png(out / "render.png", result.image)
     _figures(out, target, before, result.image, result.losses)
     metrics = {

@@ -444,11 +444,38 @@ class MescherParametrization:
 class InverseOptions:
     """Settings of :func:`fit_mescher` (defaults: the Penrose demonstration at 128 x 128).
 
-    ``sigma_*`` are SoftRas sharpness in squared screen units, decayed geometrically from the
-    first to the second value over the run; xy steps and zeta steps alternate (paper 4.5).
+    Attributes
+    ----------
+    iters : int, default: 1200
+        Steps; even steps move xy, odd steps move z, the periods and the offsets (paper 4.5).
+    resolution : int, default: 128
+        Informative; the target's size is what is rendered.
+    lam : float, default: 10.0
+        Sobolev diffusion parameter lambda of ``I + lambda L``.
+    laplacian : {"cotan", "uniform"}, default: "cotan"
+        ``L`` of :func:`sobolev_matrix`.
+    lr_xy, lr_z : float, default: 1e-2
+        ``largesteps.optimize.AdamUniform`` rates in differential coordinates.
+    lr_periods, lr_offsets : float
+        Adam rates of the periods ``c`` (depth units) and of the offsets.
+    lr_final : float, default: 0.05
+        All rates decay by a cosine to this fraction of their start.
+    sigma_xy, sigma_zeta : (float, float)
+        SoftRas sharpness (squared screen units, a pixel is ``(2 / 128)^2 = 2.4e-4``) of the xy
+        and of the zeta steps, decayed geometrically from the first to the second value.  xy
+        needs wide blur early (silhouette gradients reach far), zeta ends nearly hard so that
+        the flat-shaded faces are fitted as the final render shows them.
+    gamma : float, default: 1e-2
+        Softness of the z-ordering by offsets.
+    silhouette_weight : float, default: 1.0
+        Weight of ``mean (alpha - mask)^2`` added to the image MSE.
+    threads : int or None, default: 1
+        ``torch.set_num_threads`` during the fit (None: leave it).
+    final_sigma : float, default: 1e-6
+        Sharpness of the returned render.
     """
 
-    iters: int = 800
+    iters: int = 1200
     resolution: int = 128
     lam: float = 10.0
     laplacian: str = "cotan"
@@ -458,7 +485,7 @@ class InverseOptions:
     lr_offsets: float = 1e-3
     lr_final: float = 0.05
     sigma_xy: tuple[float, float] = (3e-3, 2e-5)
-    sigma_zeta: tuple[float, float] = (3e-4, 2e-5)
+    sigma_zeta: tuple[float, float] = (3e-4, 1e-6)
     gamma: float = 1e-2
     silhouette_weight: float = 1.0
     threads: int | None = 1
