@@ -273,8 +273,17 @@ class Mescher:
 
     @cached_property
     def _l_moll(self) -> np.ndarray:
-        lm, _ = ops.mollify(self._l_face)
+        lm, self._mollify_eps = ops.mollify(self._l_face)
         return _readonly(lm)
+
+    @cached_property
+    def _mollify_eps(self) -> float:
+        _ = self._l_moll  # sets the attribute as a side effect
+        return self.__dict__["_mollify_eps"]
+
+    def mollification(self) -> float:
+        """The length ``eps`` added to every edge by intrinsic mollification (0 for most meshes)."""
+        return float(self._mollify_eps)
 
     @cached_property
     def _dbl_area(self) -> np.ndarray:
@@ -341,6 +350,8 @@ class Mescher:
 
     def grad(self) -> sp.csr_matrix:
         """(#F*3, #V) gradient in the camera frame, blocks x, y, z (``igl.grad`` layout)."""
+        if self._mollify_eps > 0:  # lengths were mollified: gradients of that metric
+            return ops.grad_mollified(self._local_corners, self._l_moll, self._F, self.n_vertices)
         return ops.grad(self._local_corners, self._F, self.n_vertices)
 
     def laplacian0(self) -> sp.csr_matrix:

@@ -164,12 +164,59 @@ def grad(P: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
         inv = np.where(ok, 1.0 / dbl, 0.0)
     E = P[:, [2, 0, 1]] - P[:, [1, 2, 0]]  # e_i = p_{i+2} - p_{i+1}, opposite corner i
     g = np.cross(u[:, None, :], E) * inv[:, None, None]  # (#F, 3 corners, 3 coords)
+    return _grad_csr(g, F, n_vertices)
+
+
+def _grad_csr(g: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    """Assemble per-face corner gradients g (#F, 3 corners, 3 coords) into the igl.grad layout."""
+    nf = F.shape[0]
     # Row k*#F + f holds exactly the three corners of face f: build CSR directly (no COO sort).
     data = g.transpose(2, 0, 1).reshape(-1)
     indices = np.tile(F.reshape(-1), 3)
     indptr = np.arange(0, 9 * nf + 1, 3, dtype=np.int64)
-    G = sp.csr_matrix((data, indices, indptr), shape=(3 * nf, n_vertices))
-    return G
+    return sp.csr_matrix((data, indices, indptr), shape=(3 * nf, n_vertices))
+
+
+def grad_mollified(P: np.ndarray, l_face: np.ndarray, F: np.ndarray, n_vertices: int):
+    """FEM gradient of the *mollified* metric, placed in each face's local camera-frame plane.
+
+    Used when mollification changed the lengths (near-degenerate faces): each face is laid out
+    in 2D from its mollified lengths ``l`` (corner 0 at the origin, corner 1 on the x axis), the
+    hat-function gradients are taken there and mapped to 3D with the tangent frame of the local
+    corners (``t1`` along p0->p1, ``t2 = n x t1``; an arbitrary frame where the corners are
+    collinear).  Then ``G^T A G = -cotmatrix`` holds exactly with the mollified areas ``A``, which
+    the heat method's gradient / divergence / Poisson steps need to agree.
+    """
+    l0, l1, l2 = l_face[:, 0], l_face[:, 1], l_face[:, 2]
+    # 2D layout: q0 = (0, 0), q1 = (l2, 0), q2 = (x, y)
+    # x from the law of cosines; y from Kahan's stable area (sqrt(l1^2 - x^2) cancels badly
+    # for the needles mollification is for)
+    dbl = double_areas_from_lengths(l_face)
+    x = (l2**2 + l1**2 - l0**2) / (2 * l2)
+    y = dbl / l2
+    q = np.zeros((F.shape[0], 3, 2))
+    q[:, 1, 0] = l2
+    q[:, 2, 0], q[:, 2, 1] = x, y
+    e = q[:, [2, 0, 1]] - q[:, [1, 2, 0]]  # edge opposite each corner, counter-clockwise
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(dbl > 0, 1.0 / dbl, 0.0)
+    g2 = np.stack([-e[..., 1], e[..., 0]], axis=-1) * inv[:, None, None]  # rotate by +90 deg
+    # tangent frame of the local corners
+    t1 = P[:, 1] - P[:, 0]
+    n1 = np.linalg.norm(t1, axis=1)
+    t1 = np.where(n1[:, None] > 0, t1 / np.where(n1 > 0, n1, 1.0)[:, None], [1.0, 0.0, 0.0])
+    n = face_normals(P)
+    t2 = np.cross(n, t1)
+    n2 = np.linalg.norm(t2, axis=1)
+    bad = n2 < 1e-12  # normal parallel to t1 (collinear corners): any perpendicular will do
+    if bad.any():
+        alt = np.cross(t1[bad], [0.0, 0.0, 1.0])
+        alt[np.linalg.norm(alt, axis=1) < 1e-12] = [0.0, 1.0, 0.0]
+        t2[bad] = alt
+        n2 = np.linalg.norm(t2, axis=1)
+    t2 = t2 / n2[:, None]
+    g = g2[..., :1] * t1[:, None, :] + g2[..., 1:] * t2[:, None, :]
+    return _grad_csr(g, F, n_vertices)
 
 
 def face_normals(P: np.ndarray) -> np.ndarray:

@@ -136,3 +136,25 @@ def test_seeded_random_meshes(seed):
     u = rng.standard_normal(len(V))
     assert u @ (-L @ u) >= 0
     assert _max(m.cotmatrix() - igl.cotmatrix(V @ shapes.random_rotation(seed).T, F)) < TOL
+
+
+def test_mollified_gradient_is_consistent_with_cotmatrix():
+    """Needles trigger mollification; G, A and L then all come from the mollified metric."""
+    xy = np.array([[0, 0], [1, 0], [2, 0], [1, 1e-13], [1, 1]], dtype=float)
+    F = np.array([[0, 1, 3], [1, 2, 3], [0, 3, 4], [3, 2, 4]])
+    m = Mescher.from_mesh(np.c_[xy, np.zeros(5)], F)
+    assert m.mollification() > 0
+    G, L = m.grad(), m.cotmatrix()
+    A = sp.diags(np.tile(m.face_areas(), 3))
+    assert _max(G.T @ A @ G + L) < 1e-12 * _max(L)
+    assert np.isfinite(G.data).all()
+
+
+def test_mollified_gradient_equals_plain_gradient_without_mollification(embedded_mesh):
+    from meschers_igl import operators as ops
+
+    _, V, F = embedded_mesh
+    m = Mescher.from_mesh(V, F)
+    assert m.mollification() == 0.0
+    Gm = ops.grad_mollified(m.local_corners(), m.face_edge_lengths(), m.F, m.n_vertices)
+    assert _max(Gm - m.grad()) < 1e-10
