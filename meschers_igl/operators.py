@@ -155,7 +155,6 @@ def grad(P: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
     1M faces); the result equals ``igl.grad`` to round-off (tests check 1e-10).  Faces of zero
     area get zero rows instead of libigl's NaNs.
     """
-    nf = F.shape[0]
     N = face_cross(P)
     dbl = np.linalg.norm(N, axis=1)
     ok = dbl > 0

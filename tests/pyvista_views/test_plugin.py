@@ -359,7 +359,6 @@ def test_provoking_cells_are_rotations_with_unique_last_corners():
 
 
 @requires_gl
-@pytest.mark.parametrize("shading", ["flat", "smooth"])
 def test_flat_varyings_draw_exactly_what_cell_normals_draw(monkeypatch):
     import sys as _sys
 
