@@ -3,6 +3,10 @@
 Meschers are drawn head-on with an orthographic camera (paper Section 4.1): flattened, shaded
 with normals derived from zeta, overlaps resolved in a linear extension of the depth order, lit
 only by directional lights and environment maps.
+
+Installed, the package also plugs into PyVista's own registries (:mod:`pyvista_views.plugin`):
+``pv.Plotter().mescher`` (a :class:`MescherScene`), ``polydata.mescher`` (cut models to meschers
+and back), ``pv.read``/``save`` of ``.mescher`` files and the ``"meschers"`` theme.
 """
 
 from __future__ import annotations

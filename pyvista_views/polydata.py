@@ -13,8 +13,9 @@ algorithm in a linear extension of the depth order.  Two layouts do this:
     same number of points as an ordinary mesh.
 ``"provoking"`` (what :mod:`.render` uses for flat shading)
     The indexed layout without cell data: each cell is rotated (orientation kept) so that its
-    *last* corner, OpenGL's provoking vertex, is a vertex no other cell ends with (vertices are
-    copied where needed, about ``#F`` points in all), and that vertex carries the face's normal.
+    *last* corner, OpenGL's provoking vertex, is a point no other cell ends with (cell ``k``
+    ends with point ``k``; vertices are copied where needed, about ``#F`` points in all), and
+    that point carries the face's normal.
     Drawn with ``flat`` varyings (:func:`pyvista_views.render.use_flat_varyings`) every fragment
     gets its face's normal exactly as with cell normals, without the per-primitive lookup
     (``gl_PrimitiveID``) that VTK's cell normals cost on software rasterizers.  Only for drawing:
@@ -219,13 +220,41 @@ def split_by_facing(cells: np.ndarray, facing: np.ndarray, n_points: int) -> tup
     return out, np.concatenate([np.arange(n_points, dtype=np.int64), mixed])
 
 
-def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
-    """Rotate cells so that each one's last corner is a point no other cell ends with.
+def split_folds(mesh: pv.PolyData) -> pv.PolyData:
+    """``mesh`` (triangles) with its vertices split on folds (:func:`split_by_facing`).
 
-    Greedy and vectorized: for corner 0, 1, 2 in turn, each still unassigned cell takes that
-    corner if no cell owns its vertex yet (the first such cell per vertex wins); cells left over
-    get a copy of their corner 2.  A closed mesh has about twice as many faces as vertices, so
-    about ``#F - #V`` copies are unavoidable.
+    Every point array is carried to the copies, cell and field arrays are kept; returns
+    ``mesh`` itself when no vertex lies on a fold.
+    """
+    cells = np.asarray(mesh.regular_faces, dtype=np.int64)
+    out, source = split_by_facing(cells, screen_facing(mesh.points, cells), mesh.n_points)
+    if source.shape[0] == mesh.n_points:
+        return mesh
+    split = pv.PolyData.from_regular_faces(np.asarray(mesh.points)[source], out)
+    for name in mesh.point_data.keys():
+        split.point_data[name] = np.asarray(mesh.point_data[name])[source]
+    for name in mesh.cell_data.keys():
+        split.cell_data[name] = np.asarray(mesh.cell_data[name])
+    for name in mesh.field_data.keys():
+        split.field_data[name] = np.asarray(mesh.field_data[name])
+    if mesh.point_data.active_normals is not None:
+        split.point_data.active_normals = np.asarray(mesh.point_data.active_normals)[source]
+    split.set_active_scalars(mesh.active_scalars_name)
+    if "vertex_id" in mesh.point_data:  # copies keep their source vertex
+        split.point_data["vertex_id"] = np.asarray(mesh.point_data["vertex_id"])[source]
+    return split
+
+
+def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Renumber points so that cell ``k`` ends with point ``k``, each cell's corners rotated.
+
+    OpenGL takes a ``flat`` varying from a triangle's last (provoking) vertex, so a per-face value
+    stored on point ``k`` reaches exactly the fragments of cell ``k``.  Each cell claims one of
+    its vertices (greedy and vectorized: corner 2, then 0, then 1; one claimant per vertex wins)
+    and is rotated, orientation kept, to end with it; a cell left without one ends with a copy
+    of its corner 2.  Points ``0 .. k-1`` follow the cells (sequential vertex fetches), the
+    vertices no cell claimed come after.  A closed mesh has about twice as many faces as
+    vertices, so about ``#F - #V`` copies are unavoidable.
 
     Parameters
     ----------
@@ -235,29 +264,36 @@ def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.nd
     Returns
     -------
     cells : (k, 3) int64
-        Each row a rotation of the input row (same orientation), its last entry unique.
-    source : (n_points + c,) int64
-        Original point of each point (``arange(n_points)``, then the ``c`` copies).
+        Row ``i`` is a rotation of input row ``i`` (through ``source``) and ends with ``i``.
+    source : (k + u,) int64
+        Original point of each new point; every original point appears.
     """
     k = cells.shape[0]
     corner = np.full(k, -1, dtype=np.int64)
     owned = np.zeros(n_points, dtype=bool)
-    for c in range(3):
+    claim = np.empty(n_points, dtype=np.int64)
+    for c in (2, 0, 1):  # corner 2 first: its winners need no rotation
         free = np.flatnonzero(corner < 0)
         v = cells[free, c]
         ok = ~owned[v]
-        _, first = np.unique(v[ok], return_index=True)
-        winners = free[ok][first]
+        free, v = free[ok], v[ok]
+        claim[v] = free  # one claimant per vertex wins (which one does not matter)
+        winners = free[claim[v] == free]
         corner[winners] = c
         owned[cells[winners, c]] = True
-    out = cells.copy()
+    rotated = cells.copy()
     for c in (0, 1):  # bring corner c to the end: (a, b, c) -> (b, c, a) or (c, a, b)
         rows = corner == c
-        out[rows] = np.roll(cells[rows], 2 - c, axis=1)
-    rest = np.flatnonzero(corner < 0)
-    source = np.concatenate([np.arange(n_points, dtype=np.int64), out[rest, 2]])
-    out[rest, 2] = n_points + np.arange(rest.size)
-    return out, source
+        rotated[rows] = np.roll(cells[rows], 2 - c, axis=1)
+    new_index = np.full(n_points, -1, dtype=np.int64)
+    claimed = np.flatnonzero(corner >= 0)
+    new_index[rotated[claimed, 2]] = claimed
+    unclaimed = np.flatnonzero(new_index < 0)
+    new_index[unclaimed] = k + np.arange(unclaimed.size)
+    out = np.empty_like(rotated)
+    out[:, :2] = new_index[rotated[:, :2]]
+    out[:, 2] = np.arange(k)
+    return out, np.concatenate([rotated[:, 2], unclaimed])
 
 
 def indexed(
@@ -268,6 +304,7 @@ def indexed(
     vertex_normals: np.ndarray | None = None,
     scalars: dict[str, tuple[np.ndarray, str]] | None = None,
     provoking: bool = False,
+    split_folds: bool = True,
 ) -> pv.PolyData:
     """An indexed triangle mesh with normals and scalars, cells in draw order.
 
@@ -280,13 +317,17 @@ def indexed(
     face_normals : (#F, 3) float64, optional
         Flat shading: ``face_normals[draw]`` become the active cell normals.
     vertex_normals : (#V, 3) float64, optional
-        Smooth shading: active point normals; vertices on a fold between counter-clockwise and
+        Smooth shading: active point normals (stored as float32, what VTK draws with, like
+        every normal here); vertices on a fold between counter-clockwise and
         clockwise cells are split (:func:`split_by_facing`) so that baked colours stay exact.
     scalars : dict, optional
         From :func:`as_scalars`: vertex values become point data, face values cell data.
     provoking : bool, default: False
         With ``face_normals``: the ``"provoking"`` layout (module docstring,
         :func:`provoking_cells`): the normals go to each cell's last point, no cell normals.
+    split_folds : bool, default: True
+        With ``vertex_normals``: split vertices on folds now (:func:`split_by_facing`); only
+        baked colours need it, so the renderer defers it to :func:`split_folds`.
 
     Returns
     -------
@@ -296,24 +337,28 @@ def indexed(
     cells = F[draw]
     n = points.shape[0]
     source = np.arange(n, dtype=np.int64)
-    if vertex_normals is not None:
+    provoking = provoking and face_normals is not None
+    if vertex_normals is not None and split_folds:
         cells, source = split_by_facing(cells, screen_facing(points, cells), n)
-    elif provoking and face_normals is not None:
+    elif provoking:
         cells, source = provoking_cells(cells, n)
-    if source.shape[0] > n:
+    remapped = provoking or source.shape[0] > n
+    if remapped:
         points = points[source]
     mesh = pv.PolyData.from_regular_faces(points, cells)
     mesh.cell_data["face_id"] = draw
     mesh.point_data["vertex_id"] = source
-    if face_normals is not None and provoking:
-        normals = np.zeros((source.shape[0], 3))
-        normals[:, 2] = 1.0  # points that end no cell: never read, but a unit vector
-        normals[cells[:, 2]] = np.asarray(face_normals)[draw]
+    if provoking:
+        # float32: what VTK uploads anyway (it would convert a float64 array on the first frame)
+        normals = np.empty((source.shape[0], 3), dtype=np.float32)
+        normals[: draw.shape[0]] = np.asarray(face_normals)[draw]  # point k ends cell k
+        normals[draw.shape[0] :] = (0.0, 0.0, 1.0)  # end no cell: never read, but unit
         mesh.point_data.active_normals = normals
     elif face_normals is not None:
-        mesh.cell_data.active_normals = np.asarray(face_normals)[draw]
+        mesh.cell_data.active_normals = np.asarray(face_normals, dtype=np.float32)[draw]
     if vertex_normals is not None:
-        mesh.point_data.active_normals = np.asarray(vertex_normals)[source]
+        normals = np.asarray(vertex_normals, dtype=np.float32)
+        mesh.point_data.active_normals = normals[source] if remapped else normals
     for key, (values, location) in (scalars or {}).items():
         if location == "vertex":
             mesh.point_data[key] = values[source]
@@ -353,6 +398,7 @@ def to_polydata(
     *,
     front_to_back: bool = False,
     embed: bool = False,
+    split_folds: bool = True,
 ) -> pv.PolyData:
     """The flattened mescher, drawn back to front (paper Section 4.1).
 
@@ -381,6 +427,9 @@ def to_polydata(
         Also store the mescher in field data (``"edges"`` (#E, 2), ``"zeta"`` (#E,), and
         ``"depth_arcs"`` (#A, 2) with ``"has_order"`` when ``order`` is a DepthOrder) so that
         ``poly.mescher.to_mescher()`` recovers ``m`` (and the order) exactly.
+    split_folds : bool, default: True
+        Smooth indexed layout: copy vertices where the screen winding changes
+        (:func:`split_by_facing`), so per-vertex baked colours can differ across a fold.
 
     Returns
     -------
@@ -407,6 +456,7 @@ def to_polydata(
             vertex_normals=None if flat else m.vertex_normals(),
             scalars=fields,
             provoking=layout == "provoking",
+            split_folds=split_folds,
         )
         step = 0.0
     else:
@@ -437,6 +487,7 @@ def embedding_polydata(
     shading: str = "flat",
     scalars: object = None,
     layout: str = "soup",
+    split_folds: bool = True,
 ) -> pv.PolyData:
     """A real 3D mesh (a cut or bent embedding, or any ordinary mesh), z-buffered.
 
@@ -471,5 +522,5 @@ def embedding_polydata(
         return soup(V[F], F, draw, face_normals=normals, scalars=fields)
     normals = igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA)
     if layout != "soup":
-        return indexed(V, F, draw, vertex_normals=normals, scalars=fields)
+        return indexed(V, F, draw, vertex_normals=normals, scalars=fields, split_folds=split_folds)
     return soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)

@@ -18,8 +18,11 @@ looking down -z with y up, so the camera frame of DESIGN.md is the scene frame a
 A mescher is drawn as an *indexed* mesh at ``z = 0`` (:mod:`.polydata`): its cells go front to
 back and the renderer's depth test is ``GL_LESS`` (:func:`use_early_z`), so the first fragment
 drawn at a pixel, the frontmost in the depth order, wins and every hidden fragment is rejected
-before it is shaded.  That costs what an ordinary mesh of the same size costs.  Isolines on a
-mescher (and scalar/shading combinations that baked lighting cannot represent per face or per
+before it is shaded.  Flat shading puts each face's normal on the last (provoking) vertex of its
+cell and makes the normals ``flat`` varyings (:func:`use_flat_varyings`; the ``"provoking"``
+layout), smooth shading uses vertex normals: no per-triangle cell-data lookup, so a frame costs
+about what an ordinary mesh of the same size costs (``benchmarks/bench_render.py``).  Isolines on
+a mescher (and scalar/shading combinations that baked lighting cannot represent per face or per
 vertex) use the per-face-depth soup instead (:func:`~pyvista_views.polydata.needs_soup`).
 """
 
@@ -47,6 +50,7 @@ from .polydata import (
     embedding_polydata,
     needs_soup,
     screen_facing,
+    split_folds,
     to_polydata,
 )
 from .theme import COLOR, LIGHT_RIG
@@ -94,6 +98,7 @@ class Layer:
     isolines: Any = None
     layout: str = "soup"
     _mapper_state: tuple = field(default=(), repr=False)
+    _folds_split: bool = field(default=False, repr=False)
 
     @property
     def xy_box(self) -> tuple[float, float, float, float]:
@@ -111,7 +116,8 @@ class Layer:
 
         VTK's two-sided lighting flips the normal of a triangle whose screen winding is
         clockwise; baked shading does the same so both paths agree (an indexed smooth mesh is
-        split on folds, so each point belongs to cells of one winding).
+        split on folds before its first baking, so each point belongs to cells of one winding;
+        :attr:`mesh` is then that split mesh).
 
         Returns
         -------
@@ -412,7 +418,13 @@ def add_mescher(
     layout = _layout(shading, fields, _wants_isolines(opts["isolines"]))
     front_to_back = layout != "soup" and bool(early_z)
     mesh = to_polydata(
-        m, order=order, shading=shading, scalars=scalars, layout=layout, front_to_back=front_to_back
+        m,
+        order=order,
+        shading=shading,
+        scalars=scalars,
+        layout=layout,
+        front_to_back=front_to_back,
+        split_folds=False,  # done on the first baked relight, if ever (_use_baked)
     )
     if front_to_back:
         use_early_z(plotter.renderer)
@@ -438,7 +450,9 @@ def add_embedding(
     V = np.asarray(V, dtype=np.float64)
     fields = as_scalars(scalars, V.shape[0] if V.ndim == 2 else -1, np.asarray(F).shape[0])
     layout = _layout(shading, fields, False)
-    mesh = embedding_polydata(V, F, shading=shading, scalars=scalars, layout=layout)
+    mesh = embedding_polydata(
+        V, F, shading=shading, scalars=scalars, layout=layout, split_folds=False
+    )
     lift = 1e-4 * float(np.hypot(*np.ptp(np.asarray(mesh.points)[:, :2], axis=0)) or 1.0)
     return _add_layer(plotter, mesh, "embedding", shading, layout, isoline_lift=lift, **opts)
 
@@ -457,6 +471,17 @@ def _use_vtk_lighting(layer: Layer) -> None:
     mapper.SelectColorArray(array)
     mapper.SetColorMode(color_mode)
     layer.actor.prop.lighting = True
+
+
+def _split_folds(layer: Layer) -> None:
+    """Give a smooth indexed layer separate vertices on folds before per-vertex baking (once)."""
+    if layer.layout == "soup" or layer.shading != "smooth" or layer._folds_split:
+        return
+    mesh = split_folds(layer.mesh)
+    if mesh is not layer.mesh:
+        layer.actor.mapper.SetInputData(mesh)
+        layer.mesh = mesh
+    layer._folds_split = True
 
 
 def _use_baked(layer: Layer, irradiance: np.ndarray) -> None:
@@ -504,6 +529,7 @@ def relight(
     else:
         plotter.remove_all_lights()
         for layer in layers:
+            _split_folds(layer)
             n = layer.shading_normals()
             _use_baked(layer, env.irradiance(n) + lambert(n, directional))
     return directional, env

@@ -33,3 +33,17 @@ def require_torch() -> ModuleType:
             f"importable 'torch', found none. Install it with: {INSTALL_HINT}"
         ) from exc
     return torch
+
+
+def require_largesteps() -> ModuleType:
+    """Import and return :mod:`largesteps` (Nicolet et al. 2021), or say how to install it."""
+    try:
+        import largesteps.optimize
+        import largesteps.parameterize  # noqa: F401
+    except ImportError as exc:  # pragma: no cover - exercised only without largesteps
+        raise ImportError(
+            "meschers_igl.inverse.optimize needs largesteps, which is not installed; expected an "
+            f"importable 'largesteps', found none. Install it with: {INSTALL_HINT} "
+            "(or: pip install largesteps)"
+        ) from exc
+    return largesteps

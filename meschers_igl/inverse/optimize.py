@@ -34,9 +34,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ._torch import require_torch
+from ._torch import require_largesteps, require_torch
 
 torch = require_torch()
+require_largesteps()
 
 from largesteps.optimize import AdamUniform  # noqa: E402
 from largesteps.parameterize import from_differential, to_differential  # noqa: E402

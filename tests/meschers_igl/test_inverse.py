@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 torch = pytest.importorskip("torch")
+pytest.importorskip("largesteps")
 
 from meschers_igl import Mescher, MescherError  # noqa: E402
 from meschers_igl.inverse import optimize as opt  # noqa: E402
@@ -417,3 +418,13 @@ def test_cli_rejects_bad_light(tmp_path):
 
     with pytest.raises(MescherError, match="--light"):
         inverse_main(["penrose", "--light", "0,1", "--out", str(tmp_path)])
+
+
+def test_meschers_cli_hands_over_to_inverse_main(tmp_path):
+    from meschers_igl.cli import main
+
+    out = tmp_path / "fit"
+    argv = ["inverse", "penrose", "--out", str(out), "--iters", "2", "--resolution", "16",
+            "--torus", "12,6", "--no-progress"]  # fmt: skip
+    assert main(argv) == 0
+    assert (out / "mescher.ply").exists()
