@@ -43,6 +43,8 @@ __all__ = [
 ]
 
 #: source sets up to this size are held at one common value in the Poisson step (k solves)
+#: relative heat below which the gradient direction is not trusted (see _far_gradient)
+_FAR_RATIO = 1e-200
 _MAX_PINNED_SOURCES = 256
 _BOUNDARY = ("neumann", "dirichlet", "average")
 _METHODS = ("standard", "accurate")
@@ -317,6 +319,8 @@ class HeatGeodesicSolver:
         self._bnd = bnd
         self._solver = solver
         self._Ah = _regularize_unused(M - self.t * L, F, nn)
+        self._L, self._F_inner = L, F
+        self._far: list = []  # lazily factored heat steps with longer times, see _far_gradient
         self._heat_d = None
         if bnd.any() and self.boundary != "neumann":
             self._heat_d = self._dirichlet_factor(bnd)
@@ -379,6 +383,7 @@ class HeatGeodesicSolver:
         nn, dim = self._n_inner, self._dim
         u = self._heat_solve(src)
         gu = (self._G @ u).reshape(dim, -1)
+        self._far_gradient(u, src, gu)
         norm = np.sqrt((gu * gu).sum(axis=0))
         X = -np.divide(gu, norm, out=np.zeros_like(gu), where=norm > 0)
         rhs = self._GtA @ X.reshape(-1)
@@ -398,6 +403,36 @@ class HeatGeodesicSolver:
         return out
 
     __call__ = distance
+
+    def _far_gradient(self, u: np.ndarray, src: np.ndarray, gu: np.ndarray) -> None:
+        """Replace the gradient where the heat has (nearly) underflowed, in place.
+
+        One backward-Euler step decays like ``exp(-d / sqrt(t))``; on large meshes (about 1M
+        faces at ``t = h^2``) the far side falls below 1e-280, where solvers flush denormals to
+        zero and the normalized gradient is noise (mean error 7.8% instead of 0.4% on a 1.3M-face
+        sphere).  There the direction comes from a heat step with a 100x longer time (10x slower
+        decay), factored once on first need; repeated while some face is still that faint.
+        """
+        F = self._F_inner
+        if F.shape[0] == 0:
+            return
+        scale = float(np.abs(u).max())
+        weak = np.abs(u)[F].max(axis=1) < _FAR_RATIO * scale
+        level = 0
+        while weak.any() and level < 3:
+            if level == len(self._far):
+                t_far = self.t * 100.0 ** (level + 1)
+                A = _regularize_unused(self._M - t_far * self._L, F, self._n_inner)
+                self._far.append(factorize_spd(A, backend=self._solver))
+            u0 = np.zeros(self._n_inner)
+            u0[src] = 1.0
+            b = self._M @ u0
+            b[src] += (b[src] == 0) * 1.0
+            v = self._far[level](b)
+            gv = (self._G @ v).reshape(gu.shape)
+            gu[:, weak] = gv[:, weak]
+            weak &= np.abs(v)[F].max(axis=1) < _FAR_RATIO * float(np.abs(v).max())
+            level += 1
 
     def _pin_sources(self, d0: np.ndarray, S: np.ndarray) -> np.ndarray:
         """Poisson solution with ``d`` equal at all sources of a component (Dirichlet at a set).

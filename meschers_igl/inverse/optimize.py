@@ -455,7 +455,7 @@ class InverseOptions:
         Sobolev diffusion parameter lambda of ``I + lambda L``.
     laplacian : {"cotan", "uniform"}, default: "cotan"
         ``L`` of :func:`sobolev_matrix`.
-    lr_xy, lr_z : float, default: 1e-2
+    lr_xy, lr_z : float, default: 1e-2, 2e-2
         ``largesteps.optimize.AdamUniform`` rates in differential coordinates.
     lr_periods, lr_offsets : float
         Adam rates of the periods ``c`` (depth units) and of the offsets.
@@ -481,7 +481,7 @@ class InverseOptions:
     lam: float = 10.0
     laplacian: str = "cotan"
     lr_xy: float = 1e-2
-    lr_z: float = 1e-2
+    lr_z: float = 2e-2
     lr_periods: float = 2e-2
     lr_offsets: float = 1e-3
     lr_final: float = 0.05
@@ -550,6 +550,8 @@ def fit_mescher(
         over all iterates (``max_residual``) and the wall time.
     """
     opt = options or InverseOptions()
+    if not isinstance(init, Mescher):
+        raise MescherError(f"init: expected a Mescher, found {type(init).__name__}")
     target = np.asarray(target, dtype=np.float64)
     if target.ndim != 3 or target.shape[2] != 3 or target.shape[0] != target.shape[1]:
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {target.shape}")
@@ -625,7 +627,7 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
             callback(it, {"loss": losses[-1], "zeta": zeta_np, "step": "xy" if xy_step else "zeta"})
 
     m = par.mescher()
-    o = par.offsets.detach().double().numpy()
+    fitted_offsets = par.offsets.detach().double().numpy()
     with torch.no_grad():
         xy = par.xy()
         zeta = par.zeta()
@@ -637,7 +639,7 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
     max_res = max(max_res, float(np.abs(d12 @ np.asarray(m.zeta)).max(initial=0.0)))
     return InverseResult(
         mescher=m,
-        offsets=o,
+        offsets=fitted_offsets,
         image=img.numpy(),
         alpha=alpha.numpy(),
         losses=losses,

@@ -354,6 +354,8 @@ def test_fit_rejects_bad_target():
         opt.fit_mescher(np.ones((8, 9, 3)), m, off)
     with pytest.raises(MescherError, match="offsets"):
         opt.fit_mescher(np.ones((8, 8, 3)), m, np.zeros(3), options=opt.InverseOptions(iters=1))
+    with pytest.raises(MescherError, match="init"):
+        opt.fit_mescher(np.ones((8, 8, 3)), (m.F, m.xy), off)
 
 
 def test_metrics_hand_values():
