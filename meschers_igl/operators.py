@@ -156,21 +156,30 @@ def grad(P: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
     area get zero rows instead of libigl's NaNs.
     """
     N = face_cross(P)
-    dbl = np.linalg.norm(N, axis=1)
-    ok = dbl > 0
+    dbl2 = np.einsum("ij,ij->i", N, N)  # (2A)^2
     with np.errstate(divide="ignore", invalid="ignore"):
-        u = np.where(ok[:, None], N / dbl[:, None], 0.0)
-        inv = np.where(ok, 1.0 / dbl, 0.0)
+        w = N / np.where(dbl2 > 0, dbl2, np.inf)[:, None]  # n / (2A); 0 on zero-area faces
     E = P[:, [2, 0, 1]] - P[:, [1, 2, 0]]  # e_i = p_{i+2} - p_{i+1}, opposite corner i
-    g = np.cross(u[:, None, :], E) * inv[:, None, None]  # (#F, 3 corners, 3 coords)
-    return _grad_csr(g, F, n_vertices)
+    Ex, Ey, Ez = E[..., 0], E[..., 1], E[..., 2]
+    wx, wy, wz = w[:, 0:1], w[:, 1:2], w[:, 2:3]
+    # (w x e_i) written out per coordinate, directly in the CSR data layout (coordinate,
+    # face, corner): no (#F, 3, 3) temporary and no transpose copy at 1M faces
+    data = np.empty((3, F.shape[0], 3))
+    np.subtract(wy * Ez, wz * Ey, out=data[0])
+    np.subtract(wz * Ex, wx * Ez, out=data[1])
+    np.subtract(wx * Ey, wy * Ex, out=data[2])
+    return _grad_csr_data(data.reshape(-1), F, n_vertices)
 
 
 def _grad_csr(g: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
     """Assemble per-face corner gradients g (#F, 3 corners, 3 coords) into the igl.grad layout."""
+    return _grad_csr_data(g.transpose(2, 0, 1).reshape(-1), F, n_vertices)
+
+
+def _grad_csr_data(data: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    """CSR from values laid out (coordinate, face, corner)."""
     nf = F.shape[0]
     # Row k*#F + f holds exactly the three corners of face f: build CSR directly (no COO sort).
-    data = g.transpose(2, 0, 1).reshape(-1)
     indices = np.tile(F.reshape(-1), 3)
     indptr = np.arange(0, 9 * nf + 1, 3, dtype=np.int64)
     return sp.csr_matrix((data, indices, indptr), shape=(3 * nf, n_vertices))
