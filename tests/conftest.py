@@ -44,3 +44,18 @@ def embedded_mesh(request):
 @pytest.fixture
 def rng():
     return np.random.default_rng(1234)
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Close render windows and collect PyMeshLab/VTK objects while the interpreter is whole.
+
+    A worker once segfaulted in a garbage collection during pytest's terminal summary, after all
+    tests had passed; tearing down GL contexts and MeshSets here, in a known order, avoids
+    leaving them to interpreter shutdown.
+    """
+    import gc
+    import sys
+
+    if "pyvista" in sys.modules:
+        sys.modules["pyvista"].close_all()
+    gc.collect()
