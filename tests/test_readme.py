@@ -5,6 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -28,3 +30,18 @@ def test_readme_images_exist():
     text = (ROOT / "README.md").read_text()
     for img in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", text):
         assert (ROOT / img).is_file(), img
+
+
+def test_readme_core_example_runs(tmp_path, monkeypatch):
+    """The README's first Python example is complete and runs as printed."""
+    text = (ROOT / "README.md").read_text()
+    block = re.search(
+        r"```python\n(import numpy as np\nfrom meschers_igl import Mescher.*?)```", text, re.S
+    )
+    assert block is not None
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    exec(compile(block.group(1), "README.md", "exec"), scope)
+    m = scope["m"]
+    assert m.is_impossible() and np.isclose(np.abs(m.periods()).max(), 1.0)
+    assert (tmp_path / "torus.ply").is_file()
