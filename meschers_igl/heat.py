@@ -281,10 +281,9 @@ class HeatGeodesicSolver:
         # mollified lengths (Sharp & Crane 2020): equal to the plain ones unless some face is
         # nearly degenerate, and they keep every cotangent finite
         lm = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
-        # m.grad() uses the unmollified corners; on a (nearly) degenerate face it would not
-        # match the mollified areas, so such meshes take the consistent intrinsic path
-        mollified = not np.array_equal(lm, np.asarray(m.face_edge_lengths()))
-        if self.intrinsic_delaunay or self.refine > 0 or mollified:
+        # (m.grad() is the gradient of that same mollified metric, so G^T A G = -L holds for
+        # the mescher's own operators on degenerate meshes too)
+        if self.intrinsic_delaunay or self.refine > 0:
             nn = n
             for _ in range(self.refine):
                 lm, F, nn = _midpoint_refine(lm, F, nn)
