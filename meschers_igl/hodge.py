@@ -44,7 +44,7 @@ def _pinned_factor(A: sp.spmatrix, pins: np.ndarray):
     return apply
 
 
-def closed_projector(d12: sp.spmatrix, F_components: np.ndarray | None = None):
+def closed_projector(d12: sp.spmatrix):
     """The least-squares projection onto ``ker d12`` with unit ``star1`` (paper Eq. 3-4).
 
     Solves the KKT system ``[I d12^T; d12 0] [zeta; lam] = [zeta'; 0]`` through its Schur

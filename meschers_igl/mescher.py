@@ -88,21 +88,27 @@ class Mescher:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def _from_canonical(cls, F, xy, zeta_halfedge=None, zeta=None, project=False) -> Mescher:
-        """Build from validated F, xy with canonical edges; zeta per edge or per half-edge."""
+    def _from_halfedge_values(cls, F, xy, h) -> Mescher:
+        """Canonical edges of validated ``F``; per-edge zeta averaged from the faces' half-edge
+        values ``h`` (#F, 3) (paper Sec. 3.4), then projected onto integrable forms."""
         edges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
-        if zeta is None:
-            # average the values each face proposes for each edge (paper Sec. 3.4)
-            ne = edges.shape[0]
-            vals = (zeta_halfedge * signs).reshape(-1)
-            fe = face_edges.reshape(-1)
-            zeta = np.bincount(fe, weights=vals, minlength=ne) / np.bincount(fe, minlength=ne)
+        ne = edges.shape[0]
+        fe = face_edges.reshape(-1)
+        vals = (h * signs).reshape(-1)
+        zeta = np.bincount(fe, weights=vals, minlength=ne) / np.bincount(fe, minlength=ne)
         m = cls(F, xy, edges, zeta, _trusted=(face_edges, signs))
-        if project:
-            m._zeta = _readonly(m._closed_projector(np.array(m._zeta)))
-        else:
-            m._check_integrable()
+        m._zeta = _readonly(m._closed_projector(np.array(m._zeta)))
         return m
+
+    def _replace(self, xy=None, zeta=None) -> Mescher:
+        """Same connectivity and edge orientation, new (already validated) xy and/or zeta."""
+        return type(self)(
+            self._F,
+            self._xy if xy is None else xy,
+            self._edges,
+            self._zeta if zeta is None else zeta,
+            _trusted=(self._face_edges, self._signs),
+        )
 
     @classmethod
     def from_corner_depths(cls, F, xy, Z) -> Mescher:
@@ -121,7 +127,7 @@ class Mescher:
         Z = as_float_array(Z, "Z", (F.shape[0], 3))
         # half-edge opposite corner i runs i+1 -> i+2
         h = Z[:, [2, 0, 1]] - Z[:, [1, 2, 0]]
-        return cls._from_canonical(F, xy, zeta_halfedge=h, project=True)
+        return cls._from_halfedge_values(F, xy, h)
 
     @classmethod
     def from_mesh(cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0)) -> Mescher:
@@ -157,16 +163,12 @@ class Mescher:
     def with_xy(self, xy) -> Mescher:
         """Same topology and depths, new screen positions."""
         xy = as_points(xy, "xy", 2, self.n_vertices)
-        return type(self)(
-            self._F, xy, self._edges, self._zeta, _trusted=(self._face_edges, self._signs)
-        )
+        return self._replace(xy=xy)
 
     def with_zeta(self, zeta, project: bool = False) -> Mescher:
         """Same topology and screen positions, new relative depths (checked or projected)."""
         zeta = as_vector(zeta, "zeta", self.n_edges)
-        m = type(self)(
-            self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs)
-        )
+        m = self._replace(zeta=zeta)
         if project:
             m._zeta = _readonly(self._closed_projector(zeta))
         else:
@@ -447,10 +449,7 @@ class Mescher:
         k = self._loop_matrix.shape[0]
         values = as_vector(values, "values", k)
         zeta = self.d01 @ self.hodge().z + self.harmonic_basis() @ values
-        m = type(self)(
-            self._F, self._xy, self._edges, zeta, _trusted=(self._face_edges, self._signs)
-        )
-        return m
+        return self._replace(zeta=zeta)
 
     # ------------------------------------------------------------------ processing
     def subdivide(

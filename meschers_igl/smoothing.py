@@ -61,5 +61,5 @@ def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
         if t_zeta > 0:
             h = m.hodge()
             zeta = h.omega + m.d01 @ ops[t_zeta](np.asarray(h.z))
-        m = type(m)(m.F, xy, m.edges, zeta, _trusted=(m.face_edges, m.face_edge_signs))
+        m = m._replace(xy=xy, zeta=zeta)
     return m
