@@ -24,7 +24,7 @@ import igl
 import networkx as nx
 import numpy as np
 
-from meschers_igl import DepthOrder, Mescher
+from meschers_igl import DepthOrder, Mescher, shapes
 from meschers_igl.geometry2d import (
     default_tol,
     overlapping_pairs,
@@ -39,19 +39,7 @@ VIEW, UP = (0.3, -0.8, 0.5), (0.0, 0.0, 1.0)
 def torus(n_faces: int, R: float = 1.0, r: float = 0.4):
     nv = max(int(np.sqrt(n_faces / 2 / 2.5)), 3)  # tube resolution; 2.5 x more around the ring
     nu = max(int(n_faces / 2 / nv), 3)
-    u, v = np.meshgrid(
-        np.linspace(0, 2 * np.pi, nu, endpoint=False),
-        np.linspace(0, 2 * np.pi, nv, endpoint=False),
-        indexing="ij",
-    )
-    V = np.stack(
-        ((R + r * np.cos(v)) * np.cos(u), (R + r * np.cos(v)) * np.sin(u), r * np.sin(v)), -1
-    ).reshape(-1, 3)
-    idx = np.arange(nu * nv).reshape(nu, nv)
-    a, b = idx, np.roll(idx, -1, 0)
-    c, d = np.roll(b, -1, 1), np.roll(a, -1, 1)
-    F = np.concatenate((np.stack((a, b, c), -1), np.stack((a, c, d), -1))).reshape(-1, 3)
-    return V, F
+    return shapes.torus(nu, nv, R, r)
 
 
 def timed(fn, *args, **kw):

@@ -85,10 +85,8 @@ def _gallery_table(models: dict) -> str:
         drift.append(max(sm.values()) if isinstance(sm, dict) and sm else None)
         ge = _get(r, "comparison", "geodesic_error_vs_exact") or {}
         rows.append(
-            "<tr>"
-            + "".join(
-                f"<td>{c}</td>"
-                for c in (
+            _tr(
+                (
                     _e(name),
                     _num(_get(r, "input", "vertices")),
                     _num(_get(r, "input", "faces")),
@@ -105,9 +103,13 @@ def _gallery_table(models: dict) -> str:
                     _num(r.get("runtime_s"), digits=3),
                 )
             )
-            + "</tr>"
         )
     return f"<table>{head}{''.join(rows)}</table>"
+
+
+def _tr(cells) -> str:
+    """One table row of already formatted (escaped) cells."""
+    return "<tr>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>"
 
 
 def _tools_table(tools: dict) -> str:
@@ -120,10 +122,8 @@ def _tools_table(tools: dict) -> str:
     for name, r in tools.items():
         gaps = _get(r, "expected", "depth_gaps")
         rows.append(
-            "<tr>"
-            + "".join(
-                f"<td>{c}</td>"
-                for c in (
+            _tr(
+                (
                     _e(name),
                     _num(_get(r, "input", "vertices")),
                     _num(_get(r, "input", "faces")),
@@ -140,7 +140,6 @@ def _tools_table(tools: dict) -> str:
                     _num(_get(r, "geodesic", "heat_accurate_error", "mean"), pct=True),
                 )
             )
-            + "</tr>"
         )
     return f"<table>{head}{''.join(rows)}</table>"
 

@@ -16,7 +16,7 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from meschers_igl import DepthOrder, Mescher, MescherError, MescherWarning
+from meschers_igl import DepthOrder, Mescher, MescherError, MescherWarning, shapes
 from meschers_igl.geometry2d import (
     barycentric,
     candidate_pairs,
@@ -47,19 +47,7 @@ def camera(V: np.ndarray, view, up=(0.0, 1.0, 0.0)) -> np.ndarray:
 
 
 def torus(nu: int = 28, nv: int = 14, R: float = 1.0, r: float = 0.4):
-    u, v = np.meshgrid(
-        np.linspace(0, 2 * np.pi, nu, endpoint=False),
-        np.linspace(0, 2 * np.pi, nv, endpoint=False),
-        indexing="ij",
-    )
-    V = np.stack(
-        ((R + r * np.cos(v)) * np.cos(u), (R + r * np.cos(v)) * np.sin(u), r * np.sin(v)), -1
-    ).reshape(-1, 3)
-    idx = np.arange(nu * nv).reshape(nu, nv)
-    a, b = idx, np.roll(idx, -1, 0)
-    c, d = np.roll(b, -1, 1), np.roll(a, -1, 1)
-    F = np.concatenate((np.stack((a, b, c), -1), np.stack((a, c, d), -1))).reshape(-1, 3)
-    return V, F
+    return shapes.torus(nu, nv, R, r)
 
 
 def folded_strip(n_per_unit: int = 8, layers: int = 3, gap: float = 0.5, length: float = 2.0):
