@@ -8,7 +8,7 @@ install it (``pip install 'meschers[inverse]'``).
   for flattened meschers with flat Lambertian shading and per-face depth offsets.
 - :mod:`~meschers_igl.inverse.optimize`: the fit of a mescher to a target image, with
   ``zeta = d01 z + H c`` so that every iterate is a mescher, and Sobolev preconditioning.
-- :mod:`~meschers_igl.inverse.cli`: ``meschers inverse`` (``inverse_main(args)``).
+- the command line ``meschers inverse`` lives in the application, :mod:`meschers.inverse_cli`.
 """
 
 from __future__ import annotations
@@ -43,8 +43,6 @@ _LAZY = {
     "penrose_soup": "optimize",
     "silhouette_edges": "rasterizer",
     "extract_order": "optimize",
-    "inverse_main": "cli",
-    "add_arguments": "cli",
 }
 
 __all__ = ["INSTALL_HINT", "require_torch", *_LAZY]

@@ -399,7 +399,7 @@ def test_penrose_target_is_a_penrose_triangle():
 
 
 def test_cli_end_to_end(tmp_path):
-    from meschers_igl.inverse.cli import inverse_main
+    from meschers.inverse_cli import inverse_main
 
     out = tmp_path / "fit"
     rc = inverse_main(["penrose", "--light", "0.4,0.25,1", "--out", str(out), "--iters", "6",
@@ -416,14 +416,14 @@ def test_cli_end_to_end(tmp_path):
 
 
 def test_cli_rejects_bad_light(tmp_path):
-    from meschers_igl.inverse.cli import inverse_main
+    from meschers.inverse_cli import inverse_main
 
     with pytest.raises(MescherError, match="--light"):
         inverse_main(["penrose", "--light", "0,1", "--out", str(tmp_path)])
 
 
 def test_meschers_cli_hands_over_to_inverse_main(tmp_path):
-    from meschers_igl.cli import main
+    from meschers.cli import main
 
     out = tmp_path / "fit"
     argv = ["inverse", "penrose", "--out", str(out), "--iters", "2", "--resolution", "16",

@@ -16,7 +16,7 @@ from pvv_helpers import requires_gl
 from meschers_igl.operators import view_frame
 from meschers_igl.paradox import list_paradox_models, paradox_model
 from pyvista_views import MescherScene
-from pyvista_views.study import image_agreement
+from meschers.study import image_agreement
 
 pytestmark = [requires_gl, pytest.mark.render]
 

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MescherError
+from meschers_igl.errors import MescherError
 
 DEFAULT_LIGHT = "0.4,0.25,1"
 
@@ -137,8 +137,8 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     """
     if args is None or not isinstance(args, argparse.Namespace):
         args = _parser().parse_args(None if args is None else list(args))
-    from .. import save
-    from .optimize import (
+    from meschers_igl import save
+    from meschers_igl.inverse.optimize import (
         InverseOptions,
         extract_order,
         fit_mescher,
@@ -149,7 +149,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         target_mask,
         torus_for_target,
     )
-    from .rasterizer import render_mescher
+    from meschers_igl.inverse.rasterizer import render_mescher
 
     lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
     colors = None

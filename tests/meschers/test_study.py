@@ -16,13 +16,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from pvv_helpers import requires_gl
 
-from meschers_igl import Mescher, MescherError, shapes
-from meschers_igl.cli import describe
-from meschers_igl.gallery import get_model
-from pyvista_views.report import referenced_images
-from pyvista_views.study import (
+from meschers.cli import describe
+from meschers.report import referenced_images
+from meschers.study import (
     _sources,
     compose,
     distance_error,
@@ -32,6 +29,11 @@ from pyvista_views.study import (
     screen_to_pixel,
     seam_gap,
 )
+from meschers_igl import Mescher, MescherError, shapes
+from meschers_igl.gallery import get_model
+from pyvista_views._offscreen import gl_available
+
+requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL context")
 
 
 # ------------------------------------------------------------------------------------------------

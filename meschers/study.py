@@ -22,7 +22,7 @@ and, when the ParadoxToolkit models ship with the package (``meschers_igl/data/p
 section "Models from other tools" with their render, relighting, periods and geodesic distance.
 
 Every figure is a PNG composed with PIL from renders of :class:`~pyvista_views.MescherScene`;
-the numbers go to ``metrics.json`` and :mod:`pyvista_views.report` writes ``index.html``.
+the numbers go to ``metrics.json`` and :mod:`meschers.report` writes ``index.html``.
 """
 
 from __future__ import annotations
@@ -40,8 +40,7 @@ from typing import Any
 import numpy as np
 
 from meschers_igl.errors import MescherError
-
-from .render import MescherScene, _xy_box, default_bounds
+from pyvista_views.render import MescherScene, _xy_box, default_bounds
 
 __all__ = [
     "CITATION",
@@ -237,7 +236,7 @@ def screen_to_pixel(P: np.ndarray, bounds: Sequence[float], size: tuple[int, int
 
 
 def _topology(m: Any) -> dict:
-    from meschers_igl.cli import describe
+    from .cli import describe
 
     return describe(m)
 
@@ -724,8 +723,7 @@ def _steps_model(
     # -- mescher / cut / bent: smoothing and geodesics ------------------------------------------
     def comparison():
         from meschers_igl import Mescher
-
-        from .compare import compare
+        from pyvista_views.compare import compare
 
         if not m.is_impossible():
             # no harmonic part: the cut needs no seam and the bent model is the mescher itself

@@ -171,7 +171,7 @@ def write_report(
     out : folder holding the study's PNGs
     metrics : dict
         The study's ``metrics.json`` content (``models``, ``other_tools``, ``settings``, ...).
-    sections, tool_sections : sequences of :class:`pyvista_views.study.Section`
+    sections, tool_sections : sequences of :class:`meschers.study.Section`
         Figures per gallery model and per model from other tools; only figures whose PNG exists
         in ``out`` are linked.
 

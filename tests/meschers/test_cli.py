@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from meschers.cli import build_parser, main
 from meschers_igl import load
-from meschers_igl.cli import build_parser, main
 from meschers_igl.gallery import get_model
 
 
@@ -242,9 +242,9 @@ def test_convert_paradox_model(tmp_path, capsys):
 
 def test_inverse_delegates_every_argument(monkeypatch):
     seen = []
-    fake = types.ModuleType("meschers_igl.inverse.cli")
+    fake = types.ModuleType("meschers.inverse_cli")
     fake.inverse_main = lambda args: seen.append(list(args)) or 0
-    monkeypatch.setitem(sys.modules, "meschers_igl.inverse.cli", fake)
+    monkeypatch.setitem(sys.modules, "meschers.inverse_cli", fake)
     argv = ["inverse", "t.png", "--light", "0,0,1", "--out", "fit", "--help"]
     assert main(argv) == 0
     assert seen == [argv[1:]]
@@ -272,7 +272,7 @@ def test_render_png(tmp_path):
 # ------------------------------------------------------------------------------------------------
 def _run(*args: str) -> subprocess.CompletedProcess:
     return subprocess.run(
-        [sys.executable, "-m", "meschers_igl.cli", *args],
+        [sys.executable, "-m", "meschers", *args],
         capture_output=True,
         text=True,
         timeout=120,
@@ -289,5 +289,5 @@ def test_subprocess_info_and_error():
 
 
 def test_importing_the_cli_does_not_import_pyvista():
-    code = "import sys, meschers_igl.cli; sys.exit(int(any(m in sys.modules for m in ('pyvista', 'pymeshlab', 'torch'))))"
+    code = "import sys, meschers.cli; sys.exit(int(any(m in sys.modules for m in ('pyvista', 'pymeshlab', 'torch'))))"
     assert subprocess.run([sys.executable, "-c", code], timeout=60).returncode == 0

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import MescherError
+from meschers_igl.errors import MescherError
 
 __all__ = ["describe", "load_input", "main"]
 
@@ -103,7 +103,7 @@ def describe(m: Any, order: Any = None) -> dict:
         surface being orientable), ``impossible``, ``periods``, ``max_integrability_residual``
         and, with an order, ``depth_arcs`` and ``depth_cycles``.
     """
-    from . import topology
+    from meschers_igl import topology
 
     F = np.asarray(m.F)
     n = int(m.n_vertices)
@@ -141,7 +141,7 @@ def load_input(spec: str) -> tuple[Any, Any, str]:
     -------
     (Mescher, DepthOrder or None, label)
     """
-    from . import io
+    from meschers_igl import io
 
     path = Path(spec)
     if path.suffix.lower() in (".ply", ".npz") or path.exists():
@@ -156,7 +156,7 @@ def load_input(spec: str) -> tuple[Any, Any, str]:
             )
         m, order = io.load(path, return_order=True)
         return m, order, str(path)
-    from .gallery import get_model, list_models
+    from meschers_igl.gallery import get_model, list_models
 
     if spec not in list_models():
         raise MescherError(
@@ -218,7 +218,7 @@ def _print_info(info: dict, label: str) -> None:
 # subcommands
 # ------------------------------------------------------------------------------------------------
 def _cmd_study(args: argparse.Namespace) -> int:
-    from pyvista_views.study import run_study
+    from .study import run_study
 
     _headless_views()
     models = None
@@ -243,7 +243,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
 
 
 def _cmd_convert(args: argparse.Namespace) -> int:
-    from . import io
+    from meschers_igl import io
 
     src = Path(args.input)
     if not src.is_file():
@@ -282,7 +282,7 @@ def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint") -> tup
 
 
 def _cmd_geodesic(args: argparse.Namespace) -> int:
-    from .heat import HeatGeodesicSolver
+    from meschers_igl.heat import HeatGeodesicSolver
 
     m, order, _ = load_input(args.input)
     solver = HeatGeodesicSolver(m, method=args.method)
@@ -304,7 +304,8 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
         pvv = _headless_views()
         size = args.size
         from pyvista_views.render import _xy_box, default_bounds
-        from pyvista_views.study import _overlay
+
+        from .study import _overlay
 
         bounds = default_bounds(_xy_box(np.asarray(m.xy)), size)
         image = pvv.render(m, order=order, shading="smooth", scalars=d, isolines=args.isolines,
@@ -319,7 +320,7 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
 
 
 def _cmd_smooth(args: argparse.Namespace) -> int:
-    from . import io
+    from meschers_igl import io
 
     m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".ply", ".npz"), "-o")
@@ -332,7 +333,7 @@ def _cmd_smooth(args: argparse.Namespace) -> int:
 
 
 def _cmd_subdivide(args: argparse.Namespace) -> int:
-    from . import io
+    from meschers_igl import io
 
     m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".ply", ".npz"), "-o")
@@ -361,12 +362,12 @@ def _cmd_view(args: argparse.Namespace) -> int:
 
 def _cmd_inverse(args: argparse.Namespace) -> int:
     try:
-        from .inverse.cli import inverse_main
+        from .inverse_cli import inverse_main
     except ModuleNotFoundError as exc:
-        if exc.name != f"{__package__}.inverse.cli":
+        if exc.name != f"{__package__}.inverse_cli":
             raise  # a missing dependency (torch): its own message says how to install it
         raise MescherError(
-            "inverse: expected the inverse-rendering module meschers_igl.inverse.cli, found it "
+            "inverse: expected the inverse-rendering module meschers.inverse_cli, found it "
             "missing from this installation"
         ) from None
 
@@ -388,7 +389,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=_examples("study --quick --out study", "info penrose_triangle"),
     )
-    from . import __version__
+    from meschers_igl import __version__
 
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
@@ -523,7 +524,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("inverse", help="recover a mescher from a picture (needs torch)", formatter_class=raw,
                        add_help=False, description="Inverse rendering (paper Sec. 4.5); arguments go to "
-                       "meschers_igl.inverse.cli ('meschers inverse --help' for them).",
+                       "meschers.inverse_cli ('meschers inverse --help' for them).",
                        epilog=_examples("inverse target.png --light 0,0,1 --out fit --init torus --iters 300"))  # fmt: skip
     p.add_argument("rest", nargs=argparse.REMAINDER, help="arguments of the inverse command")
     p.set_defaults(func=_cmd_inverse)
@@ -532,7 +533,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _cmd_info_or_list(args: argparse.Namespace) -> int:
     if args.list or args.input is None:
-        from .gallery import get_model, list_models
+        from meschers_igl.gallery import get_model, list_models
 
         if args.input is None and not args.list:
             raise MescherError("INPUT: expected a gallery model or a .ply/.npz file, found nothing")
