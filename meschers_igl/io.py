@@ -21,8 +21,24 @@ import numpy as np
 
 from .errors import MescherError
 from .mescher import Mescher
+from .validate import as_choice
 
 FORMAT_VERSION = 1
+#: File formats :func:`save` and :func:`load` know.
+FORMATS = ("ply", "npz")
+
+
+def _format(path: Path, format: str | None, verb: str) -> str:
+    """The explicit ``format``, or the one the suffix names."""
+    if format is not None:
+        return as_choice(format, "format", FORMATS)
+    ext = path.suffix.lower().lstrip(".")
+    if ext not in FORMATS:
+        raise MescherError(
+            f"path: expected a .ply or .npz file name (or format='ply'/'npz' to {verb} "
+            f"any name), found {path.name!r}"
+        )
+    return ext
 
 
 def _order_arrays(order, m: Mescher) -> np.ndarray:
@@ -37,63 +53,79 @@ def _order_arrays(order, m: Mescher) -> np.ndarray:
     return arcs
 
 
-def save(m: Mescher, path: str | os.PathLike, order=None) -> Path:
+def save(m: Mescher, path: str | os.PathLike, order=None, *, format: str | None = None) -> Path:
     """Write ``m`` (and its depth order) to ``.ply`` or ``.npz``; returns the path.
 
     Parameters
     ----------
     m : Mescher
     path : str or PathLike
-        Extension chooses the format.
+        Written as given (``np.savez`` adds no ``.npz`` suffix here).
     order : DepthOrder, optional
-        Stored alongside; :func:`load` returns it.
+        Stored alongside; ``load(path, return_order=True)`` returns it.
+    format : {"ply", "npz"}, optional
+        Default: from the suffix of ``path``; give it to write any file name (``x.mescher``).
     """
     if not isinstance(m, Mescher):
         raise MescherError(f"m: expected a Mescher, found {type(m).__name__}")
     path = Path(path)
+    fmt = _format(path, format, "write")
     arcs = _order_arrays(order, m)
-    ext = path.suffix.lower()
-    if ext == ".npz":
-        np.savez(
-            path, version=np.int64(FORMAT_VERSION), F=m.F, xy=m.xy, edges=m.edges,
-            zeta=m.zeta, order_arcs=arcs, has_order=np.bool_(order is not None),
-        )  # fmt: skip
-    elif ext == ".ply":
-        _write_ply(path, m, arcs, order is not None)
+    if fmt == "npz":
+        with open(path, "wb") as fh:  # a file object: numpy adds no suffix to the name
+            np.savez(
+                fh, version=np.int64(FORMAT_VERSION), F=m.F, xy=m.xy, edges=m.edges,
+                zeta=m.zeta, order_arcs=arcs, has_order=np.bool_(order is not None),
+            )  # fmt: skip
     else:
-        raise MescherError(f"path: expected a .ply or .npz file name, found {path.name!r}")
+        _write_ply(path, m, arcs, order is not None)
     return path
 
 
-def load(path: str | os.PathLike, return_order: bool | None = None):
+def load(path: str | os.PathLike, *, format: str | None = None, return_order: bool = False):
     """Read a mescher written by :func:`save`.
 
-    Returns ``m``, or ``(m, order)`` when the file holds a depth order (or ``return_order``
-    is True; the order is then ``None`` if the file has none).  Corrupt or truncated files
-    raise :class:`MescherError`.
+    Parameters
+    ----------
+    path : str or PathLike
+    format : {"ply", "npz"}, optional
+        Default: from the suffix of ``path``; give it to read any file name.
+    return_order : bool, default: False
+        Return ``(m, order)``, ``order`` a :class:`~meschers_igl.order.DepthOrder` or ``None``
+        when the file holds none.
+
+    Returns
+    -------
+    Mescher, or always the pair ``(Mescher, DepthOrder | None)`` with ``return_order=True``:
+    the shape of the result never depends on the file's content.
+
+    Raises
+    ------
+    MescherError
+        Missing, corrupt or truncated files, or a stored mescher that is invalid.
     """
+    if not isinstance(return_order, (bool, np.bool_)):
+        raise MescherError(f"return_order: expected True or False, found {return_order!r}")
     path = Path(path)
     if not path.is_file():
         raise MescherError(f"path: expected an existing file, found nothing at {str(path)!r}")
-    ext = path.suffix.lower()
-    if ext == ".npz":
+    fmt = _format(path, format, "read")
+    if fmt == "npz":
         F, xy, edges, zeta, arcs, has_order = _read_npz(path)
-    elif ext == ".ply":
-        F, xy, edges, zeta, arcs, has_order = _read_ply(path)
     else:
-        raise MescherError(f"path: expected a .ply or .npz file, found {path.name!r}")
+        F, xy, edges, zeta, arcs, has_order = _read_ply(path)
     try:
         m = Mescher(F, xy, edges, zeta)
     except MescherError as exc:
         raise MescherError(f"{path.name}: the stored mescher is invalid: {exc}") from exc
+    if not return_order:
+        return m
     order = None
     if has_order:
         from .order import DepthOrder
 
         order = DepthOrder(m.n_faces, arcs, m=m)
-    if return_order or (return_order is None and has_order):
-        return m, order
-    return m
+    return m, order
 
 
 def _read_npz(path: Path):

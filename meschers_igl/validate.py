@@ -135,3 +135,104 @@ def as_choice(x: Any, name: str, choices: tuple[str, ...]) -> str:
     if not isinstance(x, str) or x.lower() not in choices:
         raise MescherError(f"{name}: expected one of {', '.join(map(repr, choices))}, found {x!r}")
     return x.lower()
+
+
+def as_count(x: Any, name: str, minimum: int = 0, maximum: int | None = None) -> int:
+    """An integer count in ``[minimum, maximum]`` (a ``bool`` or a float is refused).
+
+    The shared integer-argument check (levels, steps, iterations, sheets, sizes).
+    """
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
+        raise MescherError(f"{name}: expected an integer >= {minimum}, found {x!r}")
+    v = int(x)
+    if v < minimum or (maximum is not None and v > maximum):
+        want = f">= {minimum}" if maximum is None else f"in [{minimum}, {maximum}]"
+        raise MescherError(f"{name}: expected an integer {want}, found {v}")
+    return v
+
+
+#: Share of the available memory an operation may claim before :func:`check_budget` refuses.
+MEMORY_FRACTION = 0.5
+#: Hard cap on the estimated output size whatever the machine (bytes): 64 GiB.
+MAX_BYTES = 64 * 2**30
+
+
+def available_memory() -> int:
+    """Bytes of memory available to a new allocation (``psutil``, else ``/proc/meminfo``).
+
+    Falls back to 4 GiB when neither source can be read.
+    """
+    try:
+        import psutil
+
+        return int(psutil.virtual_memory().available)
+    except Exception:  # psutil missing or unusable: read the kernel's estimate
+        pass
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 4 * 2**30
+
+
+def _human(nbytes: float) -> str:
+    for unit in ("B", "KB", "MB", "GB", "TB", "PB"):
+        if abs(nbytes) < 1024 or unit == "PB":
+            return f"{nbytes:.3g} {unit}"
+        nbytes /= 1024
+    return f"{nbytes:.3g} PB"  # pragma: no cover
+
+
+def check_budget(
+    n_faces: float,
+    bytes_per_face: float = 400.0,
+    what: str = "the result",
+    force: bool = False,
+    available: int | None = None,
+) -> float:
+    """Refuse work whose estimated output would not fit in memory, before doing any of it.
+
+    The estimate is ``n_faces * bytes_per_face``; it is refused when above
+    ``MEMORY_FRACTION`` of the memory available now (:func:`available_memory`) or above
+    ``MAX_BYTES``.  ``n_faces`` may be a float (``4.0 ** 1000`` overflows no integer).
+
+    Parameters
+    ----------
+    n_faces : float
+        Estimated number of faces (or pixels, or elements) of the output.
+    bytes_per_face : float, default: 400
+        Peak working memory per face (a mescher with its edges, operators and caches needs
+        a few hundred bytes per face).
+    what : str
+        Named in the message, e.g. ``"subdivide(levels=30)"``.
+    force : bool, default: False
+        Skip the check (for people who mean it).
+    available : int, optional
+        Memory available in bytes (default: measured).
+
+    Returns
+    -------
+    float
+        The estimated number of bytes.
+
+    Raises
+    ------
+    MescherError
+        Giving the estimated faces and bytes, and the limit.
+    """
+    est = float(n_faces) * float(bytes_per_face)
+    if force:
+        return est
+    avail = available_memory() if available is None else int(available)
+    limit = min(MEMORY_FRACTION * avail, MAX_BYTES)
+    if not np.isfinite(est) or est > limit:
+        raise MescherError(
+            f"{what}: expected an output that fits in memory (at most {_human(limit)}, "
+            f"{MEMORY_FRACTION:.0%} of the {_human(avail)} available), found an estimated "
+            f"{float(n_faces):.3g} faces and {_human(est)}; pass force=True (--force) if you "
+            "mean it"
+        )
+    return est

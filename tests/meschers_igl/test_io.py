@@ -71,3 +71,35 @@ def test_ply_opens_as_flat_mesh_in_pymeshlab(tmp_path, mescher):
     assert cm.vertex_number() == mescher.n_vertices and cm.face_number() == mescher.n_faces
     assert np.allclose(cm.vertex_matrix()[:, :2], mescher.xy)
     assert np.array_equal(cm.face_matrix(), mescher.F)
+
+
+@pytest.mark.parametrize("fmt", ["ply", "npz"])
+def test_explicit_format_reads_and_writes_any_name(tmp_path, mescher, fmt):
+    # The PyVista reader hands us "x.mescher": no renaming needed with format=.
+    p = save(mescher, tmp_path / "x.mescher", format=fmt)
+    assert p == tmp_path / "x.mescher" and p.is_file()
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["x.mescher"]  # no suffix added
+    m2 = load(p, format=fmt)
+    assert np.array_equal(m2.zeta, mescher.zeta) and np.array_equal(m2.F, mescher.F)
+    with pytest.raises(MescherError, match=r"\.ply or \.npz"):
+        load(p)  # without format=, the suffix decides
+    with pytest.raises(MescherError, match="format: expected one of 'ply', 'npz', found 'obj'"):
+        save(mescher, tmp_path / "y.obj", format="obj")
+
+
+@pytest.mark.parametrize("ext", [".ply", ".npz"])
+def test_load_returns_the_same_shape_whatever_the_file_holds(tmp_path, mescher, ext):
+    from meschers_igl import DepthOrder
+
+    order = DepthOrder(mescher.n_faces, [[0, 1], [2, 3]], m=mescher)
+    with_order = save(mescher, tmp_path / f"o{ext}", order=order)
+    without = save(mescher, tmp_path / f"n{ext}")
+    # return_order=False (the default): always a Mescher, also when the file holds an order
+    assert isinstance(load(with_order), Mescher) and isinstance(load(without), Mescher)
+    # return_order=True: always a pair, the order None when the file holds none
+    m1, o1 = load(with_order, return_order=True)
+    m2, o2 = load(without, return_order=True)
+    assert o2 is None and isinstance(m2, Mescher)
+    assert sorted(map(tuple, np.asarray(o1.arcs).tolist())) == [(0, 1), (2, 3)]
+    with pytest.raises(MescherError, match="return_order: expected True or False"):
+        load(without, return_order="yes")

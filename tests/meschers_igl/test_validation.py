@@ -109,3 +109,29 @@ def test_validators_report_name_expected_found():
     assert val.as_faces(np.array([[0.0, 1.0, 2.0]]), "F", 3).dtype == np.int64
     with pytest.raises(MescherError, match="up: expected a direction not parallel"):
         Mescher.from_mesh(*shapes.grid(3, 3), view=(0, 1, 0), up=(0, 2, 0))
+
+
+def test_as_count_names_argument_expected_found():
+    assert val.as_count(3, "levels") == 3 and isinstance(val.as_count(np.int64(2), "k"), int)
+    for bad, found in [(-1, "-1"), (2.0, "2.0"), (True, "True"), ("3", "'3'"), (None, "None")]:
+        with pytest.raises(MescherError, match=f"levels: expected an integer >= 0, found {found}"):
+            val.as_count(bad, "levels")
+    with pytest.raises(MescherError, match=r"K: expected an integer in \[1, 5\], found 9"):
+        val.as_count(9, "K", minimum=1, maximum=5)
+
+
+def test_check_budget_refuses_with_faces_and_bytes():
+    gib = 2**30
+    # 1e6 faces at 400 B = 0.37 GiB: fits in 8 GiB
+    assert val.check_budget(1e6, 400, available=8 * gib) == 4e8
+    with pytest.raises(MescherError, match=r"subdivide\(levels=30\).*1\.2e\+20 faces and .*PB"):
+        val.check_budget(104 * 4.0**30, 400, what="subdivide(levels=30)", available=8 * gib)
+    # over half the available memory is refused, under it is not
+    with pytest.raises(MescherError, match="4.1 GB"):
+        val.check_budget(1.1e7, 400, available=8 * gib)
+    assert val.check_budget(1.0e7, 400, available=8 * gib) == 4e9
+    # an overflowing estimate is refused, force=True lets anything through
+    with pytest.raises(MescherError, match="inf faces"):
+        val.check_budget(float("inf"), 1, available=8 * gib)
+    assert val.check_budget(1e30, 400, force=True, available=1) == 4e32
+    assert val.available_memory() > 0
