@@ -18,7 +18,7 @@ import numpy as np
 import pymeshlab
 
 from meschers_igl import Mescher, MescherError
-from meschers_igl.operators import view_frame
+from meschers_igl.models import cut_model_to_mescher as core_cut_model_to_mescher
 from meschers_igl.validate import as_faces, as_points
 
 from ._filters import apply
@@ -50,9 +50,9 @@ def cut_model_to_mescher(
 
     A path is loaded and cleaned with :func:`load_artist_model` (exact duplicates only, so the
     cut's front/back pairs survive); arrays are used as given.  Then
-    ``Mescher.from_cut_mesh(V, F, view, up, tol, merge, return_map=True)`` glues the cut and
-    ``DepthOrder.from_embedding(m, Zc)`` orders the faces that overlap on screen by the cut
-    model's own depths ``Zc[f, k] = (V @ R.T)[F[f, k], 2]``, ``R = view_frame(view, up)``.
+    :func:`meschers_igl.models.cut_model_to_mescher` glues the cut and orders the faces that
+    overlap on screen by the cut model's own depths (the one implementation, shared with the
+    PyVista accessor and the command line).
 
     Parameters
     ----------
@@ -82,8 +82,6 @@ def cut_model_to_mescher(
     report : CleanupReport or None
         Only with ``return_report``.
     """
-    from meschers_igl.order import DepthOrder
-
     report = None
     if isinstance(path_or_V_F, (str, os.PathLike)):
         V, F, report = load_artist_model(path_or_V_F, merge_tol=merge_tol)
@@ -97,9 +95,7 @@ def cut_model_to_mescher(
             "path_or_V_F: expected a file path or a pair (V, F), found "
             f"{type(path_or_V_F).__name__}"
         )
-    m, _ = Mescher.from_cut_mesh(V, F, view=view, up=up, tol=tol, merge=merge, return_map=True)
-    Zc = (V @ view_frame(view, up).T)[:, 2][F]
-    order = DepthOrder.from_embedding(m, Zc)
+    m, order = core_cut_model_to_mescher(V, F, view=view, up=up, tol=tol, merge=merge)
     return (m, order, report) if return_report else (m, order)
 
 

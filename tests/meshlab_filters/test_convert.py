@@ -7,7 +7,7 @@ import pymeshlab
 import pytest
 from mlf_helpers import ramp_ring, tris, write_obj
 
-from meschers_igl import Mescher, MescherError
+from meschers_igl import MescherError
 from meschers_igl.order import DepthOrder
 from meschers_igl.paradox import paradox_model
 from meshlab_filters import (
@@ -202,12 +202,18 @@ def test_render_mesh_without_order_is_flat(tmp_path, ring):
 
 def test_export_errors(tmp_path, ring):
     m, _ = ring
-    with pytest.raises(MescherError, match="m: expected a meschers_igl.Mescher"):
+    with pytest.raises(MescherError, match="m: expected a meschers_igl.Mescher, found str"):
         export_bent_embedding("not a mescher", tmp_path / "x.ply")
-    with pytest.raises(MescherError, match="scalars"):
+    # the message names the argument, the expected count and the found shape
+    with pytest.raises(MescherError, match=rf"scalars.*{m.n_vertices}.*3"):
         export_bent_embedding(m, tmp_path / "x.ply", scalars=np.ones(3))
     with pytest.raises(MescherError, match="existing folder"):
         export_bent_embedding(m, tmp_path / "no" / "x.ply")
-    with pytest.raises(MescherError, match="can write"):
+    with pytest.raises(MescherError, match=r"can write, found '.*x\.unknownformat'"):
         export_bent_embedding(m, tmp_path / "x.unknownformat")
-    assert isinstance(m, Mescher)
+    # a refused export leaves nothing behind: no partial file, no folder created
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+    # and the refusals did not touch the mescher: a valid export still writes it exactly
+    Vb, Fb = m.bent_embedding()
+    mesh = _reopen(export_bent_embedding(m, tmp_path / "ok.ply"))
+    assert np.array_equal(mesh.vertex_matrix(), Vb) and np.array_equal(mesh.face_matrix(), Fb)
