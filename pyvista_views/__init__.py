@@ -11,7 +11,7 @@ and back), ``pv.read``/``save`` of ``.mescher`` files and the ``"meschers"`` the
 
 from __future__ import annotations
 
-from ._offscreen import configure_headless
+from .headless import configure_headless
 
 configure_headless()  # before any render window exists (EGL when there is no display)
 

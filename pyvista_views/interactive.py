@@ -16,7 +16,7 @@ import pyvista as pv
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_index_array
 
-from . import _offscreen
+from . import headless
 from .polydata import SHADINGS, as_scalars, draw_order
 from .render import DEFAULT_LIGHTS, MescherScene
 
@@ -82,7 +82,7 @@ class MescherViewer:
         self.scalar_names: list[str | None] = [None, *self.fields]
         self.current_scalars = self.scalar_names[1] if self.fields else None
         self.kwargs = kwargs
-        self.off_screen = _offscreen.is_offscreen(off_screen)
+        self.off_screen = headless.is_offscreen(off_screen)
         self.scene = MescherScene(
             window_size=window_size, background=background, off_screen=self.off_screen
         )

@@ -41,7 +41,8 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_choice, as_float_array, as_positive
 
-from . import _offscreen
+from . import headless
+from .camera import DEFAULT_MARGIN, as_bounds, default_bounds, set_view, xy_box
 from .envmap import EnvironmentMap, as_env_map
 from .lights import DirectionalLight, as_lights, lambert, set_vtk_lights
 from .polydata import (
@@ -59,7 +60,6 @@ from .theme import COLOR, LIGHT_RIG
 DEFAULT_COLOR = COLOR
 #: The key light of the study's rig (:data:`pyvista_views.theme.LIGHT_RIG`), toward (1, 1, 1).
 DEFAULT_LIGHTS = LIGHT_RIG[:1]
-DEFAULT_MARGIN = 0.05
 REPRESENTATIONS = ("mescher", "cut", "bent")
 _BAKED = "_shaded_rgb"
 _GL_LESS, _GL_LEQUAL = 0x0201, 0x0203
@@ -360,7 +360,7 @@ def flat_varyings_work() -> bool:
     they come out graded and the renderer falls back to cell normals.
     """
     try:
-        plotter = _offscreen.new_plotter((16, 8), off_screen=True)
+        plotter = headless.new_plotter((16, 8), off_screen=True)
         P = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [2, 0, 0], [2, 1, 0]], float)
         mesh = pv.PolyData.from_regular_faces(P, np.array([[0, 1, 2], [1, 3, 4]]))
         normals = np.tile([0.0, 0.0, -1.0], (5, 1))
@@ -535,62 +535,6 @@ def relight(
     return directional, env
 
 
-def default_bounds(
-    box: Sequence[float], window_size: Sequence[int], margin: float = DEFAULT_MARGIN
-) -> tuple[float, float, float, float]:
-    """``box`` (xmin, xmax, ymin, ymax) grown by ``margin`` of its size, then widened in x or y to
-    the window's aspect ratio so that pixels are square."""
-    xmin, xmax, ymin, ymax = (float(b) for b in box)
-    w, h = xmax - xmin, ymax - ymin
-    size = max(w, h) or 1.0
-    w, h = max(w, 1e-9 * size), max(h, 1e-9 * size)
-    cx, cy = 0.5 * (xmin + xmax), 0.5 * (ymin + ymax)
-    w, h = w * (1 + 2 * margin), h * (1 + 2 * margin)
-    aspect = window_size[0] / window_size[1]
-    if w / h < aspect:
-        w = h * aspect
-    else:
-        h = w / aspect
-    return (cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2)
-
-
-def as_bounds(bounds: object) -> tuple[float, float, float, float]:
-    """Validate ``(xmin, xmax, ymin, ymax)`` with ``xmin < xmax`` and ``ymin < ymax``."""
-    b = as_float_array(bounds, "bounds", (4,))
-    if not (b[0] < b[1] and b[2] < b[3]):
-        raise MescherError(
-            f"bounds: expected (xmin, xmax, ymin, ymax) with xmin < xmax and ymin < ymax, "
-            f"found {tuple(b.tolist())}"
-        )
-    return tuple(float(v) for v in b)
-
-
-def set_view(plotter: pv.Plotter, bounds: Sequence[float]) -> None:
-    """Orthographic camera down -z, y up, whose image is exactly ``bounds`` (xmin, xmax, ymin,
-    ymax): the vertical extent is ``2 * parallel_scale`` and an explicit aspect ratio fixes the
-    horizontal one (pixels are square only when the window has the same aspect as ``bounds``).
-    The clipping range hugs the scene's z range so the painter's steps stay resolvable in the
-    depth buffer."""
-    xmin, xmax, ymin, ymax = as_bounds(bounds)
-    zmin, zmax = plotter.bounds[4], plotter.bounds[5]
-    if not np.isfinite([zmin, zmax]).all() or zmax < zmin:  # empty scene
-        zmin, zmax = 0.0, 0.0
-    size = max(xmax - xmin, ymax - ymin)
-    pad = 0.01 * (zmax - zmin) + 1e-6 * size
-    distance = size + pad
-    camera = plotter.camera
-    camera.parallel_projection = True
-    cx, cy = 0.5 * (xmin + xmax), 0.5 * (ymin + ymax)
-    camera.focal_point = (cx, cy, zmin)
-    camera.position = (cx, cy, zmax + distance)
-    camera.up = (0.0, 1.0, 0.0)
-    camera.parallel_scale = 0.5 * (ymax - ymin)
-    camera.SetExplicitAspectRatio((xmax - xmin) / (ymax - ymin))
-    camera.SetUseExplicitAspectRatio(True)
-    camera.clipping_range = (distance - pad, distance + (zmax - zmin) + pad)
-    plotter.camera_set = True
-
-
 class MescherScene:
     """A plotter with meschers and embeddings, a fixed head-on camera and a relightable rig.
 
@@ -634,7 +578,7 @@ class MescherScene:
     ) -> None:
         if plotter is None:
             self.window_size = _as_window_size((800, 800) if window_size is None else window_size)
-            plotter = _offscreen.new_plotter(
+            plotter = headless.new_plotter(
                 self.window_size, off_screen, background, anti_aliasing
             )
             # This scene is the new plotter's component (what ``plotter.mescher`` would build).
@@ -668,7 +612,7 @@ class MescherScene:
         fixed the bounds."""
         kwargs.setdefault("early_z", self.early_z)
         layer = add_mescher(self.plotter, m, order, shading, scalars, **kwargs)
-        self._box.append(_xy_box(np.asarray(m.xy)))
+        self._box.append(xy_box(np.asarray(m.xy)))
         return self._adopt(layer)
 
     def add_embedding(
@@ -688,10 +632,10 @@ class MescherScene:
             if F is None:
                 raise MescherError("F: expected faces with V, or kind='cut'|'bent' with a mescher")
             V = m_or_V
-            self._box.append(_xy_box(np.asarray(V, dtype=float)[:, :2]))
+            self._box.append(xy_box(np.asarray(V, dtype=float)[:, :2]))
         else:
             V, F, scalars = embedding_of(m_or_V, kind, scalars)
-            self._box.append(_xy_box(np.asarray(m_or_V.xy)))
+            self._box.append(xy_box(np.asarray(m_or_V.xy)))
         layer = add_embedding(self.plotter, V, F, shading, scalars, **kwargs)
         return self._adopt(layer)
 
@@ -768,15 +712,6 @@ def _as_window_size(window_size: object) -> tuple[int, int]:
             f"window_size: expected (width, height) positive integers, found {window_size!r}"
         )
     return (int(w[0]), int(w[1]))
-
-
-def _xy_box(xy: np.ndarray) -> tuple[float, float, float, float]:
-    return (
-        float(xy[:, 0].min()),
-        float(xy[:, 0].max()),
-        float(xy[:, 1].min()),
-        float(xy[:, 1].max()),
-    )
 
 
 def embedding_of(m: Any, kind: str, scalars: object = None) -> tuple:
@@ -898,3 +833,7 @@ def render(
         if bounds is None:
             scene.view()
         return scene.screenshot()
+
+
+#: Deprecated alias of :func:`pyvista_views.camera.xy_box` (kept until every caller has moved).
+_xy_box = xy_box
