@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 
-from pyvista_views._offscreen import configure_headless
+from pyvista_views.headless import configure_headless
 
 configure_headless()
 pv.OFF_SCREEN = True

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import pyvista as pv
 
-from pyvista_views._offscreen import gl_available
+from pyvista_views.headless import gl_available
 
 requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL context")
 
