@@ -31,8 +31,8 @@ import pyvista as pv
 import pyvista_views  # noqa: F401  (EGL set-up before the first window; registers pl.mescher)
 from meschers_igl import DepthOrder, Mescher
 from pyvista_views.camera import default_bounds, set_view
+from pyvista_views.gl import flat_varyings_work
 from pyvista_views.headless import new_plotter
-from pyvista_views.render import flat_varyings_work
 
 
 def sphere_with_faces(n_faces: int) -> tuple[np.ndarray, np.ndarray]:

@@ -22,7 +22,8 @@ from .envmap import EnvironmentMap  # noqa: E402
 from .interactive import MescherViewer, plot  # noqa: E402
 from .lights import DirectionalLight  # noqa: E402
 from .polydata import to_polydata  # noqa: E402
-from .render import Layer, MescherScene, add_embedding, add_mescher, relight, render  # noqa: E402
+from .render import render  # noqa: E402
+from .scene import Layer, MescherScene, add_embedding, add_mescher, relight  # noqa: E402
 
 __all__ = [
     "DirectionalLight",

@@ -18,7 +18,7 @@ from meschers_igl.validate import as_index_array
 
 from . import headless
 from .polydata import SHADINGS, as_scalars, draw_order
-from .render import DEFAULT_LIGHTS, MescherScene
+from .scene import DEFAULT_LIGHTS, MescherScene
 
 
 def light_from_angles(azimuth: float, elevation: float) -> np.ndarray:
@@ -52,7 +52,7 @@ class MescherViewer:
         Fields the "s" key cycles through (``None``, i.e. plain shading, is one of the states).
     off_screen : bool, optional
     **kwargs
-        Passed to :func:`pyvista_views.render.add_mescher` (``cmap``, ``isolines``, ...).
+        Passed to :func:`pyvista_views.scene.add_mescher` (``cmap``, ``isolines``, ...).
     """
 
     def __init__(
@@ -276,7 +276,7 @@ def plot(
     """
     backend = jupyter_backend or getattr(pv.global_theme, "jupyter_backend", None)
     if backend == "client":
-        # vtk.js draws with its own depth test: cells back to front (render.use_early_z).
+        # vtk.js draws with its own depth test: cells back to front (gl.use_early_z).
         kwargs.setdefault("early_z", False)
     viewer = MescherViewer(
         m,

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import pyvista as pv
 
-from .render import MescherScene
+from .scene import MescherScene
 
 #: Name of the plotter component and of the dataset accessor.
 NAME = "mescher"

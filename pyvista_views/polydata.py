@@ -9,14 +9,14 @@ algorithm in a linear extension of the depth order.  Two layouts do this:
     fragments have the same depth, so OpenGL's depth test decides by drawing order alone: with
     VTK's default ``GL_LEQUAL`` the *last* coplanar fragment wins (cells back to front), with
     ``GL_LESS`` the *first* (cells front to back, which also lets the GPU reject hidden fragments
-    before shading them; see :func:`pyvista_views.render.use_early_z`).  No per-face copies: the
+    before shading them; see :func:`pyvista_views.gl.use_early_z`).  No per-face copies: the
     same number of points as an ordinary mesh.
 ``"provoking"`` (what :mod:`.render` uses for flat shading)
     The indexed layout without cell data: each cell is rotated (orientation kept) so that its
     *last* corner, OpenGL's provoking vertex, is a point no other cell ends with (cell ``k``
     ends with point ``k``; vertices are copied where needed, about ``#F`` points in all), and
     that point carries the face's normal.
-    Drawn with ``flat`` varyings (:func:`pyvista_views.render.use_flat_varyings`) every fragment
+    Drawn with ``flat`` varyings (:func:`pyvista_views.gl.use_flat_varyings`) every fragment
     gets its face's normal exactly as with cell normals, without the per-primitive lookup
     (``gl_PrimitiveID``) that VTK's cell normals cost on software rasterizers.  Only for drawing:
     a plain VTK pipeline would interpolate those normals.
@@ -422,7 +422,7 @@ def to_polydata(
         only (module docstring); its cells' corners are rotated.
     front_to_back : bool, default: False
         Indexed and provoking layouts: cells in reverse drawing order, for a ``GL_LESS`` depth test
-        (:func:`pyvista_views.render.use_early_z`).
+        (:func:`pyvista_views.gl.use_early_z`).
     embed : bool, default: False
         Also store the mescher in field data (``"edges"`` (#E, 2), ``"zeta"`` (#E,), and
         ``"depth_arcs"`` (#A, 2) with ``"has_order"`` when ``order`` is a DepthOrder) so that

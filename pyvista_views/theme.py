@@ -2,7 +2,7 @@
 
 ``pv.set_plot_theme("meschers")`` (no import of ours needed once ``meschers`` is installed)
 gives an orthographic camera looking down -z with y up (a mescher is only meaningful head-on),
-a white background, the matte grey material of :mod:`pyvista_views.render` (ambient 0.2,
+a white background, the matte grey material of :mod:`pyvista_views.scene` (ambient 0.2,
 diffuse 0.8, no specular), flat interpolation and no scalar bar.  A theme cannot carry lights,
 so the study's light rig lives here as :data:`LIGHT_RIG`: ``plotter.mescher`` lights with its
 key light by default, :func:`apply_rig` puts it on any plotter, and the study relights with all

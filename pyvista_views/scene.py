@@ -1,0 +1,657 @@
+"""The scene: meschers and real meshes in one plotter, one head-on camera, one light rig.
+
+Every picture of the project goes through :class:`MescherScene`, which is also PyVista's plotter
+component ``plotter.mescher`` (registered by :mod:`pyvista_views.plugin` and the
+``pyvista.plotter_components`` entry point):
+
+- :func:`add_mescher` / :func:`add_embedding` put a mescher (flattened, drawn in the order's
+  linear extension) or a real mesh (z-buffered) into a :class:`pyvista.Plotter` and return a
+  :class:`Layer`;
+- :func:`relight` lights every layer of a plotter, with VTK directional lights or, for an
+  environment map, with irradiance baked per face or per vertex.
+
+The camera (:mod:`.camera`) is always orthographic, looking down -z with y up, so the camera
+frame of DESIGN.md is the scene frame and ``bounds = (xmin, xmax, ymin, ymax)`` is exactly the
+image's extent.
+
+A mescher is drawn as an *indexed* mesh at ``z = 0`` (:mod:`.polydata`): its cells go front to
+back and the renderer's depth test is ``GL_LESS`` (:func:`~pyvista_views.gl.use_early_z`), so the
+first fragment drawn at a pixel, the frontmost in the depth order, wins and every hidden fragment
+is rejected before it is shaded.  Flat shading puts each face's normal on the last (provoking)
+vertex of its cell and makes the normals ``flat`` varyings
+(:func:`~pyvista_views.gl.use_flat_varyings`; the ``"provoking"`` layout), smooth shading uses
+vertex normals: no per-triangle cell-data lookup, so a frame costs about what an ordinary mesh of
+the same size costs (``benchmarks/bench_render.py``).  Isolines on a mescher (and scalar/shading
+combinations that baked lighting cannot represent per face or per vertex) use the per-face-depth
+soup instead (:func:`~pyvista_views.polydata.needs_soup`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pyvista as pv
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+from meschers_igl.errors import MescherError
+from meschers_igl.validate import as_choice, as_float_array, as_positive
+
+from . import headless
+from .camera import DEFAULT_MARGIN, as_bounds, default_bounds, set_view, xy_box
+from .envmap import EnvironmentMap, as_env_map
+from .gl import flat_varyings_work, use_early_z, use_flat_varyings
+from .lights import DirectionalLight, as_lights, lambert, set_vtk_lights
+from .polydata import (
+    SHADINGS,
+    as_scalars,
+    embedding_polydata,
+    needs_soup,
+    screen_facing,
+    split_folds,
+    to_polydata,
+)
+from .theme import COLOR, LIGHT_RIG
+
+#: Matte grey: lit faces stay below the white background (silhouettes are measurable).
+DEFAULT_COLOR = COLOR
+#: The key light of the study's rig (:data:`pyvista_views.theme.LIGHT_RIG`), toward (1, 1, 1).
+DEFAULT_LIGHTS = LIGHT_RIG[:1]
+REPRESENTATIONS = ("mescher", "cut", "bent")
+_BAKED = "_shaded_rgb"
+
+
+@dataclass
+class Layer:
+    """One mescher or real mesh in a plotter.
+
+    Attributes
+    ----------
+    mesh : pyvista.PolyData
+        What is drawn (:func:`~pyvista_views.polydata.to_polydata`).
+    actor : pyvista.Actor
+    kind : {"mescher", "embedding"}
+    shading : {"flat", "smooth"}
+    color : (3,) float
+        Material colour when no scalars are shown.
+    scalars : str or None
+        Active scalar array (colour-mapped), if any.
+    ambient, diffuse : float
+        Matte material: ``colour * (ambient + diffuse * irradiance)``, no specular.
+    isolines : pyvista.Actor or None
+    layout : {"provoking", "indexed", "soup"}
+        :mod:`.polydata`; a soup's points are the corners of its cells, 3 per cell.
+    """
+
+    mesh: pv.PolyData
+    actor: Any
+    kind: str
+    shading: str
+    color: tuple[float, float, float]
+    scalars: str | None
+    ambient: float
+    diffuse: float
+    isolines: Any = None
+    layout: str = "soup"
+    _mapper_state: tuple = field(default=(), repr=False)
+    _folds_split: bool = field(default=False, repr=False)
+
+    @property
+    def xy_box(self) -> tuple[float, float, float, float]:
+        """(xmin, xmax, ymin, ymax) of the layer on screen."""
+        b = self.mesh.bounds
+        return (b[0], b[1], b[2], b[3])
+
+    @property
+    def shading_location(self) -> str:
+        """Where baked colours live: ``"cell"`` for a flat indexed mesh, else ``"point"``."""
+        return "cell" if (self.layout != "soup" and self.shading == "flat") else "point"
+
+    def shading_normals(self) -> np.ndarray:
+        """Unit normals as the shader sees them, at :attr:`shading_location`.
+
+        VTK's two-sided lighting flips the normal of a triangle whose screen winding is
+        clockwise; baked shading does the same so both paths agree (an indexed smooth mesh is
+        split on folds before its first baking, so each point belongs to cells of one winding;
+        :attr:`mesh` is then that split mesh).
+
+        Returns
+        -------
+        (#cells, 3) or (#points, 3) float64
+        """
+        cells = self.mesh.regular_faces
+        facing = screen_facing(self.mesh.points, cells)
+        if self.shading == "flat":
+            if self.layout == "provoking":  # each cell's normal sits on its last point
+                n = np.asarray(self.mesh.point_data.active_normals, dtype=np.float64)[cells[:, 2]]
+            else:
+                n = np.asarray(self.mesh.cell_data.active_normals, dtype=np.float64)
+            n = n * facing[:, None]
+            return n if self.layout != "soup" else np.repeat(n, 3, axis=0)
+        point_facing = np.ones(self.mesh.n_points)
+        point_facing[cells] = facing[:, None]
+        n = np.asarray(self.mesh.point_data.active_normals, dtype=np.float64)
+        return n * point_facing[:, None]
+
+    def albedo(self) -> np.ndarray:
+        """(n, 3) linear RGB base colour at :attr:`shading_location` (colour-mapped or plain)."""
+        location = self.shading_location
+        n = self.mesh.n_cells if location == "cell" else self.mesh.n_points
+        if self.scalars is None:
+            return np.broadcast_to(np.asarray(self.color, float), (n, 3))
+        if self.scalars in self.mesh.point_data:
+            values = np.asarray(self.mesh.point_data[self.scalars], dtype=np.float64)
+        else:
+            values = np.asarray(self.mesh.cell_data[self.scalars], dtype=np.float64)
+            if location == "point":  # a soup: 3 corners per cell
+                values = np.repeat(values, 3)
+        lut = self.actor.mapper.lookup_table
+        rgba = lut.MapScalars(numpy_to_vtk(np.ascontiguousarray(values)), 0, -1)
+        return vtk_to_numpy(rgba).reshape(n, -1)[:, :3] / 255.0
+
+
+def _check_material(color: object, ambient: float, diffuse: float) -> tuple:
+    rgb = tuple(float(c) for c in as_float_array(pv.Color(color).float_rgb, "color", (3,)))
+    return (
+        rgb,
+        as_positive(ambient, "ambient", allow_zero=True),
+        as_positive(diffuse, "diffuse", allow_zero=True),
+    )
+
+
+def _add_layer(
+    plotter: pv.Plotter,
+    mesh: pv.PolyData,
+    kind: str,
+    shading: str,
+    layout: str,
+    *,
+    color: object,
+    cmap: str,
+    clim: Sequence[float] | None,
+    isolines: int | Sequence[float],
+    isoline_color: object,
+    isoline_lift: float,
+    ambient: float,
+    diffuse: float,
+    name: str | None,
+) -> Layer:
+    rgb, ambient, diffuse = _check_material(color, ambient, diffuse)
+    active = mesh.active_scalars_name  # set by the builders from the user's fields only
+    if active is not None and clim is None:
+        values = mesh.active_scalars
+        clim = (float(np.min(values)), float(np.max(values)))
+    actor = plotter.add_mesh(
+        mesh,
+        color=rgb,
+        scalars=active,
+        cmap=cmap if active is not None else None,
+        clim=clim,
+        show_scalar_bar=False,
+        ambient=ambient,
+        diffuse=diffuse,
+        specular=0.0,
+        # Point normals need Gouraud interpolation; "provoking" then makes them flat varyings.
+        interpolation="flat" if (shading == "flat" and layout != "provoking") else "gouraud",
+        smooth_shading=False,  # would recompute normals from the flat geometry (FACTS.md)
+        lighting=True,
+        name=name,
+        reset_camera=False,
+    )
+    if layout == "provoking":
+        use_flat_varyings(actor)
+    mapper = actor.mapper
+    layer = Layer(
+        mesh,
+        actor,
+        kind,
+        shading,
+        rgb,
+        active,
+        ambient,
+        diffuse,
+        layout=layout,
+        _mapper_state=(
+            mapper.GetScalarVisibility(),
+            mapper.GetScalarMode(),
+            mapper.GetArrayName(),
+            mapper.GetColorMode(),
+        ),
+    )
+    if _wants_isolines(isolines):
+        layer.isolines = _add_isolines(plotter, layer, isolines, clim, isoline_color, isoline_lift)
+    return layer
+
+
+def _wants_isolines(isolines: object) -> bool:
+    return not (isinstance(isolines, (int, np.integer)) and isolines == 0)
+
+
+def _add_isolines(
+    plotter: pv.Plotter,
+    layer: Layer,
+    isolines: int | Sequence[float],
+    clim: Sequence[float] | None,
+    color: object,
+    lift: float,
+) -> Any:
+    """Contours of the active per-vertex scalars, computed on the drawn soup.
+
+    Every segment lies inside one face.  A line is a few pixels wide, so it spills onto the
+    faces around its own; on a real mesh those are at about the same depth and a lift of ``lift``
+    toward the viewer suffices.  On a mescher the neighbours may be drawn much later (the painter
+    order is only partial), so a segment of the face drawn k-th is put just above the latest-drawn
+    face sharing a vertex with it: it stays hidden by faces drawn after its whole neighbourhood
+    (real occluders) without being chopped by its own neighbours.
+    """
+    if layer.scalars is None or layer.scalars not in layer.mesh.point_data:
+        raise MescherError(
+            "isolines: expected per-vertex scalars to contour, found "
+            + ("no scalars" if layer.scalars is None else "per-face scalars")
+        )
+    if isinstance(isolines, (int, np.integer)):
+        if isolines < 0:
+            raise MescherError(f"isolines: expected a count >= 0 or levels, found {isolines}")
+        lo, hi = clim
+        levels = np.linspace(lo, hi, int(isolines) + 2)[1:-1]
+    else:
+        levels = as_float_array(isolines, "isolines", (-1,))
+    lines = layer.mesh.contour(isosurfaces=levels, scalars=layer.scalars)
+    if lines.n_points == 0:
+        return None
+    if layer.kind == "mescher":
+        step = float(layer.mesh.field_data["painter_step"][0])
+        corners = np.asarray(layer.mesh.point_data["vertex_id"]).reshape(-1, 3)
+        k = corners.shape[0]
+        latest = np.full(int(corners.max()) + 1, -1, dtype=np.int64)
+        np.maximum.at(latest, corners.reshape(-1), np.repeat(np.arange(k), 3))
+        neighbourhood = latest[corners].max(axis=1)  # (k,) latest rank around each drawn face
+        rank = np.clip(np.rint(lines.points[:, 2] / step).astype(np.int64), 0, k - 1)
+        lines.points[:, 2] = (neighbourhood[rank] + 0.5) * step
+    else:
+        lines.points[:, 2] += lift
+    return plotter.add_mesh(
+        lines,
+        color=color,
+        line_width=1.5,
+        lighting=False,
+        show_scalar_bar=False,
+        reset_camera=False,
+    )
+
+
+def _representation_kwargs(**kw: Any) -> dict:
+    return {
+        "color": kw.pop("color", DEFAULT_COLOR),
+        "cmap": kw.pop("cmap", "viridis"),
+        "clim": kw.pop("clim", None),
+        "isolines": kw.pop("isolines", 0),
+        "isoline_color": kw.pop("isoline_color", "black"),
+        "ambient": kw.pop("ambient", 0.2),
+        "diffuse": kw.pop("diffuse", 0.8),
+        "name": kw.pop("name", None),
+    }
+
+
+def add_mescher(
+    plotter: pv.Plotter,
+    m: Any,
+    order: object = None,
+    shading: str = "flat",
+    scalars: object = None,
+    *,
+    early_z: bool = True,
+    **kwargs: Any,
+) -> Layer:
+    """Add a mescher to ``plotter``, flattened and drawn in the order's linear extension.
+
+    Parameters
+    ----------
+    plotter : pyvista.Plotter
+    m : meschers_igl.Mescher
+    order, shading, scalars
+        As in :func:`~pyvista_views.polydata.to_polydata`.
+    early_z : bool, default: True
+        Draw the indexed mesh front to back with a ``GL_LESS`` depth test (:func:`use_early_z`,
+        fastest); ``False`` draws it back to front with VTK's default test, which also displays
+        right where the scene is exported or drawn by another renderer (vtk.js, glTF).
+    **kwargs
+        ``color`` (material colour), ``cmap``, ``clim``, ``isolines`` (a count of evenly spaced
+        levels in ``clim`` or the levels), ``isoline_color``, ``ambient`` (0.2), ``diffuse`` (0.8),
+        ``name``.
+
+    Returns
+    -------
+    Layer
+    """
+    opts = _representation_kwargs(**kwargs)
+    shading = as_choice(shading, "shading", SHADINGS)
+    F = np.asarray(m.F)
+    fields = as_scalars(scalars, np.asarray(m.xy).shape[0], F.shape[0])
+    layout = _layout(shading, fields, _wants_isolines(opts["isolines"]))
+    front_to_back = layout != "soup" and bool(early_z)
+    mesh = to_polydata(
+        m,
+        order=order,
+        shading=shading,
+        scalars=scalars,
+        layout=layout,
+        front_to_back=front_to_back,
+        split_folds=False,  # done on the first baked relight, if ever (_use_baked)
+    )
+    if front_to_back:
+        use_early_z(plotter.renderer)
+    lift = 0.5 * float(mesh.field_data["painter_step"][0])
+    return _add_layer(plotter, mesh, "mescher", shading, layout, isoline_lift=lift, **opts)
+
+
+def add_embedding(
+    plotter: pv.Plotter,
+    V: np.ndarray,
+    F: np.ndarray,
+    shading: str = "flat",
+    scalars: object = None,
+    **kwargs: Any,
+) -> Layer:
+    """Add a real 3D mesh (cut or bent embedding, or any mesh), z-buffered.
+
+    Same camera, lights and material as :func:`add_mescher`, so a mescher and its embeddings line
+    up pixel for pixel.  ``V`` is in the camera frame; other arguments as in :func:`add_mescher`.
+    """
+    opts = _representation_kwargs(**kwargs)
+    shading = as_choice(shading, "shading", SHADINGS)
+    V = np.asarray(V, dtype=np.float64)
+    fields = as_scalars(scalars, V.shape[0] if V.ndim == 2 else -1, np.asarray(F).shape[0])
+    layout = _layout(shading, fields, False)
+    mesh = embedding_polydata(
+        V, F, shading=shading, scalars=scalars, layout=layout, split_folds=False
+    )
+    lift = 1e-4 * float(np.hypot(*np.ptp(np.asarray(mesh.points)[:, :2], axis=0)) or 1.0)
+    return _add_layer(plotter, mesh, "embedding", shading, layout, isoline_lift=lift, **opts)
+
+
+def _layout(shading: str, fields: dict, isolines: bool) -> str:
+    if needs_soup(shading, fields, isolines):
+        return "soup"
+    return "provoking" if shading == "flat" and flat_varyings_work() else "indexed"
+
+
+def _use_vtk_lighting(layer: Layer) -> None:
+    visible, mode, array, color_mode = layer._mapper_state
+    mapper = layer.actor.mapper
+    mapper.SetScalarVisibility(visible)
+    mapper.SetScalarMode(mode)
+    mapper.SelectColorArray(array)
+    mapper.SetColorMode(color_mode)
+    layer.actor.prop.lighting = True
+
+
+def _split_folds(layer: Layer) -> None:
+    """Give a smooth indexed layer separate vertices on folds before per-vertex baking (once)."""
+    if layer.layout == "soup" or layer.shading != "smooth" or layer._folds_split:
+        return
+    mesh = split_folds(layer.mesh)
+    if mesh is not layer.mesh:
+        layer.actor.mapper.SetInputData(mesh)
+        layer.mesh = mesh
+    layer._folds_split = True
+
+
+def _use_baked(layer: Layer, irradiance: np.ndarray) -> None:
+    rgb = layer.albedo() * (layer.ambient + layer.diffuse * irradiance)
+    baked = np.clip(np.rint(255.0 * rgb), 0, 255).astype(np.uint8)
+    mapper = layer.actor.mapper
+    if layer.shading_location == "cell":
+        layer.mesh.cell_data[_BAKED] = baked
+        mapper.SetScalarModeToUseCellFieldData()
+    else:
+        layer.mesh.point_data[_BAKED] = baked
+        mapper.SetScalarModeToUsePointFieldData()
+    mapper.SetScalarVisibility(True)
+    mapper.SelectColorArray(_BAKED)
+    mapper.SetColorModeToDirectScalars()
+    layer.actor.prop.lighting = False
+
+
+def relight(
+    plotter: pv.Plotter,
+    layers: Sequence[Layer],
+    lights: object = DEFAULT_LIGHTS,
+    env_map: object = None,
+) -> tuple[list[DirectionalLight], EnvironmentMap | None]:
+    """Light every layer of ``plotter``; the geometry is not rebuilt.
+
+    Without an environment map the lights are VTK directional lights (the light kit and
+    headlight removed) and each layer's matte material gives
+    ``colour * (ambient + diffuse * sum_i I_i max(0, n . l_i))``.  With one, VTK lighting is off
+    and the same formula with ``E_env(n) + sum_i ...`` as irradiance is evaluated per face (flat
+    indexed meshes) or per point (:mod:`.envmap`) and drawn as colours.  Call
+    ``plotter.render()`` before a screenshot.
+
+    Returns
+    -------
+    (list of DirectionalLight, EnvironmentMap or None)
+        The validated lighting, for callers that keep it.
+    """
+    directional = as_lights(lights)
+    env = as_env_map(env_map)
+    if env is None:
+        set_vtk_lights(plotter, directional)
+        for layer in layers:
+            _use_vtk_lighting(layer)
+    else:
+        plotter.remove_all_lights()
+        for layer in layers:
+            _split_folds(layer)
+            n = layer.shading_normals()
+            _use_baked(layer, env.irradiance(n) + lambert(n, directional))
+    return directional, env
+
+
+class MescherScene:
+    """A plotter with meschers and embeddings, a fixed head-on camera and a relightable rig.
+
+    This is PyVista's plotter component ``plotter.mescher`` (:mod:`pyvista_views.plugin`):
+    ``pv.Plotter().mescher`` is a scene bound to that plotter, and a scene that makes its own
+    plotter is that plotter's ``.mescher``.
+
+    Parameters
+    ----------
+    plotter : pyvista.Plotter, optional
+        Use this plotter (its light kit is replaced by the scene's lights at the first layer); by
+        default a new one (offscreen when ``pyvista.OFF_SCREEN`` is set or there is no display).
+    window_size : (int, int), optional
+        (width, height) in pixels of a new plotter (default 800 x 800), or of ``plotter``.
+    background : color
+        Of a new plotter.
+    off_screen : bool, optional
+    anti_aliasing : bool
+        Off by default so that image extents and silhouettes are exact.
+    early_z : bool, default: True
+        :func:`add_mescher`'s drawing mode for every mescher added.
+
+    Examples
+    --------
+    >>> pl = pv.Plotter(off_screen=True)                     # doctest: +SKIP
+    >>> pl.mescher.add(m, order=order, shading="smooth")     # framed head-on, key light
+    >>> a = pl.mescher.screenshot()                          # doctest: +SKIP
+    >>> pl.mescher.relight((-1, 0, 1))                       # same geometry, new light
+    >>> b = pl.mescher.screenshot()                          # doctest: +SKIP
+    """
+
+    def __init__(
+        self,
+        plotter: pv.Plotter | None = None,
+        *,
+        window_size: tuple[int, int] | None = None,
+        background: object = "white",
+        off_screen: bool | None = None,
+        anti_aliasing: bool = False,
+        early_z: bool = True,
+    ) -> None:
+        if plotter is None:
+            self.window_size = _as_window_size((800, 800) if window_size is None else window_size)
+            plotter = headless.new_plotter(self.window_size, off_screen, background, anti_aliasing)
+            # This scene is the new plotter's component (what ``plotter.mescher`` would build).
+            plotter.__dict__["mescher"] = self
+            components = plotter.__dict__.setdefault("_components", [])
+            components.append(self)
+        else:
+            if window_size is not None:
+                plotter.window_size = list(_as_window_size(window_size))
+            self.window_size = _as_window_size(tuple(plotter.window_size))
+        self.plotter = plotter
+        self.early_z = bool(early_z)
+        self.layers: list[Layer] = []
+        self.bounds: tuple[float, float, float, float] | None = None
+        self.lights: list[DirectionalLight] = []
+        self.env_map: EnvironmentMap | None = None
+        self._lit = False
+        self._box: list[tuple[float, float, float, float]] = []
+
+    # -- content ---------------------------------------------------------------------------
+    def add(
+        self,
+        m: Any,
+        order: object = None,
+        shading: str = "flat",
+        scalars: object = None,
+        **kwargs: Any,
+    ) -> Layer:
+        """Add a mescher (:func:`add_mescher`), lit by the scene's lights (the key light of the
+        study's rig until :meth:`relight` is called) and framed head-on unless :meth:`view`
+        fixed the bounds."""
+        kwargs.setdefault("early_z", self.early_z)
+        layer = add_mescher(self.plotter, m, order, shading, scalars, **kwargs)
+        self._box.append(xy_box(np.asarray(m.xy)))
+        return self._adopt(layer)
+
+    def add_embedding(
+        self,
+        m_or_V: Any,
+        F: np.ndarray | None = None,
+        kind: str | None = None,
+        shading: str = "flat",
+        scalars: object = None,
+        **kwargs: Any,
+    ) -> Layer:
+        """Add a real mesh: ``add_embedding(V, F)`` or ``add_embedding(m, kind="cut"|"bent")``.
+
+        For ``kind="cut"`` per-vertex ``scalars`` of the mescher are carried to the cut copies.
+        """
+        if kind is None:
+            if F is None:
+                raise MescherError("F: expected faces with V, or kind='cut'|'bent' with a mescher")
+            V = m_or_V
+            self._box.append(xy_box(np.asarray(V, dtype=float)[:, :2]))
+        else:
+            V, F, scalars = embedding_of(m_or_V, kind, scalars)
+            self._box.append(xy_box(np.asarray(m_or_V.xy)))
+        layer = add_embedding(self.plotter, V, F, shading, scalars, **kwargs)
+        return self._adopt(layer)
+
+    def _adopt(self, layer: Layer) -> Layer:
+        self.layers.append(layer)
+        if not self._lit:
+            self.relight(DEFAULT_LIGHTS)
+        elif self.env_map is not None:
+            relight(self.plotter, [layer], self.lights, self.env_map)
+        # The z range may have grown; without fixed bounds the camera frames every layer.
+        set_view(self.plotter, self.bounds if self.bounds is not None else self._auto_bounds())
+        return layer
+
+    def clear(self) -> None:
+        """Remove every layer (lights and camera stay)."""
+        for layer in self.layers:
+            self.plotter.remove_actor(layer.actor, render=False)
+            if layer.isolines is not None:
+                self.plotter.remove_actor(layer.isolines, render=False)
+        self.layers.clear()
+        self._box.clear()
+
+    # -- camera and light ------------------------------------------------------------------
+    def _auto_bounds(self, margin: float = DEFAULT_MARGIN) -> tuple[float, float, float, float]:
+        if not self._box:
+            raise MescherError("bounds: expected bounds or at least one layer, found neither")
+        boxes = np.array(self._box)
+        box = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
+        size = self.plotter.window_size
+        return default_bounds(box, (int(size[0]), int(size[1])), margin)
+
+    def view(self, bounds: object = None, margin: float = DEFAULT_MARGIN) -> tuple:
+        """Fix the camera; ``bounds=None`` frames every layer's xy box plus ``margin``."""
+        self.bounds = as_bounds(self._auto_bounds(margin) if bounds is None else bounds)
+        set_view(self.plotter, self.bounds)
+        return self.bounds
+
+    def relight(self, lights: object = DEFAULT_LIGHTS, env_map: object = None) -> None:
+        """Change the lighting of every layer (no geometry rebuilt); see :func:`relight`.
+
+        ``lights`` may be one direction ``(x, y, z)`` toward a light (``relight((1, 0, 1))``).
+        """
+        self.lights, self.env_map = relight(self.plotter, self.layers, lights, env_map)
+        self._lit = True
+
+    def screenshot(self) -> np.ndarray:
+        """(H, W, 3) uint8 of the current state (renders first, as VTK needs after a relight)."""
+        if self.bounds is None:
+            self.view()
+        self.plotter.render()
+        image = self.plotter.screenshot(return_img=True, transparent_background=False)
+        return np.ascontiguousarray(image[..., :3])
+
+    def close(self) -> None:
+        """Release the plotter and its GL context."""
+        self.plotter.close()
+
+    def __plotter_close__(self) -> None:
+        """PyVista's component hook: drop the layers with the plotter."""
+        self.layers.clear()
+        self._box.clear()
+
+    def __enter__(self) -> MescherScene:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _as_window_size(window_size: object) -> tuple[int, int]:
+    w = np.asarray(window_size)
+    if w.shape != (2,) or not np.issubdtype(w.dtype, np.integer) or (w <= 0).any():
+        raise MescherError(
+            f"window_size: expected (width, height) positive integers, found {window_size!r}"
+        )
+    return (int(w[0]), int(w[1]))
+
+
+def embedding_of(m: Any, kind: str, scalars: object = None) -> tuple:
+    """``(V, F, scalars)`` of the cut or bent embedding of ``m`` (DESIGN ``cut_embedding`` and
+    ``bent_embedding``), with per-vertex mescher scalars carried to the cut's vertex copies."""
+    kind = as_choice(kind, "kind", ("cut", "bent"))
+    method = f"{kind}_embedding"
+    if not hasattr(m, method):
+        raise MescherError(
+            f"m: expected a Mescher with {method}() (meschers_igl embedding module), found "
+            f"{type(m).__name__} without it"
+        )
+    if kind == "bent":
+        V, F = getattr(m, method)()
+        return V, F, scalars
+    V, F, vmap = m.cut_embedding()
+    if scalars is None:
+        return V, F, None
+    vmap = np.asarray(vmap, dtype=np.int64)
+    n_v, n_f = np.asarray(m.xy).shape[0], np.asarray(m.F).shape[0]
+
+    def carry(values: Any) -> Any:
+        a = np.asarray(values)
+        if a.ndim == 1 and a.shape[0] == n_v and n_v != n_f:
+            return a[vmap]
+        return a
+
+    if isinstance(scalars, dict):
+        return V, F, {k: carry(v) for k, v in scalars.items()}
+    return V, F, carry(scalars)
