@@ -138,18 +138,10 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     if args is None or not isinstance(args, argparse.Namespace):
         args = _parser().parse_args(None if args is None else list(args))
     from meschers_igl import save
-    from meschers_igl.inverse.optimize import (
-        InverseOptions,
-        extract_order,
-        fit_mescher,
-        max_period_ratio,
-        penrose_target,
-        psnr,
-        silhouette_iou,
-        target_mask,
-        torus_for_target,
-    )
+    from meschers_igl.inverse.metrics import image_psnr, max_period_ratio, silhouette_iou
+    from meschers_igl.inverse.optimize import InverseOptions, extract_order, fit_mescher
     from meschers_igl.inverse.rasterizer import render_mescher
+    from meschers_igl.inverse.targets import penrose_target, target_mask, torus_for_target
 
     lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
     colors = None
@@ -202,7 +194,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     _figures(out, target, before, result.image, result.losses)
     metrics = {
         "silhouette_iou": silhouette_iou(result.alpha > 0.5, target_mask(target, bg)),
-        "psnr_db": psnr(result.image, target),
+        "psnr_db": image_psnr(result.image, target),
         "periods": [float(p) for p in m.periods()],
         "max_period_over_size": max_period_ratio(m),
         "max_abs_d12_zeta": result.max_residual,

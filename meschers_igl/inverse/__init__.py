@@ -6,8 +6,11 @@ install it (``pip install 'meschers[inverse]'``).
 
 - :mod:`~meschers_igl.inverse.rasterizer`: a SoftRas-style soft rasterizer (Liu et al. 2019)
   for flattened meschers with flat Lambertian shading and per-face depth offsets.
-- :mod:`~meschers_igl.inverse.optimize`: the fit of a mescher to a target image, with
-  ``zeta = d01 z + H c`` so that every iterate is a mescher, and Sobolev preconditioning.
+- :mod:`~meschers_igl.inverse.sobolev`: the unknowns ``xy``, ``zeta = d01 z + H c`` (every
+  iterate is a mescher) and offsets, and the Sobolev preconditioner (Nicolet et al. 2021).
+- :mod:`~meschers_igl.inverse.optimize`: the fit of a mescher to a target image.
+- :mod:`~meschers_igl.inverse.targets`: test pictures and the torus initialization;
+  :mod:`~meschers_igl.inverse.metrics`: PSNR, silhouette IoU and period figures of merit.
 - the command line ``meschers inverse`` lives in the application, :mod:`meschers.inverse_cli`.
 """
 
@@ -26,23 +29,22 @@ _LAZY = {
     "corner_depths_from_zeta": "rasterizer",
     "pixel_centers": "rasterizer",
     "render_mescher": "rasterizer",
+    "silhouette_edges": "rasterizer",
     "InverseOptions": "optimize",
     "InverseResult": "optimize",
-    "MescherParametrization": "optimize",
     "fit_mescher": "optimize",
-    "torus_mesh": "optimize",
-    "torus_mescher": "optimize",
-    "torus_for_target": "optimize",
-    "penrose_target": "optimize",
-    "silhouette_iou": "optimize",
-    "psnr": "optimize",
-    "max_period_ratio": "optimize",
-    "closed_harmonic_basis": "optimize",
-    "sobolev_matrix": "optimize",
-    "target_mask": "optimize",
-    "penrose_soup": "optimize",
-    "silhouette_edges": "rasterizer",
     "extract_order": "optimize",
+    "MescherParametrization": "sobolev",
+    "closed_harmonic_basis": "sobolev",
+    "sobolev_matrix": "sobolev",
+    "torus_mescher": "targets",
+    "torus_for_target": "targets",
+    "penrose_target": "targets",
+    "penrose_soup": "targets",
+    "target_mask": "targets",
+    "silhouette_iou": "metrics",
+    "image_psnr": "metrics",
+    "max_period_ratio": "metrics",
 }
 
 __all__ = ["INSTALL_HINT", "require_torch", *_LAZY]

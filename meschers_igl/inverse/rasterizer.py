@@ -57,7 +57,7 @@ _LOGIT_CUTOFF = math.log(COVERAGE_CUTOFF / (1.0 - COVERAGE_CUTOFF))
 _SIL_CLAMP = 50.0
 
 
-def pixel_centers(resolution: int | tuple[int, int], dtype=None) -> Tensor:
+def pixel_centers(resolution: int | tuple[int, int], dtype=None, device=None) -> Tensor:
     """Screen positions of the pixel centres of an image spanning ``[-1, 1]^2``.
 
     Parameters
@@ -66,6 +66,8 @@ def pixel_centers(resolution: int | tuple[int, int], dtype=None) -> Tensor:
         Image size in pixels.
     dtype : torch.dtype, optional
         Default ``torch.get_default_dtype()``.
+    device : torch.device, optional
+        Default CPU.
 
     Returns
     -------
@@ -75,8 +77,8 @@ def pixel_centers(resolution: int | tuple[int, int], dtype=None) -> Tensor:
     """
     H, W = _resolution(resolution)
     dtype = dtype or torch.get_default_dtype()
-    x = -1.0 + (2.0 * torch.arange(W, dtype=dtype) + 1.0) / W
-    y = 1.0 - (2.0 * torch.arange(H, dtype=dtype) + 1.0) / H
+    x = -1.0 + (2.0 * torch.arange(W, dtype=dtype, device=device) + 1.0) / W
+    y = 1.0 - (2.0 * torch.arange(H, dtype=dtype, device=device) + 1.0) / H
     return torch.stack(torch.meshgrid(x, y, indexing="xy"), dim=-1).reshape(-1, 2)
 
 
@@ -178,19 +180,21 @@ def lambertian(
     (#F, 3) tensor
         ``C_f = albedo * (ambient + sum_l color_l max(0, n_f . l))``.
     """
-    dt = normals.dtype
-    L = _as_lights(lights, dt)
-    amb = torch.as_tensor(ambient, dtype=dt).reshape(-1)
+    dt, dev = normals.dtype, normals.device
+    L = _as_lights(lights, dt).to(dev)
+    amb = torch.as_tensor(ambient, dtype=dt, device=dev).reshape(-1)
     if light_colors is None:
-        colors = torch.full((L.shape[0], 3), float(1.0 - amb.mean()) / L.shape[0], dtype=dt)
+        colors = torch.full(
+            (L.shape[0], 3), float(1.0 - amb.mean()) / L.shape[0], dtype=dt, device=dev
+        )
     else:
-        colors = torch.as_tensor(np.asarray(light_colors, dtype=np.float64), dtype=dt)
+        colors = torch.as_tensor(np.asarray(light_colors, dtype=np.float64), dtype=dt, device=dev)
         if colors.shape != (L.shape[0], 3):
             raise MescherError(
                 f"light_colors: expected shape ({L.shape[0]}, 3), found {tuple(colors.shape)}"
             )
     lit = torch.relu(normals @ L.T) @ colors  # (#F, 3)
-    return torch.as_tensor(albedo, dtype=dt) * (amb + lit)
+    return torch.as_tensor(albedo, dtype=dt, device=dev) * (amb + lit)
 
 
 def _as_lights(lights, dtype) -> Tensor:
@@ -266,15 +270,15 @@ def _candidate_pairs(P: Tensor, radius: float, H: int, W: int) -> tuple[Tensor, 
     for k in torch.unique(key[nonempty]).tolist():
         f = torch.nonzero(key == k).squeeze(1)
         sh, sw = int(bh[f[0]]), int(bw[f[0]])
-        di = torch.arange(sh)[None, :, None]
-        dj = torch.arange(sw)[None, None, :]
+        di = torch.arange(sh, device=P.device)[None, :, None]
+        dj = torch.arange(sw, device=P.device)[None, None, :]
         ok = (di < hh[f, None, None]) & (dj < ww[f, None, None])
         pix = (i0[f, None, None] + di) * W + (j0[f, None, None] + dj)
         ff = f[:, None, None].expand_as(pix)
         faces_out.append(ff[ok])
         pix_out.append(pix[ok])
     if not faces_out:
-        empty = torch.zeros(0, dtype=torch.long)
+        empty = torch.zeros(0, dtype=torch.long, device=P.device)
         return empty, empty
     return torch.cat(faces_out), torch.cat(pix_out)
 
@@ -373,7 +377,8 @@ def soft_rasterize(
     eps = torch.finfo(dt).tiny * 1e3
     # radius beyond which an outside pixel has coverage below COVERAGE_CUTOFF
     radius = math.sqrt(sigma * -_LOGIT_CUTOFF)
-    centres = pixel_centers((H, W), dtype=dt)
+    dev = xy.device
+    centres = pixel_centers((H, W), dtype=dt, device=dev)
 
     with torch.no_grad():
         P = xy.detach()[F]
@@ -383,9 +388,9 @@ def soft_rasterize(
         pf, pp = cand_f[keep], cand_p[keep]
 
     if isinstance(silhouette, str) and silhouette == "auto":
-        silhouette = silhouette_edges(F.numpy(), xy.detach().numpy())
+        silhouette = silhouette_edges(F.cpu().numpy(), xy.detach().cpu().numpy())
     if silhouette is not None:
-        silhouette = torch.as_tensor(np.asarray(silhouette, dtype=bool))
+        silhouette = torch.as_tensor(np.asarray(silhouette, dtype=bool), device=dev)
         if silhouette.shape != F.shape:
             raise MescherError(
                 f"silhouette: expected a ({F.shape[0]}, 3) bool array, found "
@@ -396,22 +401,25 @@ def soft_rasterize(
     # differentiable pass on the kept pairs only
     x, xs = _signed_scaled_dist(xy[F[pf]], centres[pp], sigma, eps, silhouette)
     n_pix = H * W
-    log_T = torch.zeros(n_pix, dtype=dt).index_add(
+    log_T = torch.zeros(n_pix, dtype=dt, device=dev).index_add(
         0, pp, torch.nn.functional.logsigmoid(-(x if xs is None else xs))
     )
     alpha = 1.0 - torch.exp(log_T)
 
     logit = torch.nn.functional.logsigmoid(x) + offsets[pf] / gamma
     with torch.no_grad():
-        m = torch.full((n_pix,), -torch.inf, dtype=dt).scatter_reduce(
+        m = torch.full((n_pix,), -torch.inf, dtype=dt, device=dev).scatter_reduce(
             0, pp, logit.detach(), reduce="amax", include_self=True
         )
         m = torch.where(torch.isfinite(m), m, torch.zeros_like(m))
     w = torch.exp(logit - m[pp])
-    S = torch.zeros(n_pix, dtype=dt).index_add(0, pp, w)
-    C = torch.zeros(n_pix, colors.shape[1], dtype=dt).index_add(0, pp, w[:, None] * colors[pf])
+    S = torch.zeros(n_pix, dtype=dt, device=dev).index_add(0, pp, w)
+    C = torch.zeros(n_pix, colors.shape[1], dtype=dt, device=dev).index_add(
+        0, pp, w[:, None] * colors[pf]
+    )
     color = C / torch.where(S > 0, S, torch.ones_like(S))[:, None]
-    bg = torch.as_tensor(np.asarray(background, dtype=np.float64), dtype=dt).reshape(1, -1)
+    bg = torch.as_tensor(np.asarray(background, dtype=np.float64), dtype=dt, device=dev)
+    bg = bg.reshape(1, -1)
     image = (alpha[:, None] * color + (1.0 - alpha[:, None]) * bg).reshape(H, W, -1)
     if return_alpha:
         return image, alpha.reshape(H, W)

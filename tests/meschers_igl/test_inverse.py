@@ -14,8 +14,11 @@ torch = pytest.importorskip("torch")
 pytest.importorskip("largesteps")
 
 from meschers_igl import Mescher, MescherError  # noqa: E402
+from meschers_igl.inverse import metrics as met  # noqa: E402
 from meschers_igl.inverse import optimize as opt  # noqa: E402
 from meschers_igl.inverse import rasterizer as ras  # noqa: E402
+from meschers_igl.inverse import sobolev as sob  # noqa: E402
+from meschers_igl.inverse import targets as tg  # noqa: E402
 
 D64 = torch.float64
 
@@ -254,7 +257,7 @@ def test_gradcheck_through_zeta_normals_and_shading():
 
 
 def test_torus_mescher_is_the_torus():
-    m, off = opt.torus_mescher(0.6, 0.2, 16, 8)
+    m, off = tg.torus_mescher(0.6, 0.2, 16, 8)
     assert (m.n_vertices, m.n_faces, m.euler_characteristic()) == (128, 256, 0)
     np.testing.assert_allclose(m.periods(), 0.0, atol=1e-12)
     # offsets order the near half (normals toward the viewer) in front of the far half
@@ -269,14 +272,14 @@ def test_torus_for_target_recovers_annulus_radii():
     r = np.linalg.norm(c, axis=-1)
     img = np.ones((res, res, 3))
     img[(r > 0.3) & (r < 0.7)] = 0.4
-    m, _ = opt.torus_for_target(img, n_major=32, n_minor=8)
+    m, _ = tg.torus_for_target(img, n_major=32, n_minor=8)
     rr = np.linalg.norm(np.asarray(m.xy) - [0.1, -0.05], axis=1)
     assert abs(rr.min() - 0.3) < 0.01 and abs(rr.max() - 0.7) < 0.01
 
 
 def test_closed_harmonic_basis_is_closed_and_dual():
-    m, _ = opt.torus_mescher(0.6, 0.2, 24, 8)
-    H = opt.closed_harmonic_basis(m)
+    m, _ = tg.torus_mescher(0.6, 0.2, 24, 8)
+    H = sob.closed_harmonic_basis(m)
     assert np.abs(m.d12 @ H).max() < 1e-14
     # periods of h_j around generator i: the identity
     P = np.stack([m.with_zeta(H[:, k]).periods() for k in range(H.shape[1])], axis=1)
@@ -284,9 +287,9 @@ def test_closed_harmonic_basis_is_closed_and_dual():
 
 
 def test_parametrization_round_trip_and_periods():
-    m, off = opt.torus_mescher(0.6, 0.2, 16, 8)
+    m, off = tg.torus_mescher(0.6, 0.2, 16, 8)
     m = m.with_periods([0.3, -0.1])
-    par = opt.MescherParametrization(m, off, lam=5.0)
+    par = sob.MescherParametrization(m, off, lam=5.0)
     with torch.no_grad():
         np.testing.assert_allclose(par.xy().numpy(), m.xy, atol=1e-5)
         zeta = par.zeta().numpy()
@@ -296,14 +299,14 @@ def test_parametrization_round_trip_and_periods():
 
 
 def test_sobolev_matrix_is_spd_identity_plus_laplacian():
-    m, _ = opt.torus_mescher(0.6, 0.2, 12, 6)
+    m, _ = tg.torus_mescher(0.6, 0.2, 12, 6)
     for kind in ("cotan", "uniform"):
-        M = opt.sobolev_matrix(m, 3.0, kind)
+        M = sob.sobolev_matrix(m, 3.0, kind)
         np.testing.assert_allclose(M @ np.ones(m.n_vertices), 1.0, atol=1e-12)  # L 1 = 0
         assert abs(M - M.T).max() < 1e-12
         assert np.linalg.eigvalsh(M.toarray()).min() > 1.0 - 1e-9
     with pytest.raises(MescherError, match="laplacian"):
-        opt.sobolev_matrix(m, 1.0, "robust")
+        sob.sobolev_matrix(m, 1.0, "robust")
 
 
 # --------------------------------------------------------------------------- the fit
@@ -314,10 +317,10 @@ LIGHT = [(0.3, 0.5, 1.0)]
 
 def _fit_tiny(iters=100, callback=None):
     """A 32 x 32 impossible-torus picture, fitted from a smaller ordinary torus."""
-    truth, off = opt.torus_mescher(0.55, 0.25, 24, 8)
+    truth, off = tg.torus_mescher(0.55, 0.25, 24, 8)
     truth = truth.with_periods([0.8, 0.0])
     target = ras.render_mescher(truth, off, lights=LIGHT, resolution=32, sigma=1e-6)
-    init, off0 = opt.torus_mescher(0.5, 0.2, 24, 8)
+    init, off0 = tg.torus_mescher(0.5, 0.2, 24, 8)
     o = opt.InverseOptions(iters=iters, resolution=32, sigma_xy=(1e-3, 1e-4),
                            sigma_zeta=(1e-3, 1e-4))  # fmt: skip
     result = opt.fit_mescher(target, init, off0, lights=LIGHT, options=o, callback=callback)
@@ -331,8 +334,9 @@ def test_fit_keeps_every_iterate_a_mescher_and_lowers_the_loss():
     def check(it, state):
         seen.append(float(np.abs(init_d12 @ state["zeta"]).max()))
 
-    init_d12 = opt.torus_mescher(0.5, 0.2, 24, 8)[0].d12
+    init_d12 = tg.torus_mescher(0.5, 0.2, 24, 8)[0].d12
     result, target, before = _fit_tiny(callback=check)
+    o_final_sigma = opt.InverseOptions().final_sigma
     assert len(seen) == 100
     assert max(seen) < 1e-10 and result.max_residual < 1e-10
     # the loss at one sigma: the final render against the initial one, both nearly hard
@@ -341,7 +345,10 @@ def test_fit_keeps_every_iterate_a_mescher_and_lowers_the_loss():
     assert mse_after < 0.5 * mse_before
     # and the training loss, whose sigma shrinks, still falls over the first steps
     assert np.mean(result.losses[10:16]) < np.mean(result.losses[:6])
-    assert isinstance(result.mescher, Mescher)
+    # the returned mescher and offsets are what was rendered: re-rendering them gives the image
+    again = ras.render_mescher(result.mescher, result.offsets, lights=LIGHT, resolution=32,
+                               sigma=o_final_sigma, gamma=1e-3)  # fmt: skip
+    np.testing.assert_allclose(again, result.image, atol=1e-5)
     assert np.abs(result.mescher.integrability_residual()).max() < 1e-10
     assert result.image.shape == (32, 32, 3) and result.alpha.shape == (32, 32)
     # the fit moved toward the target's climb around the hole (harmonic part)
@@ -349,7 +356,7 @@ def test_fit_keeps_every_iterate_a_mescher_and_lowers_the_loss():
 
 
 def test_fit_rejects_bad_target():
-    m, off = opt.torus_mescher(0.5, 0.2, 12, 6)
+    m, off = tg.torus_mescher(0.5, 0.2, 12, 6)
     with pytest.raises(MescherError, match="target"):
         opt.fit_mescher(np.ones((8, 9, 3)), m, off)
     with pytest.raises(MescherError, match="offsets"):
@@ -363,11 +370,11 @@ def test_metrics_hand_values():
     b = np.zeros((4, 4), bool)
     a[:2] = True
     b[1:3] = True
-    assert opt.silhouette_iou(a, b) == pytest.approx(4 / 12)
-    assert opt.psnr(np.zeros((2, 2)), np.full((2, 2), 0.1)) == pytest.approx(20.0)
-    m, _ = opt.torus_mescher(0.6, 0.2, 12, 6)
+    assert met.silhouette_iou(a, b) == pytest.approx(4 / 12)
+    assert met.image_psnr(np.zeros((2, 2)), np.full((2, 2), 0.1)) == pytest.approx(20.0)
+    m, _ = tg.torus_mescher(0.6, 0.2, 12, 6)
     size = np.ptp(m.xy, axis=0).max()
-    assert opt.max_period_ratio(m.with_periods([0.16, 0.0])) == pytest.approx(0.16 / size)
+    assert met.max_period_ratio(m.with_periods([0.16, 0.0])) == pytest.approx(0.16 / size)
 
 
 def test_extract_order_puts_the_higher_offset_in_front():
@@ -383,15 +390,15 @@ def test_extract_order_puts_the_higher_offset_in_front():
 
 
 def test_penrose_target_is_a_penrose_triangle():
-    xy, F, N, off, _ = opt.penrose_soup()
+    xy, F, N, off, _ = tg.penrose_soup()
     # three visible normals, the cube axes seen along (1, 1, 1): orthonormal, n_z = 1/sqrt(3)
     _, first = np.unique(N.round(9), axis=0, return_index=True)
     U = N[first]
     assert U.shape == (3, 3)
     np.testing.assert_allclose(U @ U.T, np.eye(3), atol=1e-12)
     np.testing.assert_allclose(U[:, 2], 1 / math.sqrt(3), atol=1e-12)
-    img = opt.penrose_target(64)
-    mask = opt.target_mask(img)
+    img = tg.penrose_target(64)
+    mask = tg.target_mask(img)
     from scipy import ndimage
 
     # a ring: one object with one hole
