@@ -4,8 +4,8 @@ Two kinds of :class:`pyvista.PolyData` meet a mescher:
 
 - a **cut model** (paper Sections 3.4-3.5): an ordinary 3D triangle mesh, e.g. from
   ``pv.read("penrose.obj")``, whose cut boundaries coincide on screen when seen from ``view``;
-  :meth:`MescherAccessor.to_mescher` glues it (``Mescher.from_cut_mesh``) and orders its faces
-  where they overlap on screen (``DepthOrder.from_embedding``, by the model's own depths);
+  :meth:`MescherAccessor.to_mescher` glues it and orders its faces where they overlap on
+  screen by the model's own depths (:func:`meschers_igl.models.cut_model_to_mescher`);
 - a **flattened mescher**: what :meth:`MescherAccessor.to_polydata`,
   :func:`pyvista_views.to_polydata` (``embed=True``) and ``pv.read("x.mescher")`` give, which
   carries the mescher in its arrays (``cell_data["face_id"]``, ``point_data["vertex_id"]``,
@@ -25,7 +25,7 @@ import pyvista as pv
 
 from meschers_igl import Mescher
 from meschers_igl.errors import MescherError
-from meschers_igl.operators import view_frame
+from meschers_igl.models import cut_model_to_mescher
 from meschers_igl.order import DepthOrder
 
 from .polydata import (
@@ -73,7 +73,7 @@ class MescherAccessor:
             Cut model only: screen up.
         tol, merge
             Cut model only: gluing tolerance and explicit vertex pairs, as in
-            :func:`meschers_igl.cutmesh.mescher_from_cut_mesh`.
+            :func:`meschers_igl.models.cut_model_to_mescher`.
 
         Returns
         -------
@@ -133,12 +133,8 @@ def _triangles(mesh: pv.PolyData) -> pv.PolyData:
 
 def _from_cut_model(mesh: pv.PolyData, view, up, tol, merge) -> tuple[Mescher, DepthOrder]:
     mesh = _triangles(mesh)
-    V = np.asarray(mesh.points, dtype=np.float64)
-    F = np.asarray(mesh.regular_faces, dtype=np.int64)
-    m, _ = Mescher.from_cut_mesh(V, F, view=view, up=up, tol=tol, merge=merge, return_map=True)
-    # The model's own depths order the faces that overlap on screen (as meshlab_filters does).
-    Zc = (V @ view_frame(view, up).T)[:, 2][F]
-    return m, DepthOrder.from_embedding(m, Zc)
+    # The one cut model -> (mescher, order) path (meshlab_filters and the CLI use it too).
+    return cut_model_to_mescher(mesh.points, mesh.regular_faces, view, up, tol, merge)
 
 
 def _recover(mesh: pv.PolyData) -> tuple[Mescher, DepthOrder | None]:

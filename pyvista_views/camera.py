@@ -14,10 +14,39 @@ from typing import Any
 import numpy as np
 
 from meschers_igl.errors import MescherError
-from meschers_igl.validate import as_float_array
+from meschers_igl.validate import as_count, as_float_array, check_budget
 
 #: Share of the content's size added on every side by :func:`default_bounds`.
 DEFAULT_MARGIN = 0.05
+#: Peak bytes per window pixel: RGBA colour and 24-bit depth buffers on the GPU or in Mesa's
+#: software framebuffer, the RGB(A) screenshot copy and its float conversions in numpy.
+BYTES_PER_PIXEL = 48.0
+
+
+def as_window_size(window_size: object, force: bool = False) -> tuple[int, int]:
+    """Validate a render window size ``(width, height)``; refuse one that does not fit in memory.
+
+    Parameters
+    ----------
+    window_size : (int, int)
+        Positive integers.
+    force : bool, default: False
+        Skip the memory estimate (:func:`meschers_igl.validate.check_budget`).
+
+    Returns
+    -------
+    (int, int)
+    """
+    if isinstance(window_size, (str, bytes)) or np.ndim(window_size) != 1 or len(window_size) != 2:
+        raise MescherError(
+            f"window_size: expected (width, height) positive integers, found {window_size!r}"
+        )
+    w = as_count(window_size[0], "window_size[0] (width)", minimum=1)
+    h = as_count(window_size[1], "window_size[1] (height)", minimum=1)
+    check_budget(
+        float(w) * float(h), BYTES_PER_PIXEL, f"window_size ({w} x {h} pixels)", force=force
+    )
+    return (w, h)
 
 
 def xy_box(xy: Any) -> tuple[float, float, float, float]:

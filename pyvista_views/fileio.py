@@ -16,9 +16,6 @@ for bit.
 from __future__ import annotations
 
 import os
-import shutil
-import tempfile
-from pathlib import Path
 from typing import Any
 
 import pyvista as pv
@@ -48,9 +45,7 @@ def read_mescher(
     pyvista.PolyData
         ``poly.mescher.to_mescher()`` returns the stored ``(mescher, order or None)``.
     """
-    path = Path(path)
-    with _as_ply(path) as ply:
-        m, order = mescher_io.load(ply, return_order=True)
+    m, order = mescher_io.load(path, format="ply", return_order=True)
     return to_polydata(m, order, shading=shading, layout=layout, embed=True)
 
 
@@ -72,35 +67,7 @@ def write_mescher(dataset: Any, path: str | os.PathLike, **_: Any) -> None:
             "poly.mescher.to_polydata(view=..., up=...) first"
         )
     m, order = accessor.to_mescher()
-    path = Path(path)
-    # meschers_igl.save picks its format from the suffix: write a .ply beside, then rename.
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.ply")
-    try:
-        mescher_io.save(m, tmp, order=order)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
-class _as_ply:
-    """A ``.ply`` name for ``path`` (a symbolic link, or a copy where links are not allowed)."""
-
-    def __init__(self, path: Path) -> None:
-        if not path.is_file():
-            raise MescherError(f"path: expected an existing file, found nothing at {str(path)!r}")
-        self.path = path.resolve()
-
-    def __enter__(self) -> Path:
-        self._dir = tempfile.TemporaryDirectory()
-        ply = Path(self._dir.name) / (self.path.stem + ".ply")
-        try:
-            ply.symlink_to(self.path)
-        except OSError:
-            shutil.copyfile(self.path, ply)
-        return ply
-
-    def __exit__(self, *exc: object) -> None:
-        self._dir.cleanup()
+    mescher_io.save(m, path, order=order, format="ply")
 
 
 pv.register_reader(EXTENSION, read_mescher)

@@ -37,10 +37,10 @@ import pyvista as pv
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 from meschers_igl.errors import MescherError
-from meschers_igl.validate import as_choice, as_float_array, as_positive
+from meschers_igl.validate import as_choice, as_count, as_float_array, as_positive
 
 from . import headless
-from .camera import DEFAULT_MARGIN, as_bounds, default_bounds, set_view, xy_box
+from .camera import DEFAULT_MARGIN, as_bounds, as_window_size, default_bounds, set_view, xy_box
 from .envmap import EnvironmentMap, as_env_map
 from .gl import flat_varyings_work, use_early_z, use_flat_varyings
 from .lights import DirectionalLight, as_lights, lambert, set_vtk_lights
@@ -251,11 +251,9 @@ def _add_isolines(
             "isolines: expected per-vertex scalars to contour, found "
             + ("no scalars" if layer.scalars is None else "per-face scalars")
         )
-    if isinstance(isolines, (int, np.integer)):
-        if isolines < 0:
-            raise MescherError(f"isolines: expected a count >= 0 or levels, found {isolines}")
+    if isinstance(isolines, (int, np.integer, bool, np.bool_)):
         lo, hi = clim
-        levels = np.linspace(lo, hi, int(isolines) + 2)[1:-1]
+        levels = np.linspace(lo, hi, as_count(isolines, "isolines") + 2)[1:-1]
     else:
         levels = as_float_array(isolines, "isolines", (-1,))
     lines = layer.mesh.contour(isosurfaces=levels, scalars=layer.scalars)
@@ -492,7 +490,7 @@ class MescherScene:
         early_z: bool = True,
     ) -> None:
         if plotter is None:
-            self.window_size = _as_window_size((800, 800) if window_size is None else window_size)
+            self.window_size = as_window_size((800, 800) if window_size is None else window_size)
             plotter = headless.new_plotter(self.window_size, off_screen, background, anti_aliasing)
             # This scene is the new plotter's component (what ``plotter.mescher`` would build).
             plotter.__dict__["mescher"] = self
@@ -500,8 +498,8 @@ class MescherScene:
             components.append(self)
         else:
             if window_size is not None:
-                plotter.window_size = list(_as_window_size(window_size))
-            self.window_size = _as_window_size(tuple(plotter.window_size))
+                plotter.window_size = list(as_window_size(window_size))
+            self.window_size = as_window_size(tuple(plotter.window_size))
         self.plotter = plotter
         self.early_z = bool(early_z)
         self.layers: list[Layer] = []
@@ -616,15 +614,6 @@ class MescherScene:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def _as_window_size(window_size: object) -> tuple[int, int]:
-    w = np.asarray(window_size)
-    if w.shape != (2,) or not np.issubdtype(w.dtype, np.integer) or (w <= 0).any():
-        raise MescherError(
-            f"window_size: expected (width, height) positive integers, found {window_size!r}"
-        )
-    return (int(w[0]), int(w[1]))
 
 
 def embedding_of(m: Any, kind: str, scalars: object = None) -> tuple:

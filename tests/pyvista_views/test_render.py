@@ -64,6 +64,11 @@ def test_bounds_are_validated():
         render(Mescher.from_mesh(V, F), bounds=(1, 0, 0, 1))
     with pytest.raises(MescherError, match="window_size"):
         render(Mescher.from_mesh(V, F), window_size=(0, 10))
+    with pytest.raises(MescherError, match="window_size.*(width)"):
+        render(Mescher.from_mesh(V, F), window_size=(12.5, 10))
+    # refused before any GL work: 1e10 pixels do not fit in memory (meschers_igl check_budget)
+    with pytest.raises(MescherError, match=r"window_size \(100000 x 100000 pixels\).*GB"):
+        render(Mescher.from_mesh(V, F), window_size=(100_000, 100_000))
 
 
 # -- shading -----------------------------------------------------------------------------------
@@ -213,11 +218,22 @@ def test_cut_embedding_relights_like_the_mescher_and_bent_does_not(ring):
 
 def test_representation_keyword_uses_the_meschers_own_embeddings(ring):
     m, *_ = ring
-    if not hasattr(m, "bent_embedding"):
-        pytest.skip("meschers_igl has no embedding module yet")
-    a = render(m, lights=[(-1, 0, 0.5)], window_size=SIZE, representation="bent")
-    b = render((np.c_[m.xy, m.hodge().z], m.F), lights=[(-1, 0, 0.5)], window_size=SIZE)
-    assert iou(mask(a), mask(b)) >= 0.98
+    kw = dict(lights=[(-1, 0, 0.5)], window_size=SIZE)
+    images = {}
+    for kind in ("bent", "cut"):
+        V, F = getattr(m, f"{kind}_embedding")()[:2]
+        images[kind] = render(m, representation=kind, **kw)
+        # exactly the picture of that embedding drawn as a real mesh, same camera and bounds
+        np.testing.assert_array_equal(images[kind], render((V, F), bounds=_bounds_of(m), **kw))
+    # on an impossible ring the two embeddings differ (the cut has a step, the bent is tilted)
+    assert iou(mask(images["bent"]), mask(images["cut"])) >= 0.98
+    assert np.abs(luminance(images["bent"]) - luminance(images["cut"])).max() > 10
+
+
+def _bounds_of(m):
+    from pyvista_views.camera import default_bounds, xy_box
+
+    return default_bounds(xy_box(m.xy), SIZE)
 
 
 def test_env_map_shades_mescher_like_the_mesh_and_uniform_light_is_flat(ball):
