@@ -15,7 +15,6 @@ algorithm on CSR sorts it in under a second (FACTS.md).
 
 from __future__ import annotations
 
-import heapq
 import warnings
 from typing import Any
 
@@ -32,8 +31,24 @@ from .geometry2d import (
     model_scale,
     overlapping_pairs,
 )
-from .topology import edge_faces
-from .validate import as_float_array, as_index_array, as_int_array, as_positive
+from .order_graph import (
+    canonical_arcs,
+    feedback_arc_set,
+    format_cycles,
+    in_sorted,
+    shortest_cycle_through,
+    strong_components,
+    subgraph_arcs,
+    topological_sort,
+)
+from .topology import (
+    edge_faces,
+    edge_lookup,
+    integrate_on_tree,
+    integrate_one_form,
+    spanning_forest,
+)
+from .validate import as_count, as_float_array, as_index_array, as_int_array, as_positive
 
 __all__ = ["DepthOrder"]
 
@@ -45,44 +60,9 @@ _EXACT_RTOL = 1e-9
 # from_local_depth on impossible meschers: exact shortest paths (one Dijkstra per source vertex)
 # while #sources * #V stays below this; shared patch seeds beyond.
 _EXACT_PATH_WORK = 30_000_000
-# Work bound (removed arcs x arcs in the component) for the minimality pass after Eades-Lin-Smyth.
-_MINIMAL_FAS_WORK = 5_000_000
 
 
 # ---------------------------------------------------------------------------------- helpers
-def _as_n_faces(n_faces: Any, name: str = "n_faces") -> int:
-    if isinstance(n_faces, (bool, np.bool_)) or not isinstance(n_faces, (int, np.integer)):
-        raise MescherError(f"{name}: expected a non-negative integer, found {n_faces!r}")
-    if n_faces < 0:
-        raise MescherError(f"{name}: expected a non-negative integer, found {int(n_faces)}")
-    return int(n_faces)
-
-
-def _canonical_arcs(arcs: Any, n: int, name: str = "arcs") -> np.ndarray:
-    """(k, 2) int64 arcs, in range, without self-loops, unique and sorted lexicographically."""
-    if arcs is None or (np.ndim(arcs) <= 1 and np.size(arcs) == 0):
-        return np.zeros((0, 2), dtype=np.int64)
-    a = as_int_array(arcs, name, 2, 2)
-    if a.shape[0] == 0:
-        return np.zeros((0, 2), dtype=np.int64)
-    bad = (a < 0) | (a >= n)
-    if bad.any():
-        r = int(np.flatnonzero(bad.any(axis=1))[0])
-        raise MescherError(
-            f"{name}: expected face indices in [0, {n}), found arc {r} = {a[r].tolist()}"
-        )
-    loops = a[:, 0] == a[:, 1]
-    if loops.any():
-        r = int(np.flatnonzero(loops)[0])
-        raise MescherError(
-            f"{name}: expected arcs between two different faces (a face cannot be behind "
-            f"itself), found {int(loops.sum())} self-loop(s), first arc {r} = {a[r].tolist()}"
-        )
-    key = np.sort(a[:, 0] * np.int64(n) + a[:, 1])  # sort + diff: faster than np.unique's hash
-    key = key[np.r_[True, key[1:] != key[:-1]]]
-    return np.stack((key // n, key % n), axis=1)
-
-
 def _screen(m: Any, name: str = "m") -> tuple[np.ndarray, np.ndarray]:
     """``(F, xy)`` of a mescher-like object, or a clear error."""
     try:
@@ -98,214 +78,6 @@ def _tol(tol: Any, T: np.ndarray) -> float:
     return default_tol(T) if tol is None else as_positive(tol, "tol", allow_zero=True)
 
 
-def _adjacency(n: int, arcs: np.ndarray) -> sp.csr_matrix:
-    return sp.csr_matrix(
-        (np.ones(arcs.shape[0], dtype=np.int8), (arcs[:, 0], arcs[:, 1])), shape=(n, n)
-    )
-
-
-def _gather_rows(indptr: np.ndarray, indices: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """Concatenated column indices of CSR ``rows`` (``indices[indptr[r]:indptr[r+1]]`` for all)."""
-    starts = indptr[rows].astype(np.int64)
-    cnt = indptr[rows + 1].astype(np.int64) - starts
-    tot = int(cnt.sum())
-    if tot == 0:
-        return np.zeros(0, dtype=np.int64)
-    off = np.repeat(starts - (np.cumsum(cnt) - cnt), cnt)
-    return indices[off + np.arange(tot, dtype=np.int64)].astype(np.int64)
-
-
-def _kahn(n: int, arcs: np.ndarray) -> tuple[np.ndarray, bool]:
-    """Kahn's topological sort, one level (all faces with no arc left into them) at a time.
-
-    Returns the faces emitted (all ``n`` of them on a DAG; fewer when a cycle blocks the rest)
-    and whether the sort completed.  Within a level faces come in increasing index order, so the
-    result is deterministic.
-    """
-    if arcs.shape[0] == 0:
-        return np.arange(n, dtype=np.int64), True
-    A = _adjacency(n, arcs)
-    indeg = np.bincount(arcs[:, 1], minlength=n)
-    frontier = np.flatnonzero(indeg == 0)
-    levels = []
-    while frontier.size:
-        levels.append(frontier)
-        nb = _gather_rows(A.indptr, A.indices, frontier)
-        if nb.size == 0:
-            break
-        u, c = np.unique(nb, return_counts=True)
-        indeg[u] -= c
-        frontier = u[indeg[u] == 0]
-    order = np.concatenate(levels) if levels else np.zeros(0, dtype=np.int64)
-    return order.astype(np.int64), order.size == n
-
-
-def _strong_components(n: int, arcs: np.ndarray) -> list[np.ndarray]:
-    """Faces of each strongly connected component with more than one face (i.e. on a cycle)."""
-    if arcs.shape[0] == 0:
-        return []
-    _, labels = csgraph.connected_components(
-        _adjacency(n, arcs), directed=True, connection="strong"
-    )
-    counts = np.bincount(labels)
-    big = np.flatnonzero(counts > 1)
-    if big.size == 0:
-        return []
-    sel = np.flatnonzero(np.isin(labels, big))
-    srt = np.argsort(labels[sel], kind="stable")
-    sel = sel[srt]
-    splits = np.cumsum(counts[big])[:-1]
-    comps = np.split(sel, splits)
-    comps.sort(key=lambda c: int(c[0]))
-    return comps
-
-
-def _sub_arcs(arcs: np.ndarray, nodes: np.ndarray, n: int) -> np.ndarray:
-    """Arcs with both ends in ``nodes``, renumbered to positions in ``nodes`` (sorted)."""
-    local = np.full(n, -1, dtype=np.int64)
-    local[nodes] = np.arange(nodes.size)
-    la = local[arcs]
-    return la[(la[:, 0] >= 0) & (la[:, 1] >= 0)]
-
-
-def _shortest_cycle_through(k: int, sub: np.ndarray, start: int = 0) -> list[int]:
-    """A shortest directed cycle through local node ``start`` of a strongly connected graph."""
-    A = _adjacency(k, sub)
-    bfs, pred = csgraph.breadth_first_order(A, start, directed=True, return_predecessors=True)
-    closing = sub[sub[:, 1] == start, 0]  # nodes with an arc back into `start`
-    rank = np.full(k, k, dtype=np.int64)
-    rank[bfs] = np.arange(bfs.size)
-    u = int(closing[np.argmin(rank[closing])])
-    path = [u]
-    while path[-1] != start:  # walk the BFS tree back to start: as long as the cycle
-        path.append(int(pred[path[-1]]))
-    return path[::-1]
-
-
-def _eades_lin_smyth(k: int, sub: np.ndarray) -> np.ndarray:
-    """Vertex sequence of the Eades-Lin-Smyth greedy heuristic for a small feedback arc set.
-
-    Sinks go to the end, sources to the front; otherwise the vertex with the largest
-    ``outdeg - indeg`` goes to the front.  Arcs pointing backwards in the sequence form a
-    feedback arc set of at most ``|A|/2 - |V|/6`` arcs.  Written by hand because neither
-    networkx nor scipy offers a feedback-arc-set heuristic; the loop runs only over the faces
-    of one strongly connected component (faces on cycles, normally a handful).
-
-    Returns
-    -------
-    (k,) int64
-        ``pos[v]``, the position of local node ``v`` in the sequence.
-    """
-    out_adj: list[list[int]] = [[] for _ in range(k)]
-    in_adj: list[list[int]] = [[] for _ in range(k)]
-    for a, b in sub.tolist():
-        out_adj[a].append(b)
-        in_adj[b].append(a)
-    outd = [len(x) for x in out_adj]
-    ind = [len(x) for x in in_adj]
-    alive = [True] * k
-    sinks = [v for v in range(k) if outd[v] == 0]
-    sources = [v for v in range(k) if ind[v] == 0]
-    heap = [(ind[v] - outd[v], v) for v in range(k)]
-    heapq.heapify(heap)
-    s1: list[int] = []
-    s2: list[int] = []
-
-    def remove(v: int) -> None:
-        alive[v] = False
-        for w in out_adj[v]:
-            if alive[w]:
-                ind[w] -= 1
-                if ind[w] == 0:
-                    sources.append(w)
-                heapq.heappush(heap, (ind[w] - outd[w], w))
-        for w in in_adj[v]:
-            if alive[w]:
-                outd[w] -= 1
-                if outd[w] == 0:
-                    sinks.append(w)
-                heapq.heappush(heap, (ind[w] - outd[w], w))
-
-    left = k
-    while left:
-        while sinks:
-            v = sinks.pop()
-            if alive[v]:
-                s2.append(v)
-                remove(v)
-                left -= 1
-        while sources:
-            v = sources.pop()
-            if alive[v]:
-                s1.append(v)
-                remove(v)
-                left -= 1
-        if left and not sinks:
-            while True:  # lazy deletion: skip dead or stale heap entries
-                key, v = heapq.heappop(heap)
-                if alive[v] and key == ind[v] - outd[v]:
-                    break
-            s1.append(v)
-            remove(v)
-            left -= 1
-    seq = s1 + s2[::-1]
-    pos = np.empty(k, dtype=np.int64)
-    pos[np.asarray(seq, dtype=np.int64)] = np.arange(k)
-    return pos
-
-
-def _reaches(adj: list[list[int]], src: int, dst: int) -> bool:
-    seen = {src}
-    stack = [src]
-    while stack:
-        v = stack.pop()
-        if v == dst:
-            return True
-        for w in adj[v]:
-            if w not in seen:
-                seen.add(w)
-                stack.append(w)
-    return False
-
-
-def _feedback_arcs(n: int, arcs: np.ndarray) -> np.ndarray:
-    """A small set of arcs whose removal leaves a DAG (Eades-Lin-Smyth per strong component).
-
-    After the greedy pass every removed arc is tried again and kept out only if adding it back
-    would close a cycle, so the set is *minimal* (no arc in it is unnecessary), though not
-    necessarily minimum (that problem is NP-hard).
-    """
-    out = []
-    for comp in _strong_components(n, arcs):
-        k = comp.size
-        sub = _sub_arcs(arcs, comp, n)
-        pos = _eades_lin_smyth(k, sub)
-        back = pos[sub[:, 0]] > pos[sub[:, 1]]
-        removed = sub[back]
-        if removed.shape[0] * sub.shape[0] <= _MINIMAL_FAS_WORK:
-            adj: list[list[int]] = [[] for _ in range(k)]
-            for a, b in sub[~back].tolist():
-                adj[a].append(b)
-            needed = []
-            for a, b in removed.tolist():
-                if _reaches(adj, b, a):
-                    needed.append((a, b))
-                else:
-                    adj[a].append(b)
-            removed = np.asarray(needed, dtype=np.int64).reshape(-1, 2)
-        out.append(comp[removed])
-    return np.concatenate(out) if out else np.zeros((0, 2), dtype=np.int64)
-
-
-def _format_cycles(cycles: list[list[int]], limit: int = 5, width: int = 12) -> str:
-    parts = []
-    for c in cycles[:limit]:
-        body = " -> ".join(map(str, c[:width])) + (" -> ..." if len(c) > width else "")
-        parts.append(f"[{body} -> {c[0]}] ({len(c)} faces)")
-    more = f" and {len(cycles) - limit} more" if len(cycles) > limit else ""
-    return "; ".join(parts) + more
-
-
 def _arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarray:
     """Arc ``i -> j`` where ``dz = depth_j - depth_i > tol``, ``j -> i`` where ``dz < -tol``."""
     fwd = dz > tol
@@ -316,39 +88,6 @@ def _arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarr
 def _depth_at(P: np.ndarray, T: np.ndarray, Z: np.ndarray) -> np.ndarray:
     """Corner depths ``Z (k, 3)`` interpolated at points ``P (k, 2)`` of triangles ``T``."""
     return np.einsum("kc,kc->k", barycentric(P, T), Z)
-
-
-def _integrate_forest(pred: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """Sum of ``step`` along each vertex's path to its root in a predecessor forest.
-
-    ``pred[..., v]`` is the parent of ``v`` (negative at roots); ``step[..., v]`` the value
-    carried by the arc parent -> v.  Pointer jumping: after ``r`` rounds each vertex holds the
-    sum over its next ``2**r`` ancestors, so ``O(log depth)`` vectorized passes suffice.
-    """
-    p = np.where(pred < 0, np.arange(pred.shape[-1]), pred).astype(np.int64)
-    acc = np.where(pred < 0, 0.0, step)
-    while True:
-        pp = np.take_along_axis(p, p, axis=-1)
-        if np.array_equal(pp, p):
-            return acc
-        acc = acc + np.take_along_axis(acc, p, axis=-1)
-        p = pp
-
-
-class _SignedEdges:
-    """Signed lookup of a 1-form on vertex pairs: ``value(u, v) = zeta`` integrated u -> v."""
-
-    def __init__(self, edges: np.ndarray, zeta: np.ndarray, n_vertices: int):
-        self.n = np.int64(n_vertices)
-        key = np.minimum(edges[:, 0], edges[:, 1]) * self.n + np.maximum(edges[:, 0], edges[:, 1])
-        self.order = np.argsort(key)
-        self.key = key[self.order]
-        self.edges, self.zeta = edges, zeta
-
-    def __call__(self, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-        k = np.minimum(u, v) * self.n + np.maximum(u, v)
-        e = self.order[np.minimum(np.searchsorted(self.key, k), self.key.size - 1)]
-        return np.where(self.edges[e, 0] == u, self.zeta[e], -self.zeta[e])
 
 
 # ---------------------------------------------------------------------------------- class
@@ -376,8 +115,8 @@ class DepthOrder:
     __hash__ = None  # mutable (put_in_front)
 
     def __init__(self, n_faces: int, arcs: Any = None, *, m: Any = None):
-        self._n = _as_n_faces(n_faces)
-        self._arcs = _canonical_arcs(arcs, self._n)
+        self._n = as_count(n_faces, "n_faces")
+        self._arcs = canonical_arcs(arcs, self._n)
         self._arcs.flags.writeable = False
         if m is not None:
             F, _ = _screen(m)
@@ -568,21 +307,15 @@ class DepthOrder:
         pairs, cen, vi, vj = pairs[keep], cen[keep], vi[keep], vj[keep]
         i, j = pairs[:, 0], pairs[:, 1]
         local = _depth_at(cen, T[j], Zl[j]) - _depth_at(cen, T[i], Zl[i])
-        signed = _SignedEdges(edges, zeta, nv)
-
-        # One spanning forest (a shortest-path tree per component): exact when zeta is exact.
+        # One spanning forest (a tree per component): exact when zeta is exact.
         roots = np.unique(comp, return_index=True)[1]
-        _, pred, _ = csgraph.dijkstra(G, indices=roots, min_only=True, return_predecessors=True)
-        step = np.zeros(nv)
-        has = pred >= 0
-        step[has] = signed(pred[has], np.flatnonzero(has))
-        phi = _integrate_forest(pred, step)
+        phi = integrate_one_form(edges, zeta, nv, spanning_forest(G, roots))
         resid = zeta - (phi[edges[:, 1]] - phi[edges[:, 0]])
         scale = max(model_scale(xy), float(np.abs(phi).max()))
         if np.abs(resid).max() <= _EXACT_RTOL * scale and not _force_paths:
             dz = phi[vj] - phi[vi] + local
         else:
-            dz = local + _path_depths(m, G, signed, F, T, pairs, vi, vj, radius)
+            dz = local + _path_depths(m, G, F, T, pairs, vi, vj, radius)
         return cls(n, _arcs_from_depths(pairs, dz, tol), m=m)
 
     # ------------------------------------------------------------------ editing
@@ -646,7 +379,7 @@ class DepthOrder:
         i, j = pairs[:, 0], pairs[:, 1]
         new = np.concatenate((pairs[is_b[i] & is_f[j]], pairs[is_f[i] & is_b[j]][:, ::-1]))
         old = self._arcs[~(is_f[self._arcs[:, 0]] & is_b[self._arcs[:, 1]])]
-        self._arcs = _canonical_arcs(np.concatenate((old, new)), self._n)
+        self._arcs = canonical_arcs(np.concatenate((old, new)), self._n)
         self._arcs.flags.writeable = False
         self._graph = None
         return self
@@ -694,15 +427,15 @@ class DepthOrder:
 
         def parents_ordered(a: np.ndarray, b: np.ndarray) -> np.ndarray:
             pa, pb = parent[a], parent[b]
-            return _in_sorted(keys, pa * n + pb) | _in_sorted(keys, pb * n + pa)
+            return in_sorted(keys, pa * n + pb) | in_sorted(keys, pb * n + pa)
 
         related = np.isin(parent, self._arcs)  # only children of faces with arcs can get one
         pairs, _ = overlapping_pairs(
             T, _tol(tol, T), faces=np.flatnonzero(related), pair_filter=parents_ordered
         )
         pa, pb = parent[pairs[:, 0]], parent[pairs[:, 1]]
-        fwd = _in_sorted(keys, pa * n + pb)
-        bwd = _in_sorted(keys, pb * n + pa)
+        fwd = in_sorted(keys, pa * n + pb)
+        bwd = in_sorted(keys, pb * n + pa)
         arcs = np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
         return DepthOrder(nc, arcs, m=m_child)
 
@@ -726,13 +459,13 @@ class DepthOrder:
             next); empty for an acyclic order.
         """
         out = []
-        for comp in _strong_components(self._n, self._arcs):
-            sub = _sub_arcs(self._arcs, comp, self._n)
-            out.append(comp[_shortest_cycle_through(comp.size, sub)].tolist())
+        for comp in strong_components(self._n, self._arcs):
+            sub = subgraph_arcs(self._arcs, comp, self._n)
+            out.append(comp[shortest_cycle_through(comp.size, sub)].tolist())
         if out and warn:
             warnings.warn(
                 f"depth order has {len(out)} cycle(s) of faces, each face behind the next: "
-                f"{_format_cycles(out)}; linear_extension() breaks the fewest arcs it can",
+                f"{format_cycles(out)}; linear_extension() breaks the fewest arcs it can",
                 MescherWarning,
                 stacklevel=2,
             )
@@ -744,10 +477,10 @@ class DepthOrder:
         Found by the Eades-Lin-Smyth greedy heuristic in each strongly connected component,
         then made minimal (no arc of the set can be restored without closing a cycle).
         """
-        order, complete = _kahn(self._n, self._arcs)
+        order, complete = topological_sort(self._n, self._arcs)
         if complete:
             return np.zeros((0, 2), dtype=np.int64)
-        return _feedback_arcs(self._n, self._arcs)
+        return feedback_arc_set(self._n, self._arcs)
 
     def linear_extension(self, *, warn: bool = True) -> np.ndarray:
         """A back-to-front drawing order of all faces.
@@ -762,14 +495,14 @@ class DepthOrder:
         (#F,) int64
             A permutation of ``0 .. n_faces-1``; draw ``faces[order]`` in sequence.
         """
-        order, complete = _kahn(self._n, self._arcs)
+        order, complete = topological_sort(self._n, self._arcs)
         if complete:
             return order
-        fas = _feedback_arcs(self._n, self._arcs)
+        fas = feedback_arc_set(self._n, self._arcs)
         keys = self._arcs[:, 0] * np.int64(self._n) + self._arcs[:, 1]
         drop = np.isin(keys, fas[:, 0] * np.int64(self._n) + fas[:, 1])
-        order, complete = _kahn(self._n, self._arcs[~drop])
-        if not complete:  # cannot happen: _feedback_arcs leaves a DAG
+        order, complete = topological_sort(self._n, self._arcs[~drop])
+        if not complete:  # cannot happen: feedback_arc_set leaves a DAG
             raise RuntimeError("internal error: the depth order is still cyclic after breaking")
         if warn:
             shown = ", ".join(f"{a}->{b}" for a, b in fas[:10].tolist())
@@ -783,16 +516,9 @@ class DepthOrder:
         return order
 
 
-def _in_sorted(sorted_keys: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """``np.isin(q, sorted_keys)`` by binary search (``sorted_keys`` sorted, non-empty)."""
-    pos = np.minimum(np.searchsorted(sorted_keys, q), sorted_keys.size - 1)
-    return sorted_keys[pos] == q
-
-
 def _path_depths(
     m: Any,
     G: sp.csr_matrix,
-    signed: _SignedEdges,
     F: np.ndarray,
     T: np.ndarray,
     pairs: np.ndarray,
@@ -809,6 +535,7 @@ def _path_depths(
     (:func:`_patch_seeds`).
     """
     nv = G.shape[0]
+    edges, zeta = np.asarray(m.edges), np.asarray(m.zeta)
     sources = np.unique(vi)
     if radius is None and sources.size * nv <= _EXACT_PATH_WORK:
         # few enough sources: one Dijkstra tree per source vertex, i.e. exact shortest paths
@@ -824,8 +551,9 @@ def _path_depths(
         step = np.zeros(pred.shape)
         has = pred >= 0
         cols = np.broadcast_to(np.arange(nv), pred.shape)
-        step[has] = signed(pred[has], cols[has])
-        phi = _integrate_forest(pred, step)
+        e, sign = edge_lookup(edges, nv, pred[has], cols[has])
+        step[has] = sign * zeta[e]
+        phi = integrate_on_tree(pred, step)
         sel = np.flatnonzero((seed_of_pair >= s0) & (seed_of_pair < s0 + sl.size))
         row = seed_of_pair[sel] - s0
         out[sel] = phi[row, vj[sel]] - phi[row, vi[sel]]
