@@ -112,6 +112,14 @@ class ExactPartSolver:
         self.labels, self.ncomp = labels, ncomp
         self._solve = _pinned_factor(self.K, first)
 
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """``x`` with ``K x = b`` and ``x = 0`` at the pinned vertices (first of each component).
+
+        ``b`` (#V,) or (#V, k) must be consistent (zero sum on each component), as a divergence
+        is; the heat method's Poisson step reuses this factorization.
+        """
+        return self._solve(np.asarray(b, dtype=np.float64))
+
     def potential(self, a: np.ndarray, weights: np.ndarray | None = None) -> np.ndarray:
         """``z`` minimising ``|| d01 z - a ||_star1``, zero (weighted) mean per component."""
         rhs = self.d01.T @ (self.star1[:, None] * a if a.ndim == 2 else self.star1 * a)

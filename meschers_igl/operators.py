@@ -17,11 +17,34 @@ import numpy as np
 import scipy.sparse as sp
 
 from .errors import MescherError
+from .intrinsic import MOLLIFY_FACTOR, double_areas, half_cotangents, layout, mollify
 from .validate import as_direction
 
-#: Sharp & Crane 2020 ("A Laplacian for nonmanifold triangle meshes") mollification factor,
-#: relative to the mean edge length; the same default as their robust-laplacian.
-MOLLIFY_FACTOR = 1e-5
+__all__ = [
+    "MASS_TYPES",
+    "MOLLIFY_FACTOR",
+    "corner_depths",
+    "cotmatrix",
+    "double_areas_from_lengths",
+    "edge_lengths",
+    "face_cross",
+    "face_normals",
+    "grad",
+    "grad_intrinsic",
+    "grad_mollified",
+    "half_cotangents",
+    "intrinsic_operators",
+    "local_corners",
+    "massmatrix",
+    "mollify",
+    "star1_from_half_cot",
+    "vertex_normals",
+    "view_frame",
+]
+
+#: the triangle-from-lengths geometry lives in :mod:`meschers_igl.intrinsic`; this name is kept
+#: for the callers that read areas through the operators module
+double_areas_from_lengths = double_areas
 
 
 def view_frame(view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0)) -> np.ndarray:
@@ -76,45 +99,6 @@ def edge_lengths(xy: np.ndarray, edges: np.ndarray, zeta: np.ndarray) -> np.ndar
     """(#E,) lengths ``sqrt(dx^2 + dy^2 + zeta^2)``."""
     d = xy[edges[:, 1]] - xy[edges[:, 0]]
     return np.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2 + zeta**2)
-
-
-def mollify(l_face: np.ndarray, factor: float = MOLLIFY_FACTOR) -> tuple[np.ndarray, float]:
-    """Intrinsic mollification (Sharp & Crane 2020, Sec. 4.5).
-
-    Adds the smallest ``eps >= 0`` to every edge length so that each triangle satisfies the
-    triangle inequality with margin ``delta = factor * mean length``.  ``eps`` is 0 on meshes
-    without near-degenerate triangles, so operators then equal libigl's exactly.
-
-    Returns the mollified (#F, 3) lengths and ``eps``.
-    """
-    delta = factor * float(l_face.mean()) if l_face.size else 0.0
-    a, b, c = l_face[:, 0], l_face[:, 1], l_face[:, 2]
-    slack = np.minimum(np.minimum(b + c - a, c + a - b), a + b - c)
-    eps = max(0.0, float(delta - slack.min())) if slack.size else 0.0
-    return (l_face + eps if eps > 0 else l_face), eps
-
-
-def double_areas_from_lengths(l_face: np.ndarray) -> np.ndarray:
-    """(#F,) twice the areas, Kahan's stable Heron formula (as ``igl::doublearea``)."""
-    s = np.sort(l_face, axis=1)[:, ::-1]  # a >= b >= c
-    a, b, c = s[:, 0], s[:, 1], s[:, 2]
-    arg = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))
-    return 0.5 * np.sqrt(np.maximum(arg, 0.0))
-
-
-def half_cotangents(l_face: np.ndarray, dbl_area: np.ndarray) -> np.ndarray:
-    """(#F, 3) ``cot(angle at corner i) / 2``, as libigl's ``cotmatrix_entries``.
-
-    ``cot_i = (l_j^2 + l_k^2 - l_i^2) / (4 A)``; faces of zero area get 0 (they carry no
-    Dirichlet energy), which only happens when mollification is switched off.
-    """
-    l2 = l_face**2
-    num = l2.sum(axis=1, keepdims=True) - 2.0 * l2  # l_j^2 + l_k^2 - l_i^2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        c = num / (4.0 * dbl_area[:, None])  # (1/2) * num / (2 * dblA) ... see below
-    # num / (2*dblA) = cot; we want cot/2 = num / (4*dblA)
-    c[~np.isfinite(c)] = 0.0
-    return c
 
 
 def star1_from_half_cot(hc: np.ndarray, face_edges: np.ndarray, n_edges: int) -> np.ndarray:
@@ -195,16 +179,10 @@ def grad_mollified(P: np.ndarray, l_face: np.ndarray, F: np.ndarray, n_vertices:
     collinear).  Then ``G^T A G = -cotmatrix`` holds exactly with the mollified areas ``A``, which
     the heat method's gradient / divergence / Poisson steps need to agree.
     """
-    l0, l1, l2 = l_face[:, 0], l_face[:, 1], l_face[:, 2]
-    # 2D layout: q0 = (0, 0), q1 = (l2, 0), q2 = (x, y)
-    # x from the law of cosines; y from Kahan's stable area (sqrt(l1^2 - x^2) cancels badly
-    # for the needles mollification is for)
-    dbl = double_areas_from_lengths(l_face)
-    x = (l2**2 + l1**2 - l0**2) / (2 * l2)
-    y = dbl / l2
-    q = np.zeros((F.shape[0], 3, 2))
-    q[:, 1, 0] = l2
-    q[:, 2, 0], q[:, 2, 1] = x, y
+    # 2D layout from the lengths (Kahan's area: sqrt(l1^2 - x^2) cancels badly for the needles
+    # mollification is for)
+    dbl = double_areas(l_face)
+    q = layout(l_face)
     e = q[:, [2, 0, 1]] - q[:, [1, 2, 0]]  # edge opposite each corner, counter-clockwise
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = np.where(dbl > 0, 1.0 / dbl, 0.0)
@@ -225,6 +203,46 @@ def grad_mollified(P: np.ndarray, l_face: np.ndarray, F: np.ndarray, n_vertices:
     t2 = t2 / n2[:, None]
     g = g2[..., :1] * t1[:, None, :] + g2[..., 1:] * t2[:, None, :]
     return _grad_csr(g, F, n_vertices)
+
+
+def grad_intrinsic(l_face: np.ndarray, F: np.ndarray, n_vertices: int) -> sp.csr_matrix:
+    """FEM gradient (#F*2, #V) of an intrinsic mesh, each face in its own 2D frame.
+
+    Face ``f`` is laid out by :func:`meschers_igl.intrinsic.layout` (corner 0 at the origin,
+    corner 1 on the x axis); rows are blocked x then y like ``igl.grad``.  The per-face frames
+    differ, which is harmless for the heat method (it uses ``|G u|`` and ``G^T A X`` with ``X``
+    in the same frames); ``G^T A G = -cotmatrix_intrinsic(l, F)`` holds exactly.  Equal to
+    ``igl.grad`` on the laid-out triangle soup gathered back to vertices, without the soup.
+    """
+    q = layout(l_face)
+    dbl = double_areas(l_face)
+    e = q[:, [2, 0, 1]] - q[:, [1, 2, 0]]  # edge opposite each corner, counter-clockwise
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(dbl > 0, 1.0 / dbl, 0.0)
+    g = np.stack([-e[..., 1], e[..., 0]], axis=0) * inv[None, :, None]  # rotate by +90 deg
+    nf = F.shape[0]
+    indices = np.tile(np.asarray(F, dtype=np.int64).reshape(-1), 2)
+    indptr = np.arange(0, 6 * nf + 1, 3, dtype=np.int64)
+    return sp.csr_matrix((g.reshape(-1), indices, indptr), shape=(2 * nf, n_vertices))
+
+
+def intrinsic_operators(
+    l_face: np.ndarray, F: np.ndarray, n_vertices: int
+) -> tuple[sp.csr_matrix, sp.csr_matrix, sp.csr_matrix, np.ndarray]:
+    """``L, M, G, area`` of the intrinsic mesh ``(l, F)`` with ``n_vertices`` vertices.
+
+    ``L = igl.cotmatrix_intrinsic`` (negative semi-definite), ``M = igl.massmatrix_intrinsic``
+    (Voronoi), ``G`` from :func:`grad_intrinsic` (#F*2 rows) and the Kahan face areas; all
+    sized ``n_vertices`` even when the last vertices are unused (libigl sizes by ``F.max()+1``).
+    """
+    F = np.ascontiguousarray(F, dtype=np.int64)
+    L = sp.csr_matrix(cotmatrix(l_face, F))
+    M = sp.csr_matrix(massmatrix(l_face, F))
+    if L.shape[0] < n_vertices:
+        L.resize((n_vertices, n_vertices))
+        M.resize((n_vertices, n_vertices))
+    area = 0.5 * double_areas(l_face)
+    return L, M, grad_intrinsic(l_face, F, n_vertices), area
 
 
 def face_normals(P: np.ndarray) -> np.ndarray:

@@ -14,14 +14,10 @@ import scipy.linalg
 
 from meschers_igl import Mescher, MescherError
 from meschers_igl.covering import covering_distance, covering_from_cut
-from meschers_igl.heat import (
-    HeatGeodesicSolver,
-    _intrinsic_operators,
-    _midpoint_refine,
-    geodesic_distance,
-    heat_diffuse,
-    shortest_path,
-)
+from meschers_igl.heat import HeatGeodesicSolver, geodesic_distance, heat_diffuse
+from meschers_igl.intrinsic import midpoint_refine
+from meschers_igl.operators import intrinsic_operators
+from meschers_igl.paths import shortest_path
 
 
 # ----------------------------------------------------------------------------------------------
@@ -160,7 +156,7 @@ def test_heat_diffuse_bad_input(kw, match):
 def test_intrinsic_operators_match_the_mescher_and_integrate():
     m = impossible_tube(24, 8)
     l = m.face_edge_lengths()
-    L, M, G, area = _intrinsic_operators(l, np.asarray(m.F), m.n_vertices)
+    L, M, G, area = intrinsic_operators(l, np.asarray(m.F), m.n_vertices)
     np.testing.assert_allclose(L.toarray(), m.cotmatrix().toarray(), atol=1e-12)
     np.testing.assert_allclose(M.diagonal(), m.massmatrix().diagonal(), atol=1e-14)
     np.testing.assert_allclose(area, m.face_areas(), rtol=1e-12)
@@ -176,13 +172,13 @@ def test_intrinsic_operators_match_the_mescher_and_integrate():
 def test_midpoint_refine_keeps_the_surface():
     m = impossible_tube(12, 6)
     l, F = m.face_edge_lengths(), np.asarray(m.F)
-    l1, F1, n1 = _midpoint_refine(l, F, m.n_vertices)
+    l1, F1, n1 = midpoint_refine(l, F, m.edges, m.face_edges, m.n_vertices)
     assert n1 == m.n_vertices + m.n_edges and F1.shape[0] == 4 * F.shape[0]
     assert np.array_equal(np.sort(np.unique(F1)), np.arange(n1))
     # total area kept, each child a quarter of its parent
-    _, _, _, a0 = _intrinsic_operators(l, F, m.n_vertices)
-    _, _, _, a1 = _intrinsic_operators(l1, F1, n1)
-    np.testing.assert_allclose(a1.reshape(4, -1), np.tile(a0 / 4, (4, 1)), rtol=1e-12)
+    _, _, _, a0 = intrinsic_operators(l, F, m.n_vertices)
+    _, _, _, a1 = intrinsic_operators(l1, F1, n1)
+    np.testing.assert_allclose(a1.reshape(-1, 4), np.repeat(a0[:, None] / 4, 4, 1), rtol=1e-12)
     # every edge gets the same length from both of its faces
     Ls = {}
     for f in range(F1.shape[0]):

@@ -1,0 +1,298 @@
+"""A triangle from its three edge lengths: layout, areas, angles, cotangents, refinement.
+
+This module is the one owner of intrinsic triangle geometry in ``meschers_igl`` (gpytoolbox's
+style: one small vectorized function per quantity).  A mescher has per-edge lengths although it
+has no global embedding (DESIGN "How operators are built"), so everything intrinsic -- the
+operators, the heat method, unfolding strips of faces for shortest paths -- is computed here
+from lengths alone.
+
+Conventions are libigl's: ``l`` is (#F, 3) with column ``i`` the length of the edge *opposite*
+corner ``i`` (edges [1,2], [2,0], [0,1]); a triangle's corners are counter-clockwise.
+
+Formulas (``A`` the area, ``l_i`` opposite corner ``i``, ``j = i+1``, ``k = i+2`` mod 3)::
+
+    2A          = sqrt((a+(b+c)) (c-(a-b)) (c+(a-b)) (a+(b-c))) / 2,  a >= b >= c   (Kahan)
+    cot(t_i)    = (l_j^2 + l_k^2 - l_i^2) / (4 A)
+    t_i         = atan2(4 A, l_j^2 + l_k^2 - l_i^2)
+    layout      : p_0 = (0, 0), p_1 = (l_2, 0), p_2 = ((l_1^2 + l_2^2 - l_0^2) / (2 l_2), 2A / l_2)
+
+Kahan's form of Heron's formula ("Miscalculating area and angles of a needle-like triangle",
+2014) keeps full relative accuracy on needles, where the textbook ``sqrt(s(s-a)(s-b)(s-c))``
+loses every digit; it is what ``igl::doublearea`` uses for lengths.
+"""
+
+from __future__ import annotations
+
+import igl
+import numpy as np
+
+from .errors import MescherError
+
+__all__ = [
+    "MOLLIFY_FACTOR",
+    "corner_angles",
+    "cotangents",
+    "double_areas",
+    "half_cotangents",
+    "hat_gradient_gram",
+    "intrinsic_delaunay",
+    "is_delaunay",
+    "layout",
+    "midpoint_refine",
+    "mollify",
+    "place_apex",
+]
+
+#: Sharp & Crane 2020 ("A Laplacian for nonmanifold triangle meshes") mollification factor,
+#: relative to the mean edge length; the same default as their robust-laplacian.
+MOLLIFY_FACTOR = 1e-5
+
+
+def _lengths(l) -> np.ndarray:
+    l = np.asarray(l, dtype=np.float64)
+    if l.ndim != 2 or l.shape[1] != 3:
+        raise MescherError(f"l: expected a (#F, 3) array of edge lengths, found shape {l.shape}")
+    return l
+
+
+def double_areas(l) -> np.ndarray:
+    """Twice the triangle areas from edge lengths (Kahan's stable Heron formula).
+
+    Parameters
+    ----------
+    l : (#F, 3) array_like
+        Edge lengths, column ``i`` opposite corner ``i``.
+
+    Returns
+    -------
+    dbl : (#F,) float64
+        ``2 A``; 0 for lengths that violate the triangle inequality (as ``igl.doublearea(l, 0)``).
+    """
+    l = _lengths(l)
+    s = -np.sort(-l, axis=1)  # a >= b >= c
+    a, b, c = s[:, 0], s[:, 1], s[:, 2]
+    arg = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))
+    return 0.5 * np.sqrt(np.maximum(arg, 0.0))
+
+
+def half_cotangents(l, dbl=None) -> np.ndarray:
+    """``cot(angle at corner i) / 2``: libigl's ``cotmatrix_entries`` from lengths.
+
+    ``cot t_i / 2 = (l_j^2 + l_k^2 - l_i^2) / (8 A)``.  Written out rather than calling
+    ``igl.cotmatrix_entries(l)`` because the areas are usually at hand already and libigl's call
+    recomputes them (1.3x slower at 1M faces); the two agree to round-off (tested).  Faces of
+    zero area get 0 (they carry no Dirichlet energy; only without mollification).
+
+    Parameters
+    ----------
+    l : (#F, 3) array_like
+    dbl : (#F,) array_like, optional
+        ``double_areas(l)`` if already computed.
+
+    Returns
+    -------
+    hc : (#F, 3) float64
+    """
+    l = _lengths(l)
+    dbl = double_areas(l) if dbl is None else np.asarray(dbl, dtype=np.float64)
+    l2 = l * l
+    num = l2.sum(axis=1, keepdims=True) - 2.0 * l2  # l_j^2 + l_k^2 - l_i^2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = num / (4.0 * dbl[:, None])
+    c[~np.isfinite(c)] = 0.0
+    return c
+
+
+def cotangents(l) -> np.ndarray:
+    """(#F, 3) ``cot`` of the angle at each corner (0 on zero-area faces)."""
+    return 2.0 * half_cotangents(l)
+
+
+def corner_angles(l) -> np.ndarray:
+    """(#F, 3) interior angle at each corner, in radians.
+
+    ``t_i = atan2(4 A, l_j^2 + l_k^2 - l_i^2)``: accurate for needles and caps alike (an
+    ``arccos`` of the law of cosines loses half the digits near 0 and pi).  The three angles sum
+    to pi up to round-off.
+    """
+    l = _lengths(l)
+    l2 = l * l
+    num = l2.sum(axis=1, keepdims=True) - 2.0 * l2
+    return np.arctan2(2.0 * double_areas(l)[:, None], num)
+
+
+def layout(l) -> np.ndarray:
+    """(#F, 3, 2) planar corners of each triangle from its lengths, counter-clockwise.
+
+    ``p_0`` at the origin, ``p_1 = (l_2, 0)`` on the +x axis, ``p_2`` above the axis with height
+    ``2A / l_2`` (Kahan's area; ``sqrt(l_1^2 - x^2)`` would cancel on needles).  Hand-written:
+    libigl's Python bindings have no intrinsic layout.
+    """
+    l = _lengths(l)
+    l0, l1, l2 = l[:, 0], l[:, 1], l[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x2 = np.where(l2 > 0, (l1 * l1 + l2 * l2 - l0 * l0) / (2.0 * l2), 0.0)
+        y2 = np.where(l2 > 0, double_areas(l) / l2, l1)
+    P = np.zeros((l.shape[0], 3, 2))
+    P[:, 1, 0] = l2
+    P[:, 2, 0] = x2
+    P[:, 2, 1] = y2
+    return P
+
+
+def place_apex(pa, pb, la, lb, side: float = 1.0) -> np.ndarray:
+    """The third corner ``c`` of a triangle on a given segment ``pa pb`` (unfolding).
+
+    Parameters
+    ----------
+    pa, pb : (..., 2) array_like
+        The two known corners in the plane.
+    la, lb : (...,) array_like
+        ``|c - pa|`` and ``|c - pb|``.
+    side : float or (...,) array_like, default: 1
+        +1: ``c`` to the left of ``pa -> pb`` (counter-clockwise ``pa, pb, c``), -1: right.
+
+    Returns
+    -------
+    c : (..., 2) float64
+        Along the segment by the law of cosines, off it by Kahan's area (stable for needles).
+    """
+    pa = np.asarray(pa, dtype=np.float64)
+    pb = np.asarray(pb, dtype=np.float64)
+    e = pb - pa
+    L = np.sqrt((e * e).sum(axis=-1))
+    la = np.asarray(la, dtype=np.float64)
+    lb = np.asarray(lb, dtype=np.float64)
+    dbl = double_areas(np.stack(np.broadcast_arrays(lb, la, L), axis=-1).reshape(-1, 3))
+    dbl = dbl.reshape(np.shape(L))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(L > 0, (la * la - lb * lb + L * L) / (2.0 * L * L), 0.0)
+        y = np.where(L > 0, dbl / (L * L), 0.0)
+    nrm = np.stack([-e[..., 1], e[..., 0]], axis=-1)
+    return pa + x[..., None] * e + (np.asarray(side, dtype=np.float64) * y)[..., None] * nrm
+
+
+def hat_gradient_gram(l) -> tuple[np.ndarray, np.ndarray]:
+    """Per-face Gram matrices of the hat-function gradients, and the face areas.
+
+    ``K[f, i, j] = grad(phi_i) . grad(phi_j)`` on face ``f``: ``-cot(t_k) / (2 A)`` off the
+    diagonal (``k`` the third corner) and minus the row sum on it.  ``A K`` is the face's block
+    of ``-cotmatrix``; ``-K @ u[F[f]]`` is the barycentric velocity of ``-grad u``.
+
+    Returns
+    -------
+    K : (#F, 3, 3) float64
+    area : (#F,) float64
+    """
+    l = _lengths(l)
+    dbl = double_areas(l)
+    area = 0.5 * dbl
+    hc = half_cotangents(l, dbl)  # cot / 2; w = -cot / (2A) below
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(area[:, None] > 0, -hc / np.where(area > 0, area, 1.0)[:, None], 0.0)
+    K = np.zeros((l.shape[0], 3, 3))
+    j, k = [1, 2, 0], [2, 0, 1]
+    K[:, j, k] = w
+    K[:, k, j] = w
+    K[:, [0, 1, 2], [0, 1, 2]] = -(K.sum(axis=2))
+    return K, area
+
+
+def mollify(l, factor: float = MOLLIFY_FACTOR) -> tuple[np.ndarray, float]:
+    """Intrinsic mollification (Sharp & Crane 2020, Sec. 4.5).
+
+    Adds the smallest ``eps >= 0`` to every edge length so that each triangle satisfies the
+    triangle inequality with margin ``delta = factor * mean length``.  ``eps`` is 0 on meshes
+    without near-degenerate triangles, so operators then equal libigl's exactly.
+
+    Returns
+    -------
+    l_mollified : (#F, 3) float64
+    eps : float
+    """
+    l = _lengths(l)
+    delta = factor * float(l.mean()) if l.size else 0.0
+    a, b, c = l[:, 0], l[:, 1], l[:, 2]
+    slack = np.minimum(np.minimum(b + c - a, c + a - b), a + b - c)
+    eps = max(0.0, float(delta - slack.min())) if slack.size else 0.0
+    return (l + eps if eps > 0 else l), eps
+
+
+def is_delaunay(l, F, tol: float = 1e-9) -> np.ndarray:
+    """(#F, 3) bool: is the edge opposite each corner locally (intrinsic) Delaunay?
+
+    An interior edge is Delaunay when its two opposite angles sum to at most pi, i.e. its
+    cotangent weight ``(cot a + cot b) / 2 >= -tol``; boundary edges are Delaunay.  The
+    tolerance lets the right angles of a grid's diagonals (weight exactly 0 up to round-off)
+    count as Delaunay, which ``igl.is_intrinsic_delaunay`` decides by round-off.
+    """
+    l = _lengths(l)
+    F = np.asarray(F, dtype=np.int64)
+    hc = half_cotangents(l)
+    # sum the half-cotangents of both sides of each undirected edge
+    a, b = F[:, [1, 2, 0]].reshape(-1), F[:, [2, 0, 1]].reshape(-1)
+    key = np.minimum(a, b) * np.int64(max(int(F.max(initial=0)) + 1, 1)) + np.maximum(a, b)
+    _, inv = np.unique(key, return_inverse=True)
+    w = np.bincount(inv, weights=hc.reshape(-1))
+    return (w[inv] >= -tol).reshape(-1, 3)
+
+
+def intrinsic_delaunay(l, F) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The intrinsic Delaunay triangulation of the surface ``(l, F)`` (``igl``'s edge flips).
+
+    Fisher et al. 2007 via ``igl.intrinsic_delaunay_triangulation``: same vertices, same
+    piecewise-flat surface, every edge Delaunay, so every cotangent weight is >= 0.
+
+    Returns
+    -------
+    l : (#F, 3) float64
+    F : (#F, 3) int64
+        May hold duplicate faces and non-manifold edges combinatorially (libigl's note); the
+        intrinsic geometry is well defined.
+    face_edges : (#F, 3) int64
+        Undirected edge opposite each corner (libigl's ``EMAP``), for boundary detection.
+    """
+    l = _lengths(l)
+    F = np.ascontiguousarray(F, dtype=np.int64)
+    lo, Fo, _E, _uE, emap, _ = igl.intrinsic_delaunay_triangulation(l, F)
+    nf = Fo.shape[0]
+    return lo, Fo, np.asarray(emap, dtype=np.int64).reshape(3, nf).T.copy()
+
+
+def midpoint_refine(
+    l, F, edges: np.ndarray, face_edges: np.ndarray, n_vertices: int
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """One 1-to-4 midpoint split of an intrinsic mesh; original vertices keep their indices.
+
+    The connectivity is :func:`meschers_igl.subdivision.refine_connectivity`'s (new vertex
+    ``n + e`` on edge ``e``).  Each child is its parent scaled by 1/2 (the middle one rotated by
+    pi), so child lengths are parent lengths / 2 in permuted columns: the piecewise-flat surface
+    is unchanged, only the triangulation is finer.
+
+    Parameters
+    ----------
+    l : (#F, 3) array_like
+    F : (#F, 3) int
+    edges : (#E, 2) int
+    face_edges : (#F, 3) int
+        Edge opposite each corner.
+    n_vertices : int
+
+    Returns
+    -------
+    l_child : (4 #F, 3) float64
+    F_child : (4 #F, 3) int64
+        Children of face ``f`` are ``4f .. 4f+3``.
+    n_child : int
+        ``n_vertices + #E``.
+    """
+    from .subdivision import refine_connectivity
+
+    l = 0.5 * _lengths(l)
+    step = refine_connectivity(np.asarray(F), np.asarray(edges), np.asarray(face_edges), n_vertices)
+    # child corner patterns (subdivision._CHILDREN): [a, m_c, m_b], [b, m_a, m_c],
+    # [m_c, m_a, m_b], [m_a, c, m_b]; the edge opposite each child corner is parallel to the
+    # parent edge listed here (column of l)
+    cols = np.array([[0, 1, 2], [1, 2, 0], [2, 0, 1], [1, 2, 0]])
+    lc = l[:, cols].reshape(-1, 3)
+    return lc, step.F, int(step.S_mid.shape[0])
