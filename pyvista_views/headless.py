@@ -1,33 +1,87 @@
-"""Headless rendering set-up: EGL when there is no display, and the plotter every view starts from.
+"""Headless rendering set-up: a display-free GL window when there is no display, and the
+plotter every view starts from.
 
-VTK first tries an X window and prints "bad X server connection" when there is none; asking for
-``vtkEGLRenderWindow`` up front avoids that (FACTS.md).  The variable must be set before the first
-render window exists, so it is set when this package is imported, only on Linux without a display,
-and only if the user has not chosen a window class already.
+On Linux, VTK's default window tries X first and prints ``vtkXOpenGLRenderWindow ... bad X server
+connection`` when no X server answers, before falling back (FACTS.md).  Asking for a display-free
+window up front avoids the warning: ``vtkEGLRenderWindow`` (EGL: a GPU, or Mesa's llvmpipe) when
+``libEGL`` can be loaded, else ``vtkOSOpenGLRenderWindow`` (OSMesa, software).  The choice goes in
+``VTK_DEFAULT_OPENGL_WINDOW``, which VTK reads whenever it makes a render window, so
+:func:`configure_headless` runs when this package is imported; it never overrides a value the
+user set, and it does nothing where an X server answers.  "No display" means that no X server
+answers at ``$DISPLAY`` (unset, or a stale ``:99`` left by a finished Xvfb), tried once per value
+with Xlib's ``XOpenDisplay``, which fails quietly.
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import functools
 import os
 import sys
 
 import pyvista as pv
 
-_EGL_VARIABLE = "VTK_DEFAULT_OPENGL_WINDOW"
+#: The environment variable VTK reads to choose its OpenGL window class.
+WINDOW_VARIABLE = "VTK_DEFAULT_OPENGL_WINDOW"
+#: Display-free window classes in order of preference, with the library each one needs.
+HEADLESS_WINDOWS = (("vtkEGLRenderWindow", "EGL"), ("vtkOSOpenGLRenderWindow", "OSMesa"))
+
+
+@functools.lru_cache(maxsize=8)
+def _x_server_answers(display: str) -> bool:
+    """Whether an X server accepts a connection at ``display`` (Xlib's ``XOpenDisplay``)."""
+    name = ctypes.util.find_library("X11")
+    if not display or name is None:
+        return False
+    try:
+        x11 = ctypes.CDLL(name)
+    except OSError:
+        return False
+    x11.XOpenDisplay.restype = ctypes.c_void_p
+    x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
+    x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    handle = x11.XOpenDisplay(display.encode())
+    if not handle:
+        return False
+    x11.XCloseDisplay(handle)
+    return True
 
 
 def has_display() -> bool:
-    """Whether an on-screen window can be opened (always true off Linux)."""
+    """Whether an on-screen window can be opened: always off Linux; on Linux, whether an X server
+    answers at ``$DISPLAY`` (VTK's on-screen windows there are X windows)."""
     if not sys.platform.startswith("linux"):
         return True
-    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+    return _x_server_answers(os.environ.get("DISPLAY", ""))
 
 
-def configure_headless() -> None:
-    """Ask VTK for an EGL window on a Linux machine without a display (user's choice kept)."""
-    if not has_display():
-        os.environ.setdefault(_EGL_VARIABLE, "vtkEGLRenderWindow")
+@functools.lru_cache(maxsize=1)
+def headless_window() -> str | None:
+    """The display-free VTK window class this machine can load (:data:`HEADLESS_WINDOWS`), or
+    ``None`` when it has neither libEGL nor libOSMesa (VTK then keeps its own fallback)."""
+    for window, library in HEADLESS_WINDOWS:
+        if ctypes.util.find_library(library) is not None:
+            return window
+    return None
+
+
+def configure_headless() -> str | None:
+    """Choose a display-free VTK window on a Linux machine without a display.
+
+    Sets ``VTK_DEFAULT_OPENGL_WINDOW`` to :func:`headless_window` unless the user set it or an X
+    server answers.
+
+    Returns
+    -------
+    str or None
+        The window class VTK will use by default (the user's, ours, or ``None``: VTK's own choice).
+    """
+    if WINDOW_VARIABLE not in os.environ and not has_display():
+        window = headless_window()
+        if window is not None:
+            os.environ[WINDOW_VARIABLE] = window
+    return os.environ.get(WINDOW_VARIABLE)
 
 
 def is_offscreen(off_screen: bool | None = None) -> bool:
