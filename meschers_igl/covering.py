@@ -20,13 +20,10 @@ from typing import Any
 
 import igl
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.csgraph as csgraph
-import scipy.sparse.linalg as sla
 
 from . import topology
 from .errors import MescherError
-from .validate import as_index_array
+from .validate import as_count, as_index_array
 
 __all__ = ["Covering", "covering_from_cut", "covering_distance"]
 
@@ -63,48 +60,9 @@ class Covering:
 
 
 def _tree_depths(m: Any) -> np.ndarray:
-    """(#V,) depths integrated from ``zeta`` along a breadth-first spanning tree (root at 0).
-
-    The tree equations ``z[child] - z[parent] = zeta(parent -> child)`` form a square system on
-    the non-root vertices (a tree incidence matrix, so no fill-in); one sparse solve.
-    """
-    n = int(m.n_vertices)
+    """(#V,) depths integrated from ``zeta`` along a breadth-first spanning forest (0 at roots)."""
     edges = np.asarray(m.edges)
-    zeta = np.asarray(m.zeta, dtype=np.float64)
-    ne = edges.shape[0]
-    # signed edge lookup: +(e+1) along the stored direction, -(e+1) against it
-    E = sp.csr_matrix(
-        (
-            np.r_[np.arange(ne) + 1.0, -(np.arange(ne) + 1.0)],
-            (np.r_[edges[:, 0], edges[:, 1]], np.r_[edges[:, 1], edges[:, 0]]),
-        ),
-        shape=(n, n),
-    )
-    ncomp, label = csgraph.connected_components(abs(E), directed=False)
-    roots = np.unique(label, return_index=True)[1]
-    parent = np.full(n, -9999, dtype=np.int64)
-    for r in roots:  # one breadth-first search per connected component
-        _, pred = csgraph.breadth_first_order(abs(E), int(r), directed=False)
-        parent = np.where(pred >= 0, pred, parent)
-    child = np.flatnonzero(parent >= 0)
-    par = parent[child]
-    code = np.asarray(E[par, child]).ravel()
-    e = np.abs(code).astype(np.int64) - 1
-    zc = np.sign(code) * zeta[e]
-    free = np.setdiff1d(np.arange(n), roots)
-    col = np.full(n, -1, dtype=np.int64)
-    col[free] = np.arange(free.size)
-    rows = np.arange(child.size)
-    # the row order is the child order; every free vertex is a child exactly once
-    T = sp.csr_matrix((np.ones(child.size), (rows, col[child])), shape=(child.size, free.size))
-    keep = col[par] >= 0
-    T = T - sp.csr_matrix(
-        (np.ones(int(keep.sum())), (rows[keep], col[par[keep]])), shape=(child.size, free.size)
-    )
-    z = np.zeros(n)
-    if free.size:
-        z[free] = sla.spsolve(T.tocsc(), zc)
-    return z
+    return topology.integrate_one_form(edges, np.asarray(m.zeta), int(m.n_vertices))
 
 
 def covering_from_cut(
@@ -132,8 +90,7 @@ def covering_from_cut(
         If ``K < 1`` or the depth mismatches across the cut are not integer multiples of one
         period (a mescher with two independent impossible loops needs a 2D lattice of sheets).
     """
-    if isinstance(K, bool) or not isinstance(K, (int, np.integer)) or K < 1:
-        raise MescherError(f"K: expected an integer >= 1, found {K!r}")
+    K = as_count(K, "K", minimum=1)
     F = np.asarray(m.F, dtype=np.int64)
     n = int(m.n_vertices)
     z = _tree_depths(m)

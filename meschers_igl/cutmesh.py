@@ -295,7 +295,7 @@ def glue_cut_mesh(
     merge: Any = None,
 ) -> dict:
     """Glue a cut model without building the mescher (the geometric half of
-    :func:`mescher_from_cut_mesh`).
+    :func:`cut_mesh_arrays`).
 
     Returns
     -------
@@ -368,63 +368,49 @@ def edge_depth_differences(
     return zeta, conflict
 
 
-def mescher_from_cut_mesh(
+@dataclass(frozen=True)
+class CutMeshArrays:
+    """A glued cut model as the arrays of a mescher (:meth:`Mescher.from_cut_mesh` builds it).
+
+    Attributes
+    ----------
+    F : (#F, 3) int64
+        Glued faces; face ``i`` is input face ``i``.
+    xy : (#Vm, 2) float64
+        Screen positions of the glued vertices.
+    edges : (#E, 2) int64
+        Canonical edges of ``F``.
+    zeta : (#E,) float64
+        Depth differences averaged over the faces of each edge; not yet projected onto
+        locally integrable forms.
+    vmap : (#V,) int64
+        Mescher vertex of each input vertex (-1 for vertices no face uses).
+    conflict : float
+        Largest disagreement of a face's depth difference from its edge's average.
+    """
+
+    F: np.ndarray
+    xy: np.ndarray
+    edges: np.ndarray
+    zeta: np.ndarray
+    vmap: np.ndarray
+    conflict: float
+
+
+def cut_mesh_arrays(
     V: Any,
     F: Any,
     view=(0.0, 0.0, 1.0),
     up=(0.0, 1.0, 0.0),
     tol: float | None = None,
     merge: Any = None,
-    return_map: bool = False,
-):
-    """The mescher of a cut 3D model seen from ``view``.
+) -> CutMeshArrays:
+    """The arrays of the mescher of a cut 3D model seen from ``view`` (see
+    :meth:`meschers_igl.Mescher.from_cut_mesh`, which projects ``zeta`` and builds it).
 
-    The model is projected orthographically (camera coordinates ``V @ R.T``, ``R`` from
-    :func:`meschers_igl.operators.view_frame`: screen x, screen y, depth toward the viewer).
-    Boundary loops whose projections coincide vertex by vertex are glued, preferring the
-    correspondence that is one translation along the view direction; vertices that coincide on
-    screen but are not on the boundary (front/back pairs) are never merged.  Each edge gets
-    ``zeta = depth(head) - depth(tail)`` measured inside its faces; where the two faces of a
-    glued edge disagree the values are averaged, and the result is projected onto locally
-    integrable forms (``Mescher(..., project=True)``).  Around a loop through a cut, zeta sums to
-    the cut's depth gap: the mescher's period.
-
-    Parameters
-    ----------
-    V : (#V, 3) array_like
-        Vertex positions of the cut model (world frame).
-    F : (#F, 3) array_like of int
-        Oriented triangles (all outward, or all inward).
-    view : (3,) array_like, default: (0, 0, 1)
-        Direction from the model toward the orthographic camera.
-    up : (3,) array_like, default: (0, 1, 0)
-        Screen up (re-orthogonalised against ``view``).
-    tol : float, optional
-        Gluing tolerance *relative to the bounding-box diagonal* of the model, for screen
-        coincidence and for the common depth translation (default 1e-5).
-    merge : (k, 2) array_like of int, optional
-        Explicit vertex pairs to glue instead of the automatic loop pairing; each pair must
-        coincide on screen within the tolerance.
-    return_map : bool, default: False
-        Also return ``vmap``.
-
-    Returns
-    -------
-    m : Mescher
-        Face ``i`` of ``m`` is face ``i`` of the input.
-    vmap : (#V,) int64
-        Only with ``return_map``: the mescher vertex of each input vertex (-1 for vertices no
-        face uses).
-
-    Raises
-    ------
-    MescherError
-        Bad arrays; ambiguous or partial loop coincidences (pass ``merge``); ``merge`` pairs that
-        do not coincide on screen; a gluing that makes the surface non-manifold or
-        non-orientable (the message names the input vertices).
+    Warns (:class:`MescherWarning`) when glued edges disagree on their depth difference by more
+    than 1e-3 of the model's size: the gluing was not a translation along the view.
     """
-    from .mescher import Mescher  # mescher.py wires this function as a classmethod
-
     g = glue_cut_mesh(V, F, view=view, up=up, tol=tol, merge=merge)
     F_in = as_faces(F, "F")
     depth = g["camera"][:, 2]
@@ -438,18 +424,18 @@ def mescher_from_cut_mesh(
             f"from_cut_mesh: glued edges disagree on their depth difference by up to "
             f"{conflict:.3g}; averaged and projected onto locally integrable forms",
             MescherWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
-    m = Mescher(g["F"], g["xy"], edges, zeta, project=True)
-    return (m, g["vmap"]) if return_map else m
+    return CutMeshArrays(g["F"], g["xy"], edges, zeta, g["vmap"], conflict)
 
 
 __all__ = [
+    "CutMeshArrays",
     "LoopPairing",
     "camera_coordinates",
     "check_gluing",
+    "cut_mesh_arrays",
     "edge_depth_differences",
     "glue_cut_mesh",
-    "mescher_from_cut_mesh",
     "pair_boundary_loops",
 ]

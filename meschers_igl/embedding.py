@@ -13,7 +13,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
-import scipy.sparse.linalg as sla
 
 from . import topology as topo
 from .errors import MescherError
@@ -68,36 +67,18 @@ def cut_embedding(m, cut_edges=None, tol: float | None = None):
     ib = np.argmax(F[b] == tail[:, None], axis=1)
     ja = np.argmax(F[a] == head[:, None], axis=1)
     jb = np.argmax(F[b] == head[:, None], axis=1)
-    # Spanning forest over faces through the uncut edges; offsets o (one per face) by one
-    # triangular solve in BFS order: o[child] - o[parent] = depth jump across the shared edge
-    # (a sequential recurrence done by sparse algebra instead of a Python loop).
+    # Spanning forest over faces through the uncut edges; offsets o (one per face) summed
+    # down the tree: o[child] - o[parent] = depth jump across the shared edge.
     A = sp.csr_matrix((np.arange(1, a.size + 1, dtype=float), (a, b)), shape=(nf, nf))
     A = (A + A.T).tocsr()
-    ncomp, labels = csgraph.connected_components(A, directed=False)
-    child_all, par_all, d_all, order_all = [], [], [], []
+    pred = topo.spanning_forest(A)
+    child = np.flatnonzero(pred >= 0)
+    par = pred[child]
+    eid = np.asarray(A[child, par]).ravel().astype(np.int64) - 1  # index into (a, b)
     za, zb = Z[a, ia], Z[b, ib]
-    for c in range(ncomp):  # components of the cut surface, not faces
-        root = int(np.flatnonzero(labels == c)[0])
-        order, pred = csgraph.breadth_first_order(A, root, directed=False)
-        order_all.append(order)
-        child, par = order[1:], pred[order[1:]]
-        eid = np.asarray(A[child, par]).ravel().astype(np.int64) - 1  # index into (a, b)
-        child_all.append(child)
-        par_all.append(par)
-        d_all.append(np.where(a[eid] == par, za[eid] - zb[eid], zb[eid] - za[eid]))
-    child = np.concatenate(child_all)
-    par = np.concatenate(par_all)
     delta = np.zeros(nf)
-    delta[child] = np.concatenate(d_all)
-    perm = np.concatenate(order_all)
-    pos = np.empty(nf, dtype=np.int64)
-    pos[perm] = np.arange(nf)
-    T = sp.csr_matrix(
-        (np.r_[np.ones(nf), -np.ones(child.size)], (np.r_[pos, pos[child]], np.r_[pos, pos[par]])),
-        shape=(nf, nf),
-    )
-    o = np.empty(nf)
-    o[perm] = sla.spsolve_triangular(T, delta[perm], lower=True)
+    delta[child] = np.where(a[eid] == par, za[eid] - zb[eid], zb[eid] - za[eid])
+    o = topo.integrate_on_tree(pred, delta)
     Zg = Z + o[:, None]
     # Glue back every uncut edge whose two sides agree at both endpoints.
     mismatch = np.maximum(np.abs(Zg[a, ia] - Zg[b, ib]), np.abs(Zg[a, ja] - Zg[b, jb]))

@@ -20,7 +20,9 @@ import scipy.sparse as sp
 
 from . import hodge as _hodge
 from . import operators as ops
+from . import subdivision as _sub
 from . import topology as topo
+from .cutmesh import cut_mesh_arrays
 from .errors import MescherError
 from .validate import as_choice, as_faces, as_float_array, as_int_array, as_points, as_vector
 
@@ -101,14 +103,20 @@ class Mescher:
         return m
 
     def _replace(self, xy=None, zeta=None) -> Mescher:
-        """Same connectivity and edge orientation, new (already validated) xy and/or zeta."""
-        return type(self)(
+        """Same connectivity and edge orientation, new (already validated) xy and/or zeta.
+
+        The homology generators are carried over, so ``periods()`` of the result are in this
+        mescher's basis (issue 13.2: smooth, with_xy, with_zeta, with_periods).
+        """
+        m = type(self)(
             self._F,
             self._xy if xy is None else xy,
             self._edges,
             self._zeta if zeta is None else zeta,
             _trusted=(self._face_edges, self._signs),
         )
+        m.__dict__["_generators"] = self._generators  # combinatorial: valid for the same F
+        return m
 
     @classmethod
     def from_corner_depths(cls, F, xy, Z) -> Mescher:
@@ -153,12 +161,46 @@ class Mescher:
         cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), tol=None, merge=None,
         return_map=False,
     ):  # fmt: skip
-        """A mescher from a "cut" 3D model (see :func:`meschers_igl.cutmesh.mescher_from_cut_mesh`)."""
-        from .cutmesh import mescher_from_cut_mesh
+        """The mescher of a cut 3D model seen from ``view`` (paper Sec. 3.5; :mod:`.cutmesh`).
 
-        return mescher_from_cut_mesh(
-            V, F, view=view, up=up, tol=tol, merge=merge, return_map=return_map
-        )
+        The model is projected orthographically (camera coordinates ``V @ R.T``, ``R`` from
+        :func:`meschers_igl.operators.view_frame`).  Boundary loops whose projections coincide
+        vertex by vertex are glued, preferring the correspondence that is one translation along
+        the view direction; vertices that coincide on screen but are not on the boundary
+        (front/back pairs) are never merged.  Each edge gets ``zeta = depth(head) - depth(tail)``
+        measured inside its faces; where the two faces of a glued edge disagree the values are
+        averaged (with a :class:`MescherWarning`), and the result is projected onto locally
+        integrable forms.  Around a loop through a cut, zeta sums to the cut's depth gap.
+
+        Parameters
+        ----------
+        V : (#V, 3) array_like
+            Vertex positions of the cut model (world frame).
+        F : (#F, 3) array_like of int
+            Oriented triangles (all outward, or all inward).
+        view, up : (3,) array_like
+            Direction from the model toward the camera; screen up.
+        tol : float, optional
+            Gluing tolerance relative to the bounding-box diagonal (default 1e-5).
+        merge : (k, 2) array_like of int, optional
+            Explicit vertex pairs to glue instead of the automatic loop pairing.
+        return_map : bool, default: False
+            Also return ``vmap`` (#V,): the mescher vertex of each input vertex (-1 if unused).
+
+        Returns
+        -------
+        Mescher (face ``i`` is input face ``i``), and ``vmap`` with ``return_map``.
+
+        Raises
+        ------
+        MescherError
+            Bad arrays; ambiguous or partial loop coincidences (pass ``merge``); ``merge`` pairs
+            that do not coincide on screen; a gluing that makes the surface non-manifold or
+            non-orientable (the message names the input vertices).
+        """
+        a = cut_mesh_arrays(V, F, view=view, up=up, tol=tol, merge=merge)
+        m = cls(a.F, a.xy, a.edges, a.zeta, project=True)
+        return (m, a.vmap) if return_map else m
 
     def with_xy(self, xy) -> Mescher:
         """Same topology and depths, new screen positions."""
@@ -459,7 +501,7 @@ class Mescher:
     # ------------------------------------------------------------------ processing
     def subdivide(
         self, levels: int = 1, scheme: str = "midpoint", order=None,
-        return_matrix: bool = False, return_face_parent: bool = False,
+        return_matrix: bool = False, return_face_parent: bool = False, force: bool = False,
     ):  # fmt: skip
         """1-to-4 subdivision, ``levels`` times (paper Sec. 4.2; :mod:`.subdivision`).
 
@@ -468,54 +510,38 @@ class Mescher:
         levels : int, default: 1
         scheme : {"midpoint", "loop"}
             ``"midpoint"``: xy midpoints, child zeta half the parallel parent edge's.
-            ``"loop"``: Loop-smoothed xy and exact part, midpoint-subdivided harmonic part.
-            Both keep local integrability and the periods; original vertices keep indices.
+            ``"loop"``: Loop subdivision of the covering (of the surface a person sees).
+            Both keep local integrability and the periods (in this mescher's homology basis);
+            original vertices keep their indices.
         order : DepthOrder, optional
             Carried to the children (``order.refine``) and returned.
         return_matrix : bool
             Also return the (#V_child, #V) 0-form subdivision matrix.
         return_face_parent : bool
             Also return the (#F_child,) parent face of each child face.
+        force : bool, default: False
+            Skip the memory check: by default a result that would not fit in memory
+            (``#F * 4**levels`` faces) is refused up front with a :class:`MescherError`.
 
         Returns
         -------
         Mescher, followed by the order, the matrix and the face parents when asked for.
         """
-        from . import subdivision as sub
-
-        scheme = as_choice(scheme, "scheme", ("midpoint", "loop"))
-        if not isinstance(levels, (int, np.integer)) or levels < 0:
-            raise MescherError(f"levels: expected an integer >= 0, found {levels!r}")
         m = self
         S_total = sp.identity(self.n_vertices, format="csr")
         parent_total = np.arange(self.n_faces)
-        for _ in range(int(levels)):
-            step = sub.refine_connectivity(m.F, m.edges, m.face_edges, m.n_vertices)
-            nvc = step.S_mid.shape[0]
-            if scheme == "midpoint":
-                S = step.S_mid
-                edges, fe, sg, zeta = sub.subdivide_one_form(
-                    np.asarray(m.zeta), m.face_edges, m.face_edge_signs, step.F, nvc
-                )
-            else:
-                S = sub.loop_matrix_on(m.F, m.edges, m.n_vertices)
-                h = m.hodge()
-                edges, fe, sg, omega = sub.subdivide_one_form(
-                    np.asarray(h.omega), m.face_edges, m.face_edge_signs, step.F, nvc
-                )
-                z = S @ np.asarray(h.z)
-                zeta = omega + (z[edges[:, 1]] - z[edges[:, 0]])
-            xy = np.ascontiguousarray(S @ np.asarray(m.xy))
-            child = type(self)(step.F, xy, edges, zeta, _trusted=(fe, sg))
-            # keep the parent's generators (refined) so periods() compare entry by entry
-            child.__dict__["_generators"] = sub.refine_loops(
-                m._generators, m.edges, edges, m.n_vertices
-            )
+        steps = _sub.subdivide_levels(
+            self._F, self._xy, self._edges, self._face_edges, self._signs, self._zeta,
+            self._generators, levels, scheme, force=force,
+        )  # fmt: skip
+        for lvl in steps:
+            m = type(self)(lvl.F, lvl.xy, lvl.edges, lvl.zeta, _trusted=(lvl.face_edges, lvl.signs))
+            m.__dict__["_generators"] = lvl.generators  # the parent's basis, refined
             if order is not None:
-                order = order.refine(step.face_parent, child)
-            S_total = (S @ S_total).tocsr()
-            parent_total = parent_total[step.face_parent]
-            m = child
+                order = order.refine(lvl.face_parent, m)
+            if return_matrix:
+                S_total = (lvl.S @ S_total).tocsr()
+            parent_total = parent_total[lvl.face_parent]
         out = [m]
         if order is not None:
             out.append(order)
@@ -559,12 +585,12 @@ class Mescher:
 
     def geodesic_distance(self, sources, **kwargs) -> np.ndarray:
         """(#V,) heat-method geodesic distance to the nearest source (one-off)."""
-        from .paths import geodesic_distance
+        from .heat import geodesic_distance
 
         return geodesic_distance(self, sources, **kwargs)
 
     def shortest_path(self, source: int, target: int, **kwargs):
         """A shortest polyline on the surface from ``source`` to ``target`` vertex."""
-        from .paths import shortest_path
+        from .heat import shortest_path
 
         return shortest_path(self, source, target, **kwargs)

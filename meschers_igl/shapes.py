@@ -8,7 +8,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 
-from .errors import MescherError
+from .validate import as_count, as_positive
 
 
 def _grid_faces(n_u: int, n_v: int, wrap_u: bool, wrap_v: bool) -> np.ndarray:
@@ -24,25 +24,53 @@ def _grid_faces(n_u: int, n_v: int, wrap_u: bool, wrap_v: bool) -> np.ndarray:
     ].astype(np.int64)
 
 
-def torus(n_u: int = 48, n_v: int = 16, R: float = 2.0, r: float = 1.0):
-    """Torus around the z axis: ``n_u`` segments around the hole, ``n_v`` around the tube."""
-    if n_u < 3 or n_v < 3:
-        raise MescherError(f"n_u, n_v: expected at least 3 each, found {n_u}, {n_v}")
+def torus(
+    n_u: int = 48, n_v: int = 16, R: float = 2.0, r: float = 1.0, seam: bool = False,
+    return_angles: bool = False,
+):  # fmt: skip
+    """Torus around the z axis: ``n_u`` segments around the hole, ``n_v`` around the tube.
+
+    The project's one torus generator (the gallery's bagel and inverse rendering use it).
+    Vertex ``i n_v + j`` sits at ``u = 2 pi i / n_u`` around the axis and ``v = 2 pi j / n_v``
+    around the tube: ``((R + r cos v) cos u, (R + r cos v) sin u, r sin v)``; faces
+    ``[a, b, c], [a, c, d]`` of each grid quad are outward (counter-clockwise from outside).
+
+    Parameters
+    ----------
+    n_u, n_v : int >= 3
+    R, r : float > 0
+        Radius of the centre circle and of the tube.
+    seam : bool, default: False
+        Cut open along the meridian ``u = 0``: the column ``u = 2 pi`` is a copy of ``u = 0``
+        (vertices ``n_u n_v`` onward), so the surface is an annulus; faces have the same
+        corners' positions either way.
+    return_angles : bool, default: False
+        Also return ``u`` (#V,), each vertex's angle around the axis (``2 pi`` on the seam).
+
+    Returns
+    -------
+    V : (n_u n_v, 3) float64 (``(n_u + 1) n_v`` with ``seam``)
+    F : (2 n_u n_v, 3) int64
+    u : (#V,) float64, only with ``return_angles``
+    """
+    n_u, n_v = as_count(n_u, "n_u", 3), as_count(n_v, "n_v", 3)
+    R, r = as_positive(R, "R"), as_positive(r, "r")
+    cols = n_u + 1 if seam else n_u
     u, v = np.meshgrid(
-        np.linspace(0, 2 * np.pi, n_u, endpoint=False),
-        np.linspace(0, 2 * np.pi, n_v, endpoint=False),
-        indexing="ij",
+        np.arange(cols) * (2 * np.pi / n_u), np.arange(n_v) * (2 * np.pi / n_v), indexing="ij"
     )
     V = np.c_[
         ((R + r * np.cos(v)) * np.cos(u)).ravel(),
         ((R + r * np.cos(v)) * np.sin(u)).ravel(),
         (r * np.sin(v)).ravel(),
     ]
-    return V, _grid_faces(n_u, n_v, True, True)
+    F = _grid_faces(cols, n_v, not seam, True)
+    return (V, F, u.ravel()) if return_angles else (V, F)
 
 
 def grid(n_x: int = 10, n_y: int = 10, size: float = 1.0):
     """A flat square ``[0, size]^2`` in the z = 0 plane, triangulated (a disc: one boundary)."""
+    n_x, n_y = as_count(n_x, "n_x", 2), as_count(n_y, "n_y", 2)
     x, y = np.meshgrid(np.linspace(0, size, n_x), np.linspace(0, size, n_y), indexing="ij")
     V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
     return V, _grid_faces(n_x, n_y, False, False)
@@ -50,6 +78,7 @@ def grid(n_x: int = 10, n_y: int = 10, size: float = 1.0):
 
 def annulus(n_u: int = 32, n_r: int = 4, r0: float = 1.0, r1: float = 2.0):
     """A flat ring in the z = 0 plane (two boundary loops)."""
+    n_u, n_r = as_count(n_u, "n_u", 3), as_count(n_r, "n_r", 2)
     u, s = np.meshgrid(
         np.linspace(0, 2 * np.pi, n_u, endpoint=False), np.linspace(r0, r1, n_r), indexing="ij"
     )
@@ -60,6 +89,7 @@ def annulus(n_u: int = 32, n_r: int = 4, r0: float = 1.0, r1: float = 2.0):
 
 def icosphere(level: int = 2, radius: float = 1.0):
     """Sphere by ``level`` midpoint subdivisions (``igl.upsample``) of an icosahedron."""
+    level = as_count(level, "level", 0, 9)  # level 9: 5.2M faces
     t = (1 + 5**0.5) / 2
     V = np.array(
         [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],

@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .solvers import factorize_spd
-from .validate import as_positive
+from .validate import as_count, as_positive
 
 
 def heat_operator(m, t: float):
@@ -51,7 +51,8 @@ def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
     """
     t_xy = as_positive(t_xy, "t_xy", allow_zero=True)
     t_zeta = as_positive(t_zeta, "t_zeta", allow_zero=True)
-    for _ in range(int(iterations)):
+    iterations = as_count(iterations, "iterations")
+    for _ in range(iterations):
         if t_xy == 0 and t_zeta == 0:
             return m
         xy, zeta = np.asarray(m.xy), np.asarray(m.zeta)

@@ -27,10 +27,129 @@ def half_edges(F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return F[:, _NEXT], F[:, _PREV]
 
 
-def _undirected_keys(tail: np.ndarray, head: np.ndarray, n: int) -> np.ndarray:
+def undirected_keys(tail: np.ndarray, head: np.ndarray, n: int) -> np.ndarray:
+    """int64 key ``min * n + max`` of each vertex pair, the same for both directions."""
     lo = np.minimum(tail, head)
     hi = np.maximum(tail, head)
     return lo * np.int64(n) + hi
+
+
+_undirected_keys = undirected_keys  # the name this module's functions use
+
+
+def edge_lookup(
+    edges: np.ndarray, n_vertices: int, tail: np.ndarray, head: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Edge index and direction of each vertex pair ``tail -> head``.
+
+    Parameters
+    ----------
+    edges : (#E, 2) int64
+        Any order and orientation.
+    n_vertices : int
+    tail, head : (k,) int64
+
+    Returns
+    -------
+    e : (k,) int64
+        Index of the edge joining ``tail`` and ``head``, ``-1`` where there is none.
+    sign : (k,) float64
+        ``+1`` where ``edges[e]`` is stored as ``(tail, head)``, ``-1`` where reversed, so a
+        1-form integrates from ``tail`` to ``head`` as ``sign * a[e]``.
+    """
+    key = undirected_keys(edges[:, 0], edges[:, 1], n_vertices)
+    sorter = np.argsort(key)
+    q = undirected_keys(np.asarray(tail), np.asarray(head), n_vertices)
+    if key.size == 0:
+        return np.full(q.shape, -1, dtype=np.int64), np.ones(q.shape)
+    pos = np.minimum(np.searchsorted(key, q, sorter=sorter), key.size - 1)
+    e = sorter[pos].astype(np.int64)
+    e = np.where(key[e] == q, e, -1)
+    sign = np.where(edges[np.maximum(e, 0), 0] == tail, 1.0, -1.0)
+    return e, sign
+
+
+def spanning_forest(A: sp.spmatrix, roots: np.ndarray | None = None) -> np.ndarray:
+    """(#V,) breadth-first spanning forest of a graph as a predecessor array.
+
+    One tree per connected component, rooted at its smallest vertex unless ``roots`` (one per
+    component) are given; ``pred[root] < 0``.  One ``csgraph.dijkstra`` call (unit weights,
+    ``min_only``) for all components.
+    """
+    A = sp.csr_matrix(A)
+    if roots is None:
+        _, label = csgraph.connected_components(A, directed=False)
+        roots = np.unique(label, return_index=True)[1]
+    _, pred, _ = csgraph.dijkstra(
+        A, directed=False, indices=np.asarray(roots), unweighted=True, min_only=True,
+        return_predecessors=True,
+    )  # fmt: skip
+    return np.asarray(pred, dtype=np.int64)
+
+
+def integrate_on_tree(pred: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """Sum of ``step`` along each node's path to its root in a predecessor forest.
+
+    The one spanning-tree integrator of the package: depths from ``zeta`` on a vertex tree
+    (:mod:`.covering`), per-face offsets on a dual tree (:mod:`.embedding`), depth orders.
+
+    Parameters
+    ----------
+    pred : (..., n) int
+        ``pred[..., v]`` the parent of ``v``, negative at roots (scipy's ``-9999``).
+        Leading dimensions are independent forests (e.g. one per source).
+    step : (..., n) float
+        Value carried by the arc ``pred[v] -> v`` (ignored at roots).
+
+    Returns
+    -------
+    (..., n) float64
+        ``phi[v] = phi[pred[v]] + step[v]``, ``phi[root] = 0``.
+
+    Notes
+    -----
+    Pointer jumping: after ``r`` rounds each node holds the sum over its next ``2**r``
+    ancestors, so ``O(log depth)`` vectorised passes replace a sequential walk down the tree.
+    """
+    pred = np.asarray(pred)
+    p = np.where(pred < 0, np.arange(pred.shape[-1]), pred).astype(np.int64)
+    acc = np.where(pred < 0, 0.0, np.asarray(step, dtype=np.float64))
+    while True:
+        pp = np.take_along_axis(p, p, axis=-1)
+        if np.array_equal(pp, p):
+            return acc
+        acc = acc + np.take_along_axis(acc, p, axis=-1)
+        p = pp
+
+
+def integrate_one_form(
+    edges: np.ndarray, a: np.ndarray, n_vertices: int, pred: np.ndarray | None = None
+) -> np.ndarray:
+    """(#V,) potential ``phi`` with ``phi[head] - phi[tail] = a[e]`` along a spanning forest.
+
+    Exact on every edge when ``a`` is exact; otherwise the tree edges hold and the others
+    carry the mismatch (the harmonic part's periods on the cotree edges).
+
+    Parameters
+    ----------
+    edges : (#E, 2) int64
+    a : (#E,) float64 1-form
+    n_vertices : int
+    pred : (#V,) int, optional
+        The forest (default :func:`spanning_forest` of the edge graph); ``phi`` is 0 at roots.
+    """
+    if pred is None:
+        A = sp.csr_matrix(
+            (np.ones(edges.shape[0]), (edges[:, 0], edges[:, 1])), shape=(n_vertices, n_vertices)
+        )
+        pred = spanning_forest(A + A.T)
+    child = np.flatnonzero(pred >= 0)
+    e, sign = edge_lookup(edges, n_vertices, pred[child], child)
+    if np.any(e < 0):
+        raise MescherError("pred: expected a forest of the mesh's edges, found a non-edge arc")
+    step = np.zeros(n_vertices)
+    step[child] = sign * np.asarray(a, dtype=np.float64)[e]
+    return integrate_on_tree(pred, step)
 
 
 def edge_topology(

@@ -59,9 +59,9 @@ class GalleryModel:
     def _built(self) -> tuple[Any, np.ndarray]:
         if self.builder is not None:
             return self.builder()
-        from ..cutmesh import mescher_from_cut_mesh
+        from ..mescher import Mescher
 
-        return mescher_from_cut_mesh(self.V, self.F, view=self.view, up=self.up, return_map=True)
+        return Mescher.from_cut_mesh(self.V, self.F, view=self.view, up=self.up, return_map=True)
 
     @property
     def mescher(self):

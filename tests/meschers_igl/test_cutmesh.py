@@ -119,10 +119,18 @@ def test_non_translation_gluing_is_averaged_projected_and_reported():
 
 
 def test_untilted_tube_does_not_warn():
-    V, F = tube(3.0)
+    """A gluing by a pure translation needs no averaging: no warning, and zeta is the model's
+    own depth differences, untouched by the projection (the climb is exactly the gap)."""
+    V, F = tube(5.0, rings=5)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        Mescher.from_cut_mesh(V, F)
+        m, vmap = Mescher.from_cut_mesh(V, F, return_map=True)
+    # every face's own depth differences survive exactly (no averaging, no projection change)
+    Z = V[:, 2][F]
+    zh = Z[:, [2, 0, 1]] - Z[:, [1, 2, 0]]  # half-edge opposite corner i runs i+1 -> i+2
+    np.testing.assert_allclose(m.face_edge_signs * m.zeta[m.face_edges], zh, atol=1e-12)
+    assert np.abs(m.periods()).max() == pytest.approx(5.0, rel=1e-12)
+    assert m.n_vertices == 16 and m.euler_characteristic() == 0
 
 
 def test_bad_gluing_is_refused_by_name():
