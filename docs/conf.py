@@ -1,0 +1,101 @@
+"""Sphinx configuration for the meschers documentation.
+
+Build (warnings are errors)::
+
+    pip install -e ".[docs]"
+    sphinx-build -W -b html docs docs/_build/html
+
+``-D plot_gallery=0`` skips running the examples (the gallery pages then show code only);
+``tests/test_examples.py`` runs every example anyway.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import sys
+import types
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))  # document the working tree even when it is not installed
+
+# Headless rendering for the gallery: EGL when there is no display (pyvista_views does the
+# same on import; setting it here also covers VTK imported before pyvista_views).
+if not os.environ.get("DISPLAY"):
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+import meschers_igl  # noqa: E402
+
+# `python -m meschers` runs the command line when imported; autosummary's recursive scan imports
+# every module, so stand in a placeholder that autosummary skips (it skips mocked modules).
+_main = types.ModuleType("meschers.__main__")
+_main.__sphinx_mock__ = True
+sys.modules.setdefault("meschers.__main__", _main)
+
+project = "meschers"
+author = "the meschers contributors"
+copyright = "2025-2026, the meschers contributors (MIT licence)"
+version = release = meschers_igl.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "numpydoc",
+    "sphinx_gallery.gen_gallery",
+]
+
+templates_path = ["_templates"]
+exclude_patterns = [
+    "_build",
+    "CORE_CONTRACT.md",
+    "auto_examples/*.ipynb",
+    "auto_examples/*.py",
+    "auto_examples/*.zip",
+    "auto_examples/*.md5",
+    "**.codeobj.json",
+]
+source_suffix = {".rst": "restructuredtext"}
+root_doc = "index"
+
+# --- API reference (autodoc + autosummary + numpydoc) ------------------------------------
+autosummary_generate = True
+autosummary_imported_members = False
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_typehints = "none"  # the numpy docstrings give types and shapes
+autodoc_member_order = "bysource"
+# PyTorch is an optional extra: document meschers_igl.inverse without it by mocking it.
+autodoc_mock_imports = [m for m in ("torch", "largesteps") if importlib.util.find_spec(m) is None]
+numpydoc_show_class_members = False
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+numpydoc_validation_checks: set[str] = set()
+nitpicky = False
+
+# --- the gallery (sphinx-gallery runs every script in examples/) --------------------------
+sphinx_gallery_conf = {
+    "examples_dirs": ["../examples"],
+    "gallery_dirs": ["auto_examples"],
+    "filename_pattern": r"/plot_",
+    "image_scrapers": ("matplotlib",),
+    "within_subsection_order": "FileNameSortKey",
+    "remove_config_comments": True,
+    "download_all_examples": False,
+    "show_memory": False,
+    "min_reported_time": 1,
+    "backreferences_dir": None,
+}
+
+# --- HTML: the PyData theme, as PyVista -------------------------------------------------
+html_theme = "pydata_sphinx_theme"
+html_title = f"meschers {release}"
+html_static_path = ["_static"]
+html_theme_options = {
+    "navbar_align": "left",
+    "show_toc_level": 2,
+    "navigation_with_keys": False,
+    "secondary_sidebar_items": ["page-toc", "sourcelink"],
+}
+html_show_sourcelink = True
