@@ -81,7 +81,7 @@ def choose_method(m: Any) -> str:
         return "standard"
     if float(intrinsic.corner_angles(l).min()) < np.radians(SLIVER_DEGREES):
         return "refined"
-    if not intrinsic.is_delaunay(l, m.F).all():
+    if not intrinsic.is_delaunay(l, m.F, face_edges=m.face_edges).all():
         return "robust"
     return "standard"
 
@@ -190,7 +190,7 @@ class HeatGeodesicSolver:
         self,
         m: Any,
         t: float | None = None,
-        method: str = "standard",
+        method: str = "auto",
         intrinsic_delaunay: bool | None = None,
         boundary: str = "average",
         refine: int | None = None,

@@ -218,22 +218,32 @@ def mollify(l, factor: float = MOLLIFY_FACTOR) -> tuple[np.ndarray, float]:
     return (l + eps if eps > 0 else l), eps
 
 
-def is_delaunay(l, F, tol: float = 1e-9) -> np.ndarray:
+def is_delaunay(l, F, tol: float = 1e-9, face_edges=None) -> np.ndarray:
     """(#F, 3) bool: is the edge opposite each corner locally (intrinsic) Delaunay?
 
     An interior edge is Delaunay when its two opposite angles sum to at most pi, i.e. its
     cotangent weight ``(cot a + cot b) / 2 >= -tol``; boundary edges are Delaunay.  The
     tolerance lets the right angles of a grid's diagonals (weight exactly 0 up to round-off)
     count as Delaunay, which ``igl.is_intrinsic_delaunay`` decides by round-off.
+
+    Parameters
+    ----------
+    l : (#F, 3) array_like
+    F : (#F, 3) int
+    tol : float, default: 1e-9
+    face_edges : (#F, 3) int, optional
+        Edge index opposite each corner (e.g. ``m.face_edges``); found from ``F`` if omitted.
     """
     l = _lengths(l)
-    F = np.asarray(F, dtype=np.int64)
     hc = half_cotangents(l)
-    # sum the half-cotangents of both sides of each undirected edge
-    a, b = F[:, [1, 2, 0]].reshape(-1), F[:, [2, 0, 1]].reshape(-1)
-    key = np.minimum(a, b) * np.int64(max(int(F.max(initial=0)) + 1, 1)) + np.maximum(a, b)
-    _, inv = np.unique(key, return_inverse=True)
-    w = np.bincount(inv, weights=hc.reshape(-1))
+    if face_edges is None:
+        F = np.asarray(F, dtype=np.int64)
+        a, b = F[:, [1, 2, 0]].reshape(-1), F[:, [2, 0, 1]].reshape(-1)
+        key = np.minimum(a, b) * np.int64(max(int(F.max(initial=0)) + 1, 1)) + np.maximum(a, b)
+        inv = np.unique(key, return_inverse=True)[1].reshape(-1)
+    else:
+        inv = np.asarray(face_edges, dtype=np.int64).reshape(-1)
+    w = np.bincount(inv, weights=hc.reshape(-1))  # sum over both sides of each edge
     return (w[inv] >= -tol).reshape(-1, 3)
 
 

@@ -91,6 +91,37 @@ def obtuse_sheet(nx=40, ny=40):
     return V, np.r_[np.c_[a, b, c], np.c_[a, c, d]].astype(np.int64)
 
 
+def sliver_box(size=(2.0, 1.0, 0.5), k=24, cluster=40, spacing=7e-5):
+    """A CAD-like box tessellated with fans of slivers (a closed mesh).
+
+    The three sides at corner 7 are fans from their opposite corner over points on the box
+    edges at 7 (``k - 1`` per edge); edge 6-7 also carries a tight cluster whose fan angles are
+    about ``spacing / 2`` rad (0.003 degrees).  The other three sides are two triangles each.
+    """
+    sx, sy, sz = size
+    C = np.array([[x, y, z] for z in (0, sz) for y in (0, sy) for x in (0, sx)], float)
+    ts = np.linspace(0, 1, k + 1)[1:-1]
+    tc = 0.5 + spacing * (np.arange(cluster) - cluster / 2)
+    pts, ids, nxt = [C], {}, 8
+    for i, j in ((5, 7), (6, 7), (3, 7)):
+        t = np.unique(np.r_[ts, tc]) if (i, j) == (6, 7) else ts
+        pts.append(C[i] + t[:, None] * (C[j] - C[i]))
+        ids[(i, j)] = np.arange(nxt, nxt + t.size)
+        ids[(j, i)] = ids[(i, j)][::-1]
+        nxt += t.size
+    V = np.concatenate(pts)
+    sides = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    F = []
+    for cyc in sides:  # six sides
+        s = (cyc.index(7) + 2) % 4 if 7 in cyc else 0
+        cyc = cyc[s:] + cyc[:s]
+        ring = []
+        for a, b in zip(cyc, cyc[1:] + cyc[:1]):
+            ring += [a, *ids.get((a, b), [])]
+        F += [(ring[0], p, q) for p, q in zip(ring[1:-1], ring[2:])]
+    return V, np.array(F, dtype=np.int64)
+
+
 def exact(V, F, s):
     return igl.exact_geodesic(V, F, VS=np.atleast_1d(s).astype(np.int64), VT=np.arange(len(V)))
 
@@ -248,7 +279,8 @@ def test_standard_equals_libigl_heat_method_on_an_ordinary_mesh():
 def test_impossible_torus_accuracy(itorus):
     """Issue 3 item 3: standard ~4-5% mean relative error; the accurate option <= 2%."""
     m, srcs, dex = itorus
-    std = np.mean([mean_rel(HeatGeodesicSolver(m).distance(s), d) for s, d in zip(srcs, dex)])
+    S0 = HeatGeodesicSolver(m, method="standard")
+    std = np.mean([mean_rel(S0.distance(s), d) for s, d in zip(srcs, dex)])
     S = HeatGeodesicSolver(m, method="accurate")
     acc = np.mean([mean_rel(S.distance(s), d) for s, d in zip(srcs, dex)])
     print(f"impossible torus 48x16: standard {std:.4f}, accurate {acc:.4f}")
@@ -267,7 +299,7 @@ def test_square_ring_accuracy():
     assert np.isclose(np.abs(m.periods()).max(), 2.2)
     for s in (0, 333):
         de = covering_distance(m, s)
-        std = mean_rel(HeatGeodesicSolver(m).distance(s), de)
+        std = mean_rel(HeatGeodesicSolver(m, method="standard").distance(s), de)
         acc = mean_rel(HeatGeodesicSolver(m, method="accurate").distance(s), de)
         print(f"square ring source {s}: standard {std:.4f}, accurate {acc:.4f}")
         assert std < 0.08 and acc < 0.025 and acc < std
@@ -276,7 +308,8 @@ def test_square_ring_accuracy():
 def test_intrinsic_delaunay_strictly_better_on_obtuse_meshes():
     V, F = obtuse_sheet()
     m = Mescher.from_mesh(V, F)
-    std, idt = HeatGeodesicSolver(m), HeatGeodesicSolver(m, intrinsic_delaunay=True)
+    std = HeatGeodesicSolver(m, method="standard")
+    idt = HeatGeodesicSolver(m, method="standard", intrinsic_delaunay=True)
     for s in (0, 820, 1599):
         de = exact(V, F, s)
         e_std, e_idt = mean_rel(std.distance(s), de), mean_rel(idt.distance(s), de)
@@ -448,3 +481,50 @@ def test_regression_tiny_heat_does_not_underflow_the_normalization():
     assert np.allclose(s.distance(0), d, rtol=1e-12, atol=1e-12)
     exact = np.arccos(np.clip(V @ V[0], -1, 1))
     assert np.mean(np.abs(d - exact)[1:] / exact[1:]) < 0.02
+
+
+# ----------------------------------------------------------------------------------------------
+# robust by default (issue 13 item 6)
+# ----------------------------------------------------------------------------------------------
+def _mean_error(dist, V, F, srcs):
+    return float(np.mean([mean_rel(dist(s), exact(V, F, s)) for s in srcs]))
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["sliver_box", "sliver_box_fine", "obtuse_sheet", "ordinary_torus"],
+)
+def test_default_heat_is_never_worse_than_potpourri3d(name):
+    """The default picks its triangulation per mesh; on CAD slivers the plain heat method was
+    19% off against exact distances where potpourri3d's (intrinsic Delaunay) was 15%."""
+    pp3d = pytest.importorskip("potpourri3d")
+    from meschers_igl.heat import choose_method
+
+    V, F = {
+        "sliver_box": sliver_box,
+        "sliver_box_fine": lambda: sliver_box(k=60, cluster=200),
+        "obtuse_sheet": obtuse_sheet,
+        "ordinary_torus": ordinary_torus,
+    }[name]()
+    m = Mescher.from_mesh(V, F)
+    srcs = [0, 7, 20, 60, 100]
+    ours = _mean_error(HeatGeodesicSolver(m).distance, V, F, srcs)
+    peer = _mean_error(pp3d.MeshHeatMethodDistanceSolver(V, F).compute_distance, V, F, srcs)
+    plain = _mean_error(HeatGeodesicSolver(m, method="standard").distance, V, F, srcs)
+    print(f"{name}: {choose_method(m)} {ours:.4f}  potpourri3d {peer:.4f}  standard {plain:.4f}")
+    # on a Delaunay mesh both run the same heat method; libigl's Voronoi mass matrix (ours, so
+    # that "standard" equals libigl) against geometry-central's barycentric one gives 0.3% more
+    # relative error there (0.0467 vs 0.0466 on the torus; barycentric here: 0.04659)
+    assert ours <= peer * 1.005
+    expected = {"sliver_box": "refined", "sliver_box_fine": "refined", "obtuse_sheet": "robust"}
+    assert choose_method(m) == expected.get(name, "standard")
+    if name.startswith("sliver"):
+        assert ours < 0.75 * peer  # a clear margin where slivers are
+
+
+def test_auto_is_standard_on_delaunay_meshes_and_equals_libigl():
+    V, F = ordinary_torus()
+    m = Mescher.from_mesh(V, F)
+    d_auto = HeatGeodesicSolver(m).distance(7)
+    d_std = HeatGeodesicSolver(m, method="standard").distance(7)
+    np.testing.assert_array_equal(d_auto, d_std)
