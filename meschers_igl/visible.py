@@ -1,0 +1,814 @@
+"""Any 3D model seen from a view: the surface the viewer sees, with its false edges glued.
+
+Real models of impossible figures are closed solids, separate blocks or reliefs, not cut models
+open along a seam.  What makes them look impossible from their view is a **false edge**: two
+3D edges of the model that project onto the same screen segment and are parallel in 3D (so they
+carry the same relative depth ``zeta``), but lie at different depths.  A person sees one edge --
+a crease or a flat continuation -- where there are two.  This module builds what the viewer
+sees, as arrays (the :class:`~meschers_igl.Mescher` is made from them by the caller, so there
+is no import circle with :mod:`meschers_igl.mescher`):
+
+1. **Clean-up**: vertices that coincide in 3D are welded (STL soups), degenerate faces dropped,
+   each connected part oriented outward by its signed volume (``igl.bfs_orient`` first).
+2. **Hidden-surface removal** from the orthographic view, exactly, by 2D polygon clipping:
+   faces facing the viewer (``n_z > 0``) that overlap on screen
+   (:func:`meschers_igl.geometry2d.overlapping_pairs`) are clipped by the faces in front of them
+   with ``shapely`` (every overlay on a fixed ``grid_size`` grid so coordinates stay exact and
+   shared); faces nobody overlaps are kept as they are (most faces of a large model).
+3. **Visible map**: the clipped pieces are triangulated (constrained Delaunay, ``triangle``,
+   no Steiner points), near-duplicate screen points merged, T-junctions split; each triangle's
+   corner depths come from its *source face's plane*, so normals are the model's own.
+4. **Gluing**: every screen edge shared by two triangles is either *continuous* (same depth on
+   both sides: glued), a *false edge* (depth jump, parallel in 3D -- equal zeta -- and both sides
+   end there on their own surface, i.e. the model's edge is a silhouette or boundary: glued
+   crosswise, the depth gap becomes a period), or a *true occlusion* (kept apart; the far face
+   gets a ``DepthOrder`` arc to the near one).
+5. **Amodal completion** of hidden gaps: two occluded pieces of the same plane orientation that
+   line up across an occluder (parallel chains, side lines parallel to their bar's edges, the
+   strip between them hidden behind nearer faces) are bridged by faces of the same normal behind
+   the occluder; their depth offset becomes a period.
+
+Returns plain arrays and a :class:`ConversionReport`.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import igl
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
+from scipy.spatial import cKDTree
+
+from .errors import MescherError, MescherWarning
+from .geometry2d import overlapping_pairs
+from .operators import view_frame
+from .validate import as_faces, as_points
+
+__all__ = [
+    "ConversionReport",
+    "Junction",
+    "VisibleModel",
+    "orient_outward",
+    "see_model",
+    "weld",
+]
+
+#: Relative tolerance (of the model's bounding-box diagonal) for screen coincidence and depth
+#: continuity: float32 coordinates are off by ~1e-7 of the size; gaps of 1e-5 are noise.
+REL_TOL = 1e-5
+#: Grid of every shapely overlay, relative to the model's size (exact shared coordinates).
+REL_GRID = 1e-9
+#: A face faces the viewer when its unit normal has n_z above this (edge-on faces are hidden).
+FRONT_NZ = 1e-6
+
+
+@dataclass(frozen=True)
+class Junction:
+    """A glued false edge (a connected chain of screen edges) or a bridged hidden gap.
+
+    Attributes
+    ----------
+    kind : str
+        ``"false edge"`` (visible junction) or ``"hidden gap"`` (amodal bridge).
+    position : (2,) float
+        Screen position (middle of the chain).
+    depth_gap : float
+        Depth of the far side minus the near side is ``-depth_gap``: the jump a loop through
+        the junction gains, i.e. (up to sign and multiplicity) the period it creates.
+    n_edges : int
+        Screen edges in the chain.
+    """
+
+    kind: str
+    position: np.ndarray
+    depth_gap: float
+    n_edges: int
+
+
+@dataclass
+class ConversionReport:
+    """What :func:`see_model` found and did.
+
+    Attributes
+    ----------
+    junctions : list of Junction
+    n_arcs : int
+        Depth-order arcs added (true occlusions and bridges behind their occluders).
+    repairs : list of str
+        Clean-up steps that changed the input (welds, flips, dropped faces).
+    warnings : list of str
+    snapped : (#F,) float or None
+        ``perceive="manhattan"`` only: angle (radians) each mescher face's normal was snapped.
+    view, up : (3,) float
+        The view used (``view="auto"`` reports the one it found).
+    source_face : (#F,) int64
+        Input face each mescher face comes from (-1 for bridge faces behind an occluder).
+    """
+
+    junctions: list = field(default_factory=list)
+    n_arcs: int = 0
+    repairs: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    snapped: np.ndarray | None = None
+    view: np.ndarray | None = None
+    up: np.ndarray | None = None
+    source_face: np.ndarray | None = None
+
+    def __str__(self) -> str:
+        lines = [f"view {np.round(self.view, 6).tolist()}, up {np.round(self.up, 6).tolist()}"]
+        for j in self.junctions:
+            lines.append(
+                f"{j.kind} at screen ({j.position[0]:.4g}, {j.position[1]:.4g}): depth gap "
+                f"{j.depth_gap:.6g} over {j.n_edges} edge(s)"
+            )
+        lines.append(f"{self.n_arcs} depth-order arc(s)")
+        if self.snapped is not None:
+            lines.append(
+                f"normals snapped to the perceived frame: max {np.degrees(self.snapped.max()):.3g}"
+                f" deg, mean {np.degrees(self.snapped.mean()):.3g} deg"
+            )
+        lines += [f"repair: {r}" for r in self.repairs]
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+@dataclass
+class VisibleModel:
+    """Arrays of the visible surface (build the mescher with ``Mescher.from_corner_depths``).
+
+    Attributes
+    ----------
+    F : (#F, 3) int64
+        Oriented triangles (counter-clockwise on screen).
+    xy : (#V, 2) float64
+    Z : (#F, 3) float64
+        Corner depths of each face, from its source face's plane (corner-wise, so faces on the
+        two sides of a false edge disagree by the depth gap; their zeta agrees).
+    arcs : (k, 2) int64
+        Depth-order arcs ``i -> j``: face ``i`` behind face ``j``.
+    report : ConversionReport
+    """
+
+    F: np.ndarray
+    xy: np.ndarray
+    Z: np.ndarray
+    arcs: np.ndarray
+    report: ConversionReport
+
+
+# ------------------------------------------------------------------------------ clean-up
+def weld(V: np.ndarray, F: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """Merge vertices closer than ``tol`` in 3D (STL soups) and drop faces that collapse.
+
+    Returns
+    -------
+    V : (#V', 3), F : (#F', 3), n_merged : int
+    """
+    pairs = cKDTree(V).query_pairs(tol, output_type="ndarray")
+    n = V.shape[0]
+    A = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    k, lab = csgraph.connected_components(A, directed=False)
+    cnt = np.bincount(lab, minlength=k)
+    Vw = np.stack([np.bincount(lab, weights=V[:, c], minlength=k) / cnt for c in range(3)], 1)
+    Fw = lab[F]
+    ok = (Fw[:, 0] != Fw[:, 1]) & (Fw[:, 1] != Fw[:, 2]) & (Fw[:, 2] != Fw[:, 0])
+    used = np.unique(Fw[ok])
+    new = np.full(k, -1, dtype=np.int64)
+    new[used] = np.arange(used.size)
+    return Vw[used], new[Fw[ok]], n - k
+
+
+def drop_contact_faces(F: np.ndarray) -> tuple[np.ndarray, int]:
+    """Remove faces whose vertex set appears more than once (two blocks touching face to face).
+
+    Returns
+    -------
+    F : (#F', 3) int64, n_pairs : int
+    """
+    key = np.sort(F, axis=1)
+    _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    dup = cnt[inv.reshape(-1)] > 1
+    return F[~dup], int(np.count_nonzero(dup)) // 2
+
+
+def orient_outward(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, int, int]:
+    """Consistent orientation per connected part, outward by the part's signed volume.
+
+    ``igl.bfs_orient`` makes each part coherent; a part whose signed volume
+    ``sum det(v0, v1, v2) / 6`` is negative is flipped.
+
+    Returns
+    -------
+    F : (#F, 3) int64
+    n_flipped_faces : int
+        Faces whose orientation changed.
+    n_parts : int
+    """
+    Fo, comp = igl.bfs_orient(F)
+    Fo = np.asarray(Fo, dtype=np.int64)
+    comp = np.asarray(comp).reshape(-1)
+    T = V[Fo]
+    vol6 = np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2]))
+    k = int(comp.max()) + 1
+    vol = np.bincount(comp, weights=vol6, minlength=k)
+    flip = vol[comp] < 0
+    Fo[flip] = Fo[flip][:, [0, 2, 1]]
+    changed = int(np.count_nonzero(np.any(Fo != F, axis=1)))
+    return Fo, changed, k
+
+
+# ------------------------------------------------------------------------------ planar map
+def _planes(C: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """(#F, 3) depth plane ``z = a x + b y + c`` of each (front-facing) face."""
+    T = C[F]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    a = -n[:, 0] / n[:, 2]
+    b = -n[:, 1] / n[:, 2]
+    c = T[:, 0, 2] - a * T[:, 0, 0] - b * T[:, 0, 1]
+    return np.stack([a, b, c], axis=1)
+
+
+def _plane_depth(P: np.ndarray, pl: np.ndarray) -> np.ndarray:
+    return pl[..., 0] * P[..., 0] + pl[..., 1] * P[..., 1] + pl[..., 2]
+
+
+def _clip_occluded(T: np.ndarray, pl: np.ndarray, tol: float, grid: float):
+    """Visible pieces of front faces: (pieces, involved) with pieces a list of (face, polygon).
+
+    Faces overlapping nothing are not touched (``involved`` False) and stay exact.
+    """
+    import shapely
+
+    pairs, cen = overlapping_pairs(T, tol, centroids=True)
+    involved = np.zeros(T.shape[0], dtype=bool)
+    if pairs.shape[0] == 0:
+        return [], involved
+    i, j = pairs[:, 0], pairs[:, 1]
+    dz = _plane_depth(cen, pl[j]) - _plane_depth(cen, pl[i])
+    # the farther face of each overlapping pair is clipped by the nearer one
+    back = np.where(dz > 0, i, j)
+    front = np.where(dz > 0, j, i)
+    keep = np.abs(dz) > tol  # faces crossing in 3D at the overlap: leave to the z-order of centroids
+    back, front = back[keep], front[keep]
+    involved[i] = involved[j] = True
+    polys = shapely.polygons(T)
+    polys = shapely.set_precision(polys, grid)
+    order = np.argsort(back, kind="stable")
+    back, front = back[order], front[order]
+    starts = np.flatnonzero(np.r_[True, back[1:] != back[:-1]])
+    ends = np.r_[starts[1:], back.size]
+    occluded = set(back[starts].tolist())
+    pieces = []
+    for s, e in zip(starts.tolist(), ends.tolist()):  # one shapely difference per occluded face
+        f = int(back[s])
+        occ = shapely.union_all(polys[front[s:e]], grid_size=grid)
+        vis = shapely.difference(polys[f], occ, grid_size=grid)
+        pieces.append((f, vis))
+    for f in np.flatnonzero(involved).tolist():
+        if f not in occluded:
+            pieces.append((f, polys[f]))
+    return pieces, involved
+
+
+def _triangulate_pieces(pieces, grid: float):
+    """Constrained triangulation of the visible pieces: (P (n,2), tris (m,3), source (m,))."""
+    import shapely
+    import triangle as tr
+
+    if not pieces:
+        return np.zeros((0, 2)), np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
+    geoms = np.array([g for _, g in pieces], dtype=object)
+    src = np.array([f for f, _ in pieces], dtype=np.int64)
+    parts, idx = shapely.get_parts(geoms, return_index=True)
+    polys_all = parts[shapely.get_type_id(parts) == 3]
+    keepmask = shapely.area(polys_all) > grid * grid * 4
+    polys = polys_all[keepmask]
+    pidx = idx[shapely.get_type_id(parts) == 3][keepmask]
+    if polys.size == 0:
+        return np.zeros((0, 2)), np.zeros((0, 3), np.int64), np.zeros(0, np.int64)
+    # node the boundaries on the grid (shapely splits crossing and overlapping segments), so
+    # the triangulator gets a clean planar straight-line graph
+    lines = shapely.union_all(shapely.boundary(polys), grid_size=grid)
+    segs = shapely.get_parts(lines)
+    coords, ridx = shapely.get_coordinates(segs, return_index=True)
+    same = ridx[1:] == ridx[:-1]
+    seg_pts = np.stack([coords[:-1][same], coords[1:][same]], axis=1)
+    P, inv = np.unique(np.round(seg_pts.reshape(-1, 2) / grid).astype(np.int64), axis=0,
+                       return_inverse=True)  # fmt: skip
+    P = P.astype(np.float64) * grid
+    S = inv.reshape(-1, 2)
+    S = S[S[:, 0] != S[:, 1]]
+    S = np.unique(np.sort(S, axis=1), axis=0)
+    out = tr.triangulate({"vertices": P, "segments": S}, "pQ")
+    Pt = out["vertices"]
+    Tt = np.asarray(out["triangles"], dtype=np.int64)
+    # which visible piece each triangle lies in (pieces have disjoint interiors)
+    cen = Pt[Tt].mean(axis=1)
+    tree = shapely.STRtree(polys)
+    qi, qp = tree.query(shapely.points(cen), predicate="within")
+    source = np.full(Tt.shape[0], -1, dtype=np.int64)
+    source[qi] = src[pidx[qp]]
+    keep = source >= 0
+    return Pt, Tt[keep], source[keep]
+
+
+def _merge_points(P: np.ndarray, tol: float) -> np.ndarray:
+    """(n,) label of each point after merging points closer than ``tol`` (first index wins)."""
+    n = P.shape[0]
+    pairs = cKDTree(P).query_pairs(tol, output_type="ndarray")
+    A = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, lab = csgraph.connected_components(A, directed=False)
+    return lab
+
+
+def _split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: float):
+    """Split faces whose edges pass through other vertices (T-junctions), as fans.
+
+    Only edges with a single incident face can carry a T-junction in a planar map; each pass
+    splits one such edge per face at all vertices lying on it, until none is left.
+    """
+    tree = cKDTree(xy)
+    for _ in range(64):  # each pass removes the T-junctions of one edge per face
+        he = np.stack([Ft[:, [1, 2]], Ft[:, [2, 0]], Ft[:, [0, 1]]], axis=1).reshape(-1, 2)
+        key = np.minimum(he[:, 0], he[:, 1]) * xy.shape[0] + np.maximum(he[:, 0], he[:, 1])
+        _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
+        single = np.flatnonzero(cnt[inv] == 1)
+        a, b = xy[he[single, 0]], xy[he[single, 1]]
+        mid, half = 0.5 * (a + b), 0.5 * np.linalg.norm(b - a, axis=1)
+        near = tree.query_ball_point(mid, half + tol)
+        split: dict[int, tuple[int, list[int]]] = {}
+        for s, cand in zip(single.tolist(), near):  # only boundary edges, few
+            f, k = divmod(s, 3)
+            if f in split:
+                continue
+            p, q = he[s]
+            d = xy[q] - xy[p]
+            L2 = float(d @ d)
+            on = []
+            for v in cand:
+                if v == p or v == q:
+                    continue
+                w = xy[v] - xy[p]
+                t = float(w @ d) / L2
+                if 0.0 < t < 1.0 and abs(w[0] * d[1] - w[1] * d[0]) / np.sqrt(L2) <= tol:
+                    on.append((t, v))
+            if on:
+                split[f] = (k, [v for _, v in sorted(on)])
+        if not split:
+            return Ft, src
+        keep = np.ones(Ft.shape[0], dtype=bool)
+        newF, newS = [], []
+        for f, (k, vs) in split.items():
+            keep[f] = False
+            c, p, q = Ft[f, k], Ft[f, (k + 1) % 3], Ft[f, (k + 2) % 3]
+            chain = [p, *vs, q]
+            for u, v in zip(chain[:-1], chain[1:]):
+                newF.append([c, u, v])
+                newS.append(src[f])
+        Ft = np.vstack([Ft[keep], np.asarray(newF, dtype=np.int64)])
+        src = np.concatenate([src[keep], np.asarray(newS, dtype=np.int64)])
+    raise MescherError("F: expected the visible map's T-junctions to resolve, found more after 64 passes")
+
+
+# ------------------------------------------------------------------------------ gluing
+def _edge_on_source(xy, E, src, C, F, tol):
+    """Index k of the source face's edge that screen edge E lies on (-1: inside the face).
+
+    ``k`` is libigl's convention: edge ``k`` runs ``F[f, k] -> F[f, (k + 1) % 3]``.
+    """
+    out = np.full(E.shape[0], -1, dtype=np.int64)
+    p, q = xy[E[:, 0]], xy[E[:, 1]]
+    for k in range(3):
+        a = C[F[src, k], :2]
+        b = C[F[src, (k + 1) % 3], :2]
+        d = b - a
+        L = np.linalg.norm(d, axis=1)
+        L = np.where(L > 0, L, 1.0)
+
+        def dist(P):
+            w = P - a
+            return np.abs(w[:, 0] * d[:, 1] - w[:, 1] * d[:, 0]) / L
+
+        out[(dist(p) <= tol) & (dist(q) <= tol) & (out < 0)] = k
+    return out
+
+
+def see_model(
+    V: Any,
+    F: Any,
+    view: Any = (0.0, 0.0, 1.0),
+    up: Any = (0.0, 1.0, 0.0),
+    *,
+    tol: float | None = None,
+    bridge: bool = True,
+) -> VisibleModel:
+    """The visible surface of a 3D model from an orthographic view, false edges glued.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float
+        Model vertices (world frame); closed solids, separate parts, open reliefs, soups.
+    F : (#F, 3) array_like of int
+        Triangles (any orientation: each part is oriented outward by its signed volume).
+    view : (3,) array_like, default: (0, 0, 1)
+        Direction from the model toward the camera.
+    up : (3,) array_like, default: (0, 1, 0)
+    tol : float, optional
+        Relative tolerance (of the bounding-box diagonal) for screen coincidence and depth
+        continuity; default :data:`REL_TOL`.
+    bridge : bool, default: True
+        Bridge hidden gaps (amodal completion).
+
+    Returns
+    -------
+    VisibleModel
+        ``F``, ``xy``, per-face corner depths ``Z`` (zeta of an edge is the depth difference
+        along it, the same on both sides of a glued false edge), depth-order ``arcs`` and the
+        ``report``.
+
+    Raises
+    ------
+    MescherError
+        Bad arrays, a model with no face toward the viewer.
+    """
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    R = view_frame(view, up)
+    report = ConversionReport(view=R[2].copy(), up=R[1].copy())
+    used = np.unique(F)
+    diag = float(np.linalg.norm(V[used].max(axis=0) - V[used].min(axis=0)))
+    if diag == 0.0:
+        raise MescherError("V: expected vertices spanning a non-empty box, found a single point")
+    rel = REL_TOL if tol is None else float(tol)
+    tol_abs = rel * diag
+    grid = REL_GRID * diag
+
+    V, F, n_merged = weld(V, F, 1e-9 * diag)
+    if n_merged:
+        report.repairs.append(f"welded {n_merged} vertex(es) that coincide in 3D")
+    F, n_contact = drop_contact_faces(F)
+    if n_contact:
+        report.repairs.append(
+            f"removed {n_contact} pair(s) of coincident opposite faces (blocks touching)"
+        )
+    F, n_flip, n_parts = orient_outward(V, F)
+    if n_flip:
+        report.repairs.append(f"re-oriented {n_flip} face(s) outward ({n_parts} part(s))")
+    _pinch_warning(F, report)
+
+    C = V @ R.T
+    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    nrm = np.linalg.norm(N, axis=1)
+    front = N[:, 2] > FRONT_NZ * np.maximum(nrm, 1e-300)
+    if not front.any():
+        raise MescherError(f"F: expected faces facing the view {R[2].tolist()}, found none")
+    fid = np.flatnonzero(front)
+    pl_all = np.zeros((F.shape[0], 3))
+    pl_all[fid] = _planes(C, F[fid])
+    T = C[F[fid], :2]
+
+    pieces, involved = _clip_occluded(T, pl_all[fid], tol_abs, grid)
+    # visible map: untouched faces as they are, clipped faces retriangulated
+    Pt, Tt, st = _triangulate_pieces(pieces, grid)
+    quiet = fid[~involved]
+    xy0 = C[:, :2]
+    P = np.vstack([xy0, Pt])
+    Fa = np.vstack([F[quiet], Tt + xy0.shape[0]])
+    src = np.concatenate([quiet, fid[st]])
+    lab = _merge_points(P, tol_abs)
+    usedp, Fa = np.unique(lab[Fa], return_inverse=True)
+    Fa = Fa.reshape(-1, 3)
+    xy = np.zeros((usedp.size, 2))
+    first = np.full(usedp.size, -1)
+    # the representative of a merged group: its first point (exact input positions win)
+    flat = lab[np.concatenate([F[quiet].reshape(-1), Tt.reshape(-1) + xy0.shape[0]])]
+    pts = np.concatenate([F[quiet].reshape(-1), Tt.reshape(-1) + xy0.shape[0]])
+    gi = np.searchsorted(usedp, flat)
+    first[gi[::-1]] = pts[::-1]
+    xy = P[first]
+    # drop faces that collapsed or lost their area to rounding
+    T2 = xy[Fa]
+    area2 = (T2[:, 1, 0] - T2[:, 0, 0]) * (T2[:, 2, 1] - T2[:, 0, 1]) - (
+        T2[:, 2, 0] - T2[:, 0, 0]
+    ) * (T2[:, 1, 1] - T2[:, 0, 1])
+    ok = area2 > tol_abs * tol_abs
+    Fa, src = Fa[ok], src[ok]
+    Fa, src = _split_t_junctions(xy, Fa, src, tol_abs)
+
+    for _ in range(4):  # occlusion edges that stay glued through their end fans get split
+        Z = _plane_depth(xy[Fa], pl_all[src][:, None, :])
+        glue, arcs, fe = _classify(xy, Fa, src, Z, C, F, front, tol_abs)
+        is_bridge = np.zeros(Fa.shape[0], dtype=bool)
+        bridges: list = []
+        Fb, sb, Zb = Fa, src, Z
+        if bridge:
+            Fb, sb, Zb, is_bridge, glue, arcs, bridges = _bridge(
+                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs
+            )
+        Fm, corner_vertex = _cut_and_glue(Fb, glue)
+        h1, h2 = glue["h1"][~glue["glue"]], glue["h2"][~glue["glue"]]
+        stuck = _stuck_cuts(Fm, h1, h2)
+        if stuck.size == 0:
+            break
+        xy, Fa, src = _split_cut_faces(xy, Fa, src, h1[stuck], h2[stuck])
+    report.junctions = _false_edge_junctions(xy, fe) + bridges
+    report.n_arcs = int(arcs.shape[0])
+    report.source_face = np.where(is_bridge, -1, sb)
+    first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
+    first[Fm.reshape(-1)] = corner_vertex
+    return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
+
+
+def _stuck_cuts(Fm: np.ndarray, h1: np.ndarray, h2: np.ndarray) -> np.ndarray:
+    """Cut edges whose two sides still share both end vertices after gluing (indices)."""
+    f1, k1, f2, k2 = h1 // 3, h1 % 3, h2 // 3, h2 % 3
+    a1, b1 = Fm[f1, (k1 + 1) % 3], Fm[f1, (k1 + 2) % 3]
+    b2, a2 = Fm[f2, (k2 + 1) % 3], Fm[f2, (k2 + 2) % 3]
+    return np.flatnonzero((a1 == a2) & (b1 == b2))
+
+
+def _split_cut_faces(xy, Fa, src, h1, h2):
+    """Split both faces of each stuck cut edge at the edge's midpoint, one new vertex per side."""
+    hs = np.concatenate([h1, h2])
+    f, k = hs // 3, hs % 3
+    _, first = np.unique(f, return_index=True)  # one split per face per pass
+    f, k = f[first], k[first]
+    a, b, c = Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3], Fa[f, k]
+    m = xy.shape[0] + np.arange(f.size)
+    xy = np.vstack([xy, 0.5 * (xy[a] + xy[b])])
+    keep = np.ones(Fa.shape[0], dtype=bool)
+    keep[f] = False
+    Fa = np.vstack([Fa[keep], np.stack([a, m, c], 1), np.stack([m, b, c], 1)])
+    src = np.concatenate([src[keep], src[f], src[f]])
+    return xy, Fa, src
+
+
+def _pinch_warning(F: np.ndarray, report: ConversionReport) -> None:
+    ok = np.asarray(igl.is_vertex_manifold(F)).reshape(-1)
+    bad = np.flatnonzero(~ok.astype(bool))
+    if bad.size:
+        msg = (
+            f"{bad.size} pinch vertex(es) where separate fans of faces meet (e.g. vertex "
+            f"{bad[:4].tolist()}); each fan is treated as its own sheet"
+        )
+        report.warnings.append(msg)
+        warnings.warn(f"see_model: {msg}", MescherWarning, stacklevel=3)
+
+
+def _interior_edges(Fa: np.ndarray, n: int):
+    """(pairs of faces sharing an edge, the edge's vertices, corner index in each face)."""
+    he = np.stack([Fa[:, [1, 2]], Fa[:, [2, 0]], Fa[:, [0, 1]]], axis=1).reshape(-1, 2)
+    key = np.minimum(he[:, 0], he[:, 1]) * n + np.maximum(he[:, 0], he[:, 1])
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    same = np.flatnonzero(ks[1:] == ks[:-1])
+    h1, h2 = order[same], order[same + 1]
+    return h1, h2, he
+
+
+def _classify(xy, Fa, src, Z, C, F, front, tol):
+    """Per shared screen edge: glue (continuous or false edge) or cut with an arc."""
+    h1, h2, he = _interior_edges(Fa, xy.shape[0])
+    f1, f2 = h1 // 3, h2 // 3
+    E = he[h1]  # p -> q as in face f1
+    # depth of p and q in each face (corner positions of the half-edge)
+    k1 = h1 % 3
+    z1p, z1q = Z[f1, (k1 + 1) % 3], Z[f1, (k1 + 2) % 3]
+    k2 = h2 % 3
+    # in f2 the half-edge runs q -> p
+    z2q, z2p = Z[f2, (k2 + 1) % 3], Z[f2, (k2 + 2) % 3]
+    dp, dq = z2p - z1p, z2q - z1q
+    continuous = (np.abs(dp) <= tol) & (np.abs(dq) <= tol)
+    parallel = np.abs(dp - dq) <= tol
+    # does each side end there on its own surface (silhouette or boundary of the model)?
+    TT, _ = igl.triangle_triangle_adjacency(F)
+    TT = np.asarray(TT)
+
+    def ends(fs):
+        s = src[fs]
+        k = _edge_on_source(xy, E, s, C, F, tol)
+        nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
+        return (k >= 0) & ((nb < 0) | ~front[np.maximum(nb, 0)])
+
+    e1, e2 = ends(f1), ends(f2)
+    false_edge = ~continuous & parallel & e1 & e2
+    glue = continuous | false_edge
+    cut = ~glue
+    # true occlusion: the far face gets an arc to the near one
+    far1 = (dp + dq) > 0  # face 2 nearer
+    arcs = np.stack([np.where(far1, f1, f2), np.where(far1, f2, f1)], axis=1)[cut]
+    return (
+        {"h1": h1, "h2": h2, "glue": glue, "he": he},
+        arcs.astype(np.int64),
+        {"h1": h1[false_edge], "f1": f1[false_edge], "f2": f2[false_edge],
+         "E": E[false_edge], "gap": 0.5 * (dp + dq)[false_edge],
+         "occl_far": np.where(far1, h1, h2)[cut & ~np.where(far1, e1, e2)]},
+    )  # fmt: skip
+
+
+def _false_edge_junctions(xy, fe) -> list:
+    """Chains of false edges (connected on screen) as junctions."""
+    E = fe["E"]
+    if E.shape[0] == 0:
+        return []
+    n = xy.shape[0]
+    A = sp.coo_matrix((np.ones(E.shape[0]), (E[:, 0], E[:, 1])), shape=(n, n))
+    _, lab = csgraph.connected_components(A, directed=False)
+    comp = lab[E[:, 0]]
+    out = []
+    for c in np.unique(comp).tolist():  # one per junction, few
+        s = comp == c
+        mid = 0.5 * (xy[E[s, 0]] + xy[E[s, 1]])
+        out.append(Junction("false edge", mid.mean(axis=0), float(np.median(np.abs(fe["gap"][s]))),
+                            int(s.sum())))  # fmt: skip
+    return out
+
+
+def _cut_and_glue(Fa, glue):
+    """Mescher faces: corners united across glued half-edge pairs (connected components).
+
+    Returns
+    -------
+    Fm : (#F, 3) int64
+        Faces over the mescher's vertices.
+    corner_vertex : (3 #F,) int64
+        Planar (screen) vertex of each corner, to take the mescher vertices' positions from.
+    """
+    nf = Fa.shape[0]
+    h1, h2, ok = glue["h1"], glue["h2"], glue["glue"]
+    g1, g2 = h1[ok], h2[ok]
+    f1, k1, f2, k2 = g1 // 3, g1 % 3, g2 // 3, g2 % 3
+    # half-edge k of face f runs corner k+1 -> k+2; its partner runs the other way
+    c1p, c1q = 3 * f1 + (k1 + 1) % 3, 3 * f1 + (k1 + 2) % 3
+    c2q, c2p = 3 * f2 + (k2 + 1) % 3, 3 * f2 + (k2 + 2) % 3
+    rows = np.concatenate([c1p, c1q])
+    cols = np.concatenate([c2p, c2q])
+    n = 3 * nf
+    A = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
+    _, lab = csgraph.connected_components(A, directed=False)
+    _, Fm = np.unique(lab, return_inverse=True)
+    return Fm.reshape(-1, 3).astype(np.int64), Fa.reshape(-1)
+
+
+def _chains(xy, Fa, hs):
+    """Connected chains of half-edges ``hs`` (each as its ordered vertex list, tail first)."""
+    if hs.size == 0:
+        return []
+    f, k = hs // 3, hs % 3
+    p, q = Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3]
+    nxt = dict(zip(p.tolist(), q.tolist()))
+    heads = set(q.tolist())
+    out = []
+    for start in p.tolist():  # a few occluded edges per junction
+        if start in heads:
+            continue
+        ch = [start]
+        while ch[-1] in nxt and len(ch) <= hs.size:
+            ch.append(nxt[ch[-1]])
+        out.append(ch)
+    return out
+
+
+def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
+    """Amodal completion: bridge occluded pieces that line up across an occluder.
+
+    Occluded edges (far side of a true occlusion where the far surface continues) are grouped
+    into chains per source plane orientation.  Chains ``A`` and ``B`` of equal normals are
+    bridged when the strip between them is a quadrilateral whose sides are parallel to an edge
+    of ``A``'s source face (the bar's own edge lines continue behind the occluder) and which is
+    hidden behind visible faces nearer than both planes.  The strip is triangulated, takes
+    ``A``'s plane (so it is continuous with ``A``) and is glued to ``B`` across the depth
+    offset, which becomes a period.  Each bridge face gets arcs to the visible faces in front.
+    """
+    nf = Fa.shape[0]
+    none = (Fa, src, Z, np.zeros(nf, dtype=bool), glue, arcs, [])
+    occ = fe["occl_far"]
+    if occ.size < 2:
+        return none
+    n_unit = N / np.linalg.norm(N, axis=1, keepdims=True)
+    # group occluded half-edges by the orientation of their source face
+    nk = np.round(n_unit[src[occ // 3]] / 1e-6).astype(np.int64)
+    _, grp = np.unique(nk, axis=0, return_inverse=True)
+    grp = grp.reshape(-1)
+    chains = []  # (group, vertex list, source face)
+    for g in np.unique(grp).tolist():
+        for ch in _chains(xy, Fa, occ[grp == g]):
+            he = occ[grp == g]
+            f0 = he[Fa[he // 3, (he % 3 + 1) % 3] == ch[0]][0] // 3
+            chains.append((g, ch, int(src[f0])))
+    T = xy[Fa]
+    new_faces, new_src, bridges, used = [], [], [], set()
+    for ia, (ga, A, sa) in enumerate(chains):  # few chains
+        best = None
+        for ib, (gb, B, sb) in enumerate(chains):
+            if ib == ia or gb != ga or ia in used or ib in used:
+                continue
+            a0, a1, b0, b1 = xy[A[0]], xy[A[-1]], xy[B[0]], xy[B[-1]]
+            s0, s1 = b1 - a0, b0 - a1  # the strip's sides
+            L0, L1 = np.linalg.norm(s0), np.linalg.norm(s1)
+            if L0 <= tol or L1 <= tol or abs(_cross(s0, s1)) > tol * (L0 + L1):
+                continue
+            da = a1 - a0
+            if _cross(da, s0) >= 0:  # the strip must lie to the right of A (outside its face)
+                continue
+            if not _parallel_to_face_edge(s0, sa, xy, pl, T, Fa, src, tol):
+                continue
+            poly = [*A[::-1], *B[::-1]]
+            if not _hidden(xy[poly], pl[sa], pl[sb], T, Z, tol):
+                continue
+            if best is None or L0 < best[0]:
+                best = (L0, ib, poly, sb)
+        del B
+        if best is None:
+            continue
+        _, ib, poly, sb = best
+        P = xy[poly]
+        gap = float(_plane_depth(P.mean(axis=0), pl[sb]) - _plane_depth(P.mean(axis=0), pl[sa]))
+        if abs(gap) <= tol:  # an ordinary occlusion: the depth order alone handles it
+            continue
+        used |= {ia, ib}
+        tri = _fan_ccw(len(poly))
+        new_faces += [[poly[i] for i in t] for t in tri]
+        new_src += [sa] * len(tri)
+        bridges.append(Junction("hidden gap", P.mean(axis=0), abs(gap), len(poly) // 2))
+    if not new_faces:
+        return none
+    Fb = np.vstack([Fa, np.asarray(new_faces, dtype=np.int64)])
+    sb_all = np.concatenate([src, np.asarray(new_src, dtype=np.int64)])
+    is_bridge = np.r_[np.zeros(nf, dtype=bool), np.ones(len(new_faces), dtype=bool)]
+    Zb = _plane_depth(xy[Fb], pl[sb_all][:, None, :])
+    # glue: bridge half-edges to the occluded half-edges they run against, and to each other
+    bh = np.arange(3 * nf, 3 * Fb.shape[0])
+    bp, bq = Fb[bh // 3, (bh % 3 + 1) % 3], Fb[bh // 3, (bh % 3 + 2) % 3]
+    op, oq = Fa[occ // 3, (occ % 3 + 1) % 3], Fa[occ // 3, (occ % 3 + 2) % 3]
+    key_o = dict(zip(zip(oq.tolist(), op.tolist()), occ.tolist()))
+    g1, g2 = [], []
+    for h, u, v in zip(bh.tolist(), bp.tolist(), bq.tolist()):
+        if (u, v) in key_o:
+            g1.append(h)
+            g2.append(key_o[(u, v)])
+    h1b, h2b, _ = _interior_edges(Fb[nf:], xy.shape[0])
+    h1b, h2b = h1b + 3 * nf, h2b + 3 * nf
+    zc = np.abs(_he_depth(Zb, h1b) - _he_depth(Zb, h2b)[:, ::-1]).max(axis=1) <= tol
+    g1 += h1b[zc].tolist()
+    g2 += h2b[zc].tolist()
+    glue = {
+        "h1": np.concatenate([glue["h1"], g1]).astype(np.int64),
+        "h2": np.concatenate([glue["h2"], g2]).astype(np.int64),
+        "glue": np.concatenate([glue["glue"], np.ones(len(g1), dtype=bool)]),
+    }
+    # bridge faces lie behind the visible faces they overlap on screen
+    Tb = xy[Fb]
+    pairs, _ = overlapping_pairs(Tb, tol)
+    mixed = is_bridge[pairs[:, 0]] != is_bridge[pairs[:, 1]]
+    pr = pairs[mixed]
+    behind = np.where(is_bridge[pr[:, 0]], pr[:, 0], pr[:, 1])
+    front = np.where(is_bridge[pr[:, 0]], pr[:, 1], pr[:, 0])
+    arcs = np.vstack([arcs, np.stack([behind, front], axis=1)]).astype(np.int64)
+    return Fb, sb_all, Zb, is_bridge, glue, arcs, bridges
+
+
+def _he_depth(Z, h):
+    """(k, 2) depths of the tail and head of half-edges ``h`` (= 3 f + k)."""
+    f, k = h // 3, h % 3
+    return np.stack([Z[f, (k + 1) % 3], Z[f, (k + 2) % 3]], axis=1)
+
+
+def _cross(a, b) -> float:
+    return float(a[0] * b[1] - a[1] * b[0])
+
+
+def _fan_ccw(n: int) -> list:
+    return [[0, i, i + 1] for i in range(1, n - 1)]
+
+
+def _parallel_to_face_edge(s, f, xy, pl, T, Fa, src, tol) -> bool:
+    """Is screen direction ``s`` parallel to an edge of a visible triangle from source ``f``?"""
+    faces = np.flatnonzero(src == f)
+    if faces.size == 0:
+        return False
+    E = (T[faces][:, [1, 2, 0]] - T[faces]).reshape(-1, 2)
+    L = np.linalg.norm(E, axis=1)
+    c = np.abs(E[:, 0] * s[1] - E[:, 1] * s[0]) / np.maximum(L, 1e-300) / np.linalg.norm(s)
+    return bool(np.any((c <= 1e-6) & (L > tol)))
+
+
+def _hidden(P, pla, plb, T, Z, tol) -> bool:
+    """Is the polygon ``P`` covered by visible faces nearer than both planes (sample points)?"""
+    from .geometry2d import barycentric
+
+    c = P.mean(axis=0)
+    pts = np.vstack([c, 0.5 * (P + c)])
+    for x in pts:  # a handful of sample points
+        B = barycentric(np.repeat(x[None], T.shape[0], 0), T)
+        inside = np.all(B >= -1e-9, axis=1)
+        if not inside.any():
+            return False
+        z = (B[inside] * Z[inside]).sum(axis=1).max()
+        if z <= max(_plane_depth(x, pla), _plane_depth(x, plb)) + tol:
+            return False
+    return True
