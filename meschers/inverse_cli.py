@@ -24,8 +24,75 @@ from pathlib import Path
 import numpy as np
 
 from meschers_igl.errors import MescherError
+from meschers_igl.validate import as_count
 
 DEFAULT_LIGHT = "0.4,0.25,1"
+
+
+def zbuffer_picture(
+    model,
+    resolution: int = 128,
+    light=(0.4, 0.25, 1.0),
+    ambient: float = 0.2,
+    extent: float = 0.8,
+    background=(1.0, 1.0, 1.0),
+) -> tuple[np.ndarray, float]:
+    """A picture of a real 3D model by PyVista's z-buffer (not by the code under test).
+
+    Orthographic camera along ``model.view`` with ``model.up`` up; the model's screen box is
+    centred and its longer side spans ``2 extent`` of the screen square ``[-1, 1]^2``; one
+    directional light toward ``light`` (camera frame) with flat Lambertian shading
+    ``ambient + (1 - ambient) max(0, n . l)``, no specular, no anti-aliasing (pixel centres are
+    sampled, as :func:`meschers_igl.inverse.rasterizer.soft_rasterize` does at small sigma).
+
+    Parameters
+    ----------
+    model : meschers_igl.inverse.models.BoxModel
+    resolution : int
+    light : (3,) float
+        Direction toward the light in the camera frame (right, up, toward the viewer).
+    ambient : float
+    extent : float
+    background : (3,) float
+
+    Returns
+    -------
+    image : (resolution, resolution, 3) float64 in [0, 1]
+    scale : float
+        Screen units per model unit (depths scale the same way).
+    """
+    import pyvista as pv
+
+    res = as_count(resolution, "resolution", minimum=8)
+    R = model.camera_frame()
+    C = model.V @ R.T
+    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
+    scale = 2.0 * extent / float((hi - lo).max())
+    centre_cam = np.r_[0.5 * (lo + hi), C[:, 2].mean()]
+    centre = centre_cam @ R  # back to model coordinates
+    faces = np.hstack([np.full((len(model.F), 1), 3), model.F]).ravel()
+    mesh = pv.PolyData(model.V, faces)
+    pl = pv.Plotter(off_screen=True, window_size=(res, res), lighting="none")
+    try:
+        pl.disable_anti_aliasing()
+        pl.set_background(tuple(background))
+        pl.add_mesh(mesh, color="white", ambient=ambient, diffuse=1.0 - ambient, specular=0.0,
+                    smooth_shading=False, lighting=True)  # fmt: skip
+        lw = np.asarray(light, dtype=np.float64) @ R  # toward the light, model coordinates
+        lw = lw / np.linalg.norm(lw)
+        pl.add_light(pv.Light(position=tuple(centre + lw), focal_point=tuple(centre),
+                              light_type="scene light", positional=False, intensity=1.0))  # fmt: skip
+        span = float(np.ptp(C, axis=0).max()) + 1.0
+        pl.camera.enable_parallel_projection()
+        pl.camera.focal_point = tuple(centre)
+        pl.camera.position = tuple(centre + span * 4.0 * model.view)
+        pl.camera.up = tuple(model.up)
+        pl.camera.parallel_scale = 1.0 / scale  # half the screen height, model units
+        pl.camera.clipping_range = (span, span * 8.0)
+        img = pl.screenshot(return_img=True)
+    finally:
+        pl.close()
+    return np.asarray(img[..., :3], dtype=np.float64) / 255.0, scale
 
 
 def _triple(text: str, name: str) -> tuple[float, float, float]:

@@ -35,3 +35,76 @@ def max_period_ratio(m: Mescher) -> float:
     p = m.periods()
     size = float(np.ptp(np.asarray(m.xy), axis=0).max())
     return 0.0 if p.size == 0 or size == 0 else float(np.abs(p).max() / size)
+
+
+def boundary_loop_periods(m: Mescher) -> tuple[np.ndarray, np.ndarray]:
+    """Depth gained once around each boundary loop of ``m``, and the area each loop encloses.
+
+    The period around a hole of the picture is measured on the hole's own boundary: the sum of
+    ``zeta`` along the loop (a closed 1-form has the same sum on every loop homologous to it).
+    Loops follow the faces' orientation, so the outer boundary runs counter-clockwise and holes
+    clockwise on screen.
+
+    Returns
+    -------
+    periods : (B,) float64
+        ``sum zeta`` along each loop of :func:`meschers_igl.topology.boundary_loops`.
+    areas : (B,) float64
+        Signed screen area enclosed (positive: counter-clockwise, the outer boundary).
+    """
+    from ..topology import boundary_loops, edge_lookup
+
+    xy = np.asarray(m.xy)
+    zeta = np.asarray(m.zeta)
+    periods, areas = [], []
+    for loop in boundary_loops(np.asarray(m.F)):
+        tail, head = loop, np.roll(loop, -1)
+        e, sign = edge_lookup(np.asarray(m.edges), m.n_vertices, tail, head)
+        periods.append(float((sign * zeta[e]).sum()))
+        p, q = xy[tail], xy[head]
+        areas.append(0.5 * float((p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]).sum()))
+    return np.asarray(periods), np.asarray(areas)
+
+
+def figure_period(m: Mescher) -> float:
+    """``|period|`` around the figure's outline: the depth gained going once around it all.
+
+    The outline is the counter-clockwise boundary loop enclosing the most screen area.  Cuts
+    along occlusion lines (:func:`.picture.mescher_from_picture`) end inside the figure, so the
+    outline loop sees every depth jump the figure hides: for a figure with one hole (a Penrose
+    triangle) it is the period of the impossible loop, for several holes their sum.
+    """
+    periods, areas = boundary_loop_periods(m)
+    if areas.size == 0:
+        return 0.0
+    return float(abs(periods[int(np.argmax(areas))]))
+
+
+def axis_aligned_share(
+    visible: np.ndarray, face_normals: np.ndarray, axes: np.ndarray, max_deg: float = 10.0
+) -> float:
+    """Share of figure pixels whose visible face's normal is within ``max_deg`` of an axis.
+
+    Parameters
+    ----------
+    visible : (H, W) int
+        Face seen at each pixel, -1 on the background
+        (e.g. :func:`meschers_igl.painter.visible_faces`).
+    face_normals : (#F, 3) float
+        Unit normals, camera frame.
+    axes : (A, 3) float
+        The figure's axis directions, camera frame (either sign counts).
+    max_deg : float
+
+    Returns
+    -------
+    float in [0, 1]
+    """
+    v = np.asarray(visible)
+    f = v[v >= 0]
+    if f.size == 0:
+        return 0.0
+    a = np.asarray(axes, dtype=np.float64)
+    a = a / np.linalg.norm(a, axis=1, keepdims=True)
+    cos = np.abs(np.asarray(face_normals)[f] @ a.T).max(axis=1)
+    return float(np.mean(cos >= np.cos(np.radians(max_deg))))

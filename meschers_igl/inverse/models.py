@@ -1,0 +1,170 @@
+"""Real (possible) 3D models whose pictures look impossible: the acceptance targets.
+
+Each model is a union of axis-aligned boxes, a closed triangle mesh, seen orthographically along
+``view``.  From that one view two parts that are far apart in depth project onto each other
+exactly, so a z-buffered picture of the model *is* the impossible figure, while the model itself
+is an ordinary 3D object.  The depth between those two parts is the figure's true period:
+the depth a mescher fitted to the picture must gain going once around the figure.
+
+Nothing here renders: pictures are made outside ``meschers_igl`` by PyVista's z-buffer
+(``meschers.inverse_cli.zbuffer_picture``), so the code under test never renders its own target.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import MescherError
+
+#: the six faces of the box [0, 1]^3 as quads (outward, counter-clockwise seen from outside)
+_CUBE_V = np.array(
+    [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    dtype=np.float64,
+)
+_CUBE_Q = np.array(
+    [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [2, 3, 7, 6], [1, 2, 6, 5], [0, 4, 7, 3]]
+)
+
+
+@dataclass(frozen=True)
+class BoxModel:
+    """A union of boxes seen from one view, with what a fit to its picture should recover.
+
+    Attributes
+    ----------
+    name : str
+    V : (#V, 3) float64
+    F : (#F, 3) int64
+        Closed, outward-oriented triangles (each box is its own closed component).
+    view : (3,) float64
+        Unit direction from the model toward the viewer (orthographic camera).
+    up : (3,) float64
+        Unit screen-up direction (orthogonal to ``view``).
+    gap : float
+        True depth between the two parts that coincide on screen, model units: the period of
+        the figure.
+    """
+
+    name: str
+    V: np.ndarray
+    F: np.ndarray
+    view: np.ndarray
+    up: np.ndarray
+    gap: float
+
+    def camera_frame(self) -> np.ndarray:
+        """(3, 3) rows ``right, up, view``: camera coordinates are ``V @ R.T``."""
+        right = np.cross(self.up, self.view)
+        return np.stack([right / np.linalg.norm(right), self.up, self.view])
+
+    def axes_in_camera(self) -> np.ndarray:
+        """(3, 3) the model's axis directions x, y, z (rows) in the camera frame."""
+        return self.camera_frame().T.copy()
+
+
+def boxes_mesh(boxes) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle meshes of axis-aligned boxes, concatenated (each box closed and outward).
+
+    Parameters
+    ----------
+    boxes : (B, 2, 3) array_like
+        ``(lo, hi)`` corners.
+
+    Returns
+    -------
+    V : (8B, 3) float64
+    F : (12B, 3) int64
+    """
+    b = np.asarray(boxes, dtype=np.float64)
+    if b.ndim != 3 or b.shape[1:] != (2, 3) or np.any(b[:, 1] <= b[:, 0]):
+        raise MescherError(f"boxes: expected (B, 2, 3) with lo < hi, found shape {b.shape}")
+    lo, size = b[:, 0], b[:, 1] - b[:, 0]
+    V = (lo[:, None, :] + _CUBE_V[None] * size[:, None, :]).reshape(-1, 3)
+    tri = np.concatenate([_CUBE_Q[:, [0, 1, 2]], _CUBE_Q[:, [0, 2, 3]]])
+    F = (tri[None] + 8 * np.arange(len(b))[:, None, None]).reshape(-1, 3)
+    return V, F.astype(np.int64)
+
+
+def _iso_view(up_axis=(0.0, 0.0, 1.0)) -> tuple[np.ndarray, np.ndarray]:
+    view = np.ones(3) / math.sqrt(3.0)
+    u = np.asarray(up_axis, dtype=np.float64)
+    up = u - (u @ view) * view
+    return view, up / np.linalg.norm(up)
+
+
+def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
+    """Three bars along x, y and z (an open path) whose ends coincide seen along (1, 1, 1).
+
+    ``X = [0, L] x [0, w]^2``, ``Y = [L-w, L] x [w, L] x [0, w]``,
+    ``Z = [L-w, L] x [L-w, L] x [w, L]``: the last cube of Z is the first cube of X moved by
+    ``(L - w)(1, 1, 1)``, so the two project onto the same hexagon and the picture is the closed
+    Penrose triangle, with no T-junction.  True period ``sqrt(3) (L - w)``.
+    """
+    L, w = float(length), float(width)
+    if not L > 2 * w > 0:
+        raise MescherError(f"length, width: expected length > 2 width > 0, found {L}, {w}")
+    boxes = [((0, 0, 0), (L, w, w)), ((L - w, w, 0), (L, L, w)), ((L - w, L - w, w), (L, L, L))]
+    V, F = boxes_mesh(boxes)
+    view, up = _iso_view()
+    return BoxModel("tribar", V, F, view, up, math.sqrt(3.0) * (L - w))
+
+
+def penrose_stairs(n_side: int = 3, step: float = 0.25, width: float = 1.0) -> BoxModel:
+    """Penrose stairs: a ring of columns climbing ``step`` each, which seems to close on itself.
+
+    The ring's cells ``q_i`` (a square of ``4 n_side`` cells) are shifted by
+    ``h_i (1, 1, 0)`` where ``h_i = i * step`` is the height of the column's top: seen along
+    (1, 1, 1) the tops then lie on the unshifted ring, one step up each, and the last step
+    meets the first.  True period: ``sqrt(3) * 4 n_side * step`` (the climb around the ring).
+    """
+    n, s, w = int(n_side), float(step), float(width)
+    if n < 2 or not s > 0 or not w > 0:
+        raise MescherError(f"n_side, step, width: expected >= 2, > 0, > 0, found {n}, {s}, {w}")
+    cells = (
+        [(i, 0) for i in range(n)]
+        + [(n, j) for j in range(n)]
+        + [(n - i, n) for i in range(n)]
+        + [(0, n - j) for j in range(n)]
+    )
+    depth = 2.0 * w  # columns long enough that their bottoms never show
+    boxes = []
+    for k, (ci, cj) in enumerate(cells):
+        h = k * s
+        x0, y0 = ci * w + h, cj * w + h
+        boxes.append(((x0, y0, h - depth), (x0 + w, y0 + w, h)))
+    V, F = boxes_mesh(boxes)
+    view, up = _iso_view()
+    return BoxModel("stairs", V, F, view, up, math.sqrt(3.0) * len(cells) * s)
+
+
+def impossible_cube(size: float = 4.0, width: float = 0.6) -> BoxModel:
+    """An impossible cube frame: twelve bars of a cube, one corner's three bars moved.
+
+    The bars meeting at the corner nearest the viewer ``(a, a, a)`` are replaced by copies
+    moved by ``-(a - w)(1, 1, 1)``... is not needed: instead the top face's front bar along x is
+    moved back by ``d (1, 1, 1)`` with ``d`` chosen so that it projects exactly where it was
+    (a translation along the view leaves a picture unchanged) while it now passes *behind* the
+    vertical bar it used to cross in front of.  The frame's depth cycles through that move:
+    true period ``sqrt(3) d``.
+    """
+    a, w = float(size), float(width)
+    if not a > 3 * w > 0:
+        raise MescherError(f"size, width: expected size > 3 width > 0, found {a}, {w}")
+    lo, hi = 0.0, a - w
+    boxes = []
+    for axis in range(3):
+        for p in (lo, hi):
+            for q in (lo, hi):
+                b0 = np.zeros(3)
+                b1 = np.zeros(3)
+                o1, o2 = (axis + 1) % 3, (axis + 2) % 3
+                b0[axis], b1[axis] = 0.0, a
+                b0[o1], b1[o1] = p, p + w
+                b0[o2], b1[o2] = q, q + w
+                boxes.append((b0, b1))
+    V, F = boxes_mesh(boxes)
+    view, up = _iso_view()
+    return BoxModel("cube", V, F, view, up, 0.0)

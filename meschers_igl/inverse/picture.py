@@ -1,0 +1,537 @@
+"""Start from the picture: a mescher whose topology, faces and depths come from the target.
+
+Issue 14's initialization, in four steps, none of which renders:
+
+1. :func:`segment_picture`: the figure is every pixel unlike the background; its flat-shaded
+   regions are the few grey levels that cover most of it (a z-buffered picture of a polyhedral
+   figure under one directional light has one level per face orientation).
+2. :func:`region_polygons`: each region as polygons (shapely), simplified as a *coverage* so
+   that neighbouring regions keep one shared boundary; their union is the silhouette with its
+   holes (a Penrose triangle is an annulus, an impossible cube frame has several holes).
+3. :func:`triangulate_regions`: Shewchuk's constrained Delaunay triangulation (``triangle``)
+   of the silhouette with the region boundaries as constraints, so that no triangle straddles
+   two shades.
+4. :func:`normals_from_shading` and :func:`lift`: under a known light ``l`` a flat Lambertian
+   shade ``I = a + (1 - a) max(0, n . l)`` gives ``n . l``; the figure's three face orientations
+   are orthonormal, ``n_k = R e_k``, so ``R^T l = s`` fixes ``R`` up to a turn about ``l``,
+   which is chosen so that the boundary between regions ``i`` and ``j`` runs along the screen
+   projection of their crease ``n_i x n_j``.  Each triangle then asks for the depth gradient of
+   its plane, ``grad z = -(n_x, n_y) / n_z``, on its three edges, and ``zeta = d01 z + H c`` is
+   fitted to those wishes by least squares: closed by construction, with the periods ``c`` the
+   picture implies.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import MescherError
+from ..mescher import Mescher
+from .targets import target_mask
+
+
+@dataclass
+class Segmentation:
+    """What :func:`segment_picture` finds.
+
+    Attributes
+    ----------
+    mask : (H, W) bool
+        Figure pixels.
+    labels : (H, W) int64
+        Region (shade) index per pixel, -1 on the background.
+    shades : (K,) float64
+        Grey level of each region (mean over its pixels, [0, 1]).
+    """
+
+    mask: np.ndarray
+    labels: np.ndarray
+    shades: np.ndarray
+
+
+def segment_picture(
+    target: np.ndarray, background=(1.0, 1.0, 1.0), min_share: float = 0.02, tol: float = 0.05
+) -> Segmentation:
+    """Figure and flat-shaded regions of a picture.
+
+    Grey levels (mean of the channels, in 1/255 bins) of the figure's pixels are counted; every
+    level holding at least ``min_share`` of the figure and more than its neighbours within
+    ``tol`` is a shade, and each figure pixel goes to the nearest shade.
+
+    Parameters
+    ----------
+    target : (H, W, 3) float in [0, 1]
+    background : (3,) float
+    min_share : float
+        Smallest share of the figure a shade must cover.
+    tol : float
+        Shades closer than this are one shade.
+
+    Returns
+    -------
+    Segmentation
+    """
+    mask = target_mask(target, background)
+    if mask.sum() < 16:
+        raise MescherError(
+            f"target: expected a figure of at least 16 pixels, found {int(mask.sum())}"
+        )
+    grey = np.asarray(target, dtype=np.float64).mean(axis=-1)
+    levels = np.round(grey[mask] * 255.0).astype(np.int64)
+    counts = np.bincount(levels, minlength=256).astype(np.float64)
+    w = max(1, int(round(tol * 255)))
+    # a peak: the largest count within +-w levels, and a big enough share of the figure
+    padded = np.pad(counts, w)
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * w + 1)
+    peaks = np.nonzero((counts >= windows.max(axis=1)) & (counts >= min_share * mask.sum()))[0]
+    if peaks.size == 0:
+        raise MescherError("target: expected flat-shaded regions, found no dominant grey level")
+    centres = peaks / 255.0
+    lab = np.argmin(np.abs(grey[mask][:, None] - centres[None]), axis=1)
+    labels = np.full(mask.shape, -1, dtype=np.int64)
+    labels[mask] = lab
+    shades = np.array([grey[labels == k].mean() for k in range(len(centres))])
+    return Segmentation(mask, labels, shades)
+
+
+def _pixel_to_screen(res: int) -> float:
+    return 2.0 / res
+
+
+def _pixel_boxes(mask: np.ndarray):
+    """The pixels of a mask as shapely boxes, one per run along a row (screen units)."""
+    import shapely
+
+    H, W = mask.shape
+    px = _pixel_to_screen(W)
+    ii, jj = np.nonzero(mask)
+    start = np.r_[True, (np.diff(jj) != 1) | (np.diff(ii) != 0)]
+    run_id = np.cumsum(start) - 1
+    j0 = jj[start]
+    j1 = np.bincount(run_id).astype(np.int64) + j0
+    r = ii[start]
+    return shapely.box(-1.0 + j0 * px, 1.0 - (r + 1) * px, -1.0 + j1 * px, 1.0 - r * px)
+
+
+def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75):
+    """The regions of a label image as polygons with straight, shared boundaries.
+
+    The pixel boundaries between regions (and the background) are merged into lines between
+    junctions (``shapely.line_merge``), each line is simplified on its own with its ends kept
+    (Douglas-Peucker, ``tolerance_px``: pixel staircases become straight), and the lines are
+    polygonized again.  Neighbours thus share one simplified boundary.
+
+    Parameters
+    ----------
+    labels : (H, W) int
+        Region index per pixel, -1 for the background; the image spans ``[-1, 1]^2``.
+    tolerance_px : float
+
+    Returns
+    -------
+    polygons : list of shapely Polygon
+        The pieces, each inside one region.
+    region : (P,) int64
+        Each piece's region: the majority label of the pixel centres it holds.
+    lines : list of shapely LineString
+        The simplified boundary lines (constraints of the triangulation).
+    """
+    import shapely
+
+    H, W = labels.shape
+    if H != W:
+        raise MescherError(f"labels: expected a square image, found {labels.shape}")
+    px = _pixel_to_screen(W)
+    K = int(labels.max()) + 1
+    regions = [shapely.union_all(_pixel_boxes(labels == k)) for k in range(K)]
+    edges = shapely.union_all([shapely.boundary(r) for r in regions])
+    merged = shapely.line_merge(edges)
+    lines = [g for g in getattr(merged, "geoms", [merged])]
+    lines = [_straighten(g, px, tolerance_px) for g in lines]
+    pieces = list(shapely.get_parts(shapely.polygonize(lines)))
+    # the label of each piece: majority of the pixel centres inside it
+    c = -1.0 + (2.0 * np.arange(W) + 1.0) / W
+    X, Y = np.meshgrid(c, -c)
+    region = np.full(len(pieces), -1, dtype=np.int64)
+    for i, poly in enumerate(pieces):
+        x0, y0, x1, y1 = poly.bounds
+        sel = (X >= x0) & (X <= x1) & (Y >= y0) & (Y <= y1)
+        inside = shapely.contains_xy(poly, X[sel], Y[sel])
+        lab = labels[sel][inside]
+        if lab.size:  # background counts too: a hole stays a hole
+            region[i] = np.bincount(lab + 1).argmax() - 1
+    keep = region >= 0
+    return [p for p, k in zip(pieces, keep) if k], region[keep], lines
+
+
+def _straighten(line, px: float, tolerance_px: float):
+    """A pixel staircase made straight: midpoints of its unit steps, then Douglas-Peucker.
+
+    The corners of a digital line stray up to a pixel from it; the midpoints of its unit
+    steps stray at most half a pixel and alternate around it, so a tolerance under a pixel
+    leaves one segment per straight boundary.  The ends (junctions) are kept.
+    """
+    import shapely
+
+    c = np.asarray(shapely.segmentize(line, px * 1.0001).coords)
+    closed = bool(np.allclose(c[0], c[-1]))
+    if len(c) > 3:
+        mid = 0.5 * (c[1:] + c[:-1])
+        c = np.vstack([mid, mid[:1]]) if closed else np.vstack([c[:1], mid, c[-1:]])
+    return shapely.simplify(shapely.LineString(c), tolerance_px * px, preserve_topology=False)
+
+
+def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: float = 12.0,
+                        min_angle: float = 25.0):  # fmt: skip
+    """Constrained Delaunay triangulation of the region pieces (``triangle``).
+
+    Parameters
+    ----------
+    polygons : list of shapely Polygon
+        Pieces of the figure (:func:`region_polygons`), screen units.
+    region : (P,) int
+        Region of each piece.
+    lines : list of shapely LineString
+        Boundaries, the triangulation's constraints.
+    pixel : float
+        A pixel's size in screen units.
+    max_area_px : float
+        Largest triangle area, in pixels.
+    min_angle : float
+        Smallest angle in degrees (quality refinement).
+
+    Returns
+    -------
+    xy : (#V, 2) float64
+    F : (#F, 3) int64
+        Counter-clockwise triangles covering the pieces, none straddling two regions.
+    face_region : (#F,) int64
+    """
+    import shapely
+    import triangle
+
+    if not polygons:
+        raise MescherError("polygons: expected at least one non-empty region, found none")
+    chains = [np.asarray(g.coords) for g in lines]
+    pts = np.concatenate(chains)
+    key = np.round(pts * 1e9).astype(np.int64)
+    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    verts = pts[first]
+    segs, off = [], 0
+    for ch in chains:
+        idx = inv[off : off + len(ch)]
+        segs.append(np.stack([idx[:-1], idx[1:]], axis=1))
+        off += len(ch)
+    segs = np.concatenate(segs)
+    segs = np.unique(np.sort(segs, axis=1), axis=0)
+    segs = segs[segs[:, 0] != segs[:, 1]]
+    union = shapely.union_all(polygons)
+    holes = []
+    for p in getattr(union, "geoms", [union]):
+        for r in p.interiors:
+            holes.append(np.asarray(shapely.Polygon(r).representative_point().coords)[0])
+    spec = {"vertices": verts, "segments": segs}
+    if holes:
+        spec["holes"] = np.asarray(holes)
+    tri = triangle.triangulate(spec, f"pq{min_angle:g}a{max_area_px * pixel * pixel:.3e}")
+    xy = np.asarray(tri["vertices"], dtype=np.float64)
+    F = np.asarray(tri["triangles"], dtype=np.int64)
+    # region of each triangle: the piece holding its centroid (none: outside the figure)
+    cent = shapely.points(xy[F].mean(axis=1))
+    face_region = np.full(len(F), -1, dtype=np.int64)
+    tree = shapely.STRtree(polygons)
+    fi, pi = tree.query(cent, predicate="within")
+    face_region[fi] = np.asarray(region)[pi]
+    keep = face_region >= 0
+    F, face_region = F[keep], face_region[keep]
+    used = np.unique(F)
+    remap = np.full(len(xy), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return xy[used], remap[F], face_region
+
+
+def normals_from_shading(
+    shades: np.ndarray,
+    light,
+    ambient: float,
+    boundary_dirs: np.ndarray | None = None,
+    boundary_pairs: np.ndarray | None = None,
+    boundary_weights: np.ndarray | None = None,
+    n_angles: int = 1440,
+    trunc: float = math.sin(math.radians(15.0)) ** 2,
+) -> tuple[np.ndarray, float]:
+    """Three orthonormal face normals whose Lambertian shades are ``shades``.
+
+    ``n_k . l = s_k = (shade_k - ambient) / (1 - ambient)``, ``n_k = R e_k``: ``R^T l = s``.
+    ``R = Q_theta R_0`` with ``R_0`` a rotation taking ``s/|s|`` to ``l`` and ``Q_theta`` a turn
+    about ``l``; also mirrored frames.  Among the ``R`` with every ``n_k`` facing the viewer,
+    the one whose crease projections ``(n_i x n_j)_xy`` best follow the region boundaries
+    (``boundary_dirs`` between regions ``boundary_pairs``, length ``boundary_weights``) wins.
+
+    Parameters
+    ----------
+    shades : (3,) float
+    light : (3,) float
+        Direction toward the light, camera frame.
+    ambient : float
+    boundary_dirs : (B, 2) float, optional
+    boundary_pairs : (B, 2) int, optional
+    boundary_weights : (B,) float, optional
+    n_angles : int
+        Turns about ``l`` tried.
+    trunc : float
+        Each boundary's ``sin^2`` counts at most this much (robust to occlusion boundaries).
+
+    Returns
+    -------
+    normals : (3, 3) float64
+        Row ``k``: the unit normal of region ``k`` (camera frame, ``n_z > 0``).
+    misfit : float
+        Weighted mean ``sin^2`` of the angle between boundaries and crease projections.
+    """
+    s = (np.asarray(shades, dtype=np.float64) - ambient) / (1.0 - ambient)
+    if s.shape != (3,):
+        raise MescherError(f"shades: expected three face shades, found {s.shape}")
+    lvec = np.asarray(light, dtype=np.float64)
+    lvec = lvec / np.linalg.norm(lvec)
+    s = s / np.linalg.norm(s)
+    R0 = _rotation_taking(s, lvec)
+    th = np.linspace(0.0, 2.0 * np.pi, n_angles, endpoint=False)
+    K = np.array([[0, -lvec[2], lvec[1]], [lvec[2], 0, -lvec[0]], [-lvec[1], lvec[0], 0]])
+    # Rodrigues: Q = I + sin K + (1 - cos) K^2, for all angles at once
+    Q = np.eye(3)[None] + np.sin(th)[:, None, None] * K + (1 - np.cos(th))[:, None, None] * (K @ K)
+    best = (math.inf, None)
+    for mirror in (np.eye(3), np.diag([1.0, 1.0, -1.0])):
+        # a mirror that keeps s (reflect through a plane containing s) keeps R^T l = s
+        Ms = _reflection_fixing(s) if mirror[2, 2] < 0 else np.eye(3)
+        Rs = Q @ (R0 @ Ms)  # (A, 3, 3); columns are the normals
+        N = np.transpose(Rs, (0, 2, 1))  # rows n_k
+        ok = (N[:, :, 2] > 1e-3).all(axis=1)
+        cost = np.zeros(n_angles)
+        if boundary_dirs is not None and len(boundary_dirs):
+            d = np.asarray(boundary_dirs, dtype=np.float64)
+            d = d / np.linalg.norm(d, axis=1, keepdims=True)
+            pr = np.asarray(boundary_pairs, dtype=np.int64)
+            wts = np.ones(len(d)) if boundary_weights is None else np.asarray(boundary_weights)
+            c = np.cross(N[:, pr[:, 0]], N[:, pr[:, 1]])[..., :2]  # (A, B, 2)
+            c = c / np.maximum(np.linalg.norm(c, axis=-1, keepdims=True), 1e-12)
+            sin = c[..., 0] * d[None, :, 1] - c[..., 1] * d[None, :, 0]
+            # truncated: occlusion boundaries (no crease) must not pull the frame
+            cost = (np.minimum(sin**2, trunc) * wts).sum(axis=1) / wts.sum()
+        cost = np.where(ok, cost, np.inf)
+        a = int(np.argmin(cost))
+        if cost[a] < best[0]:
+            best = (float(cost[a]), N[a])
+    if best[1] is None:
+        raise MescherError(
+            "shades: expected three shades of orthogonal faces seen from the front, found none "
+            "consistent with the light"
+        )
+    return best[1].copy(), best[0]
+
+
+def _rotation_taking(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A rotation with ``R a = b`` (unit vectors)."""
+    v = np.cross(a, b)
+    c = float(a @ b)
+    if np.linalg.norm(v) < 1e-12:
+        if c > 0:
+            return np.eye(3)
+        p = np.eye(3)[np.argmin(np.abs(a))]
+        u = np.cross(a, p)
+        u /= np.linalg.norm(u)
+        return 2.0 * np.outer(u, u) - np.eye(3)
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
+def _reflection_fixing(s: np.ndarray) -> np.ndarray:
+    """A reflection through a plane that contains ``s`` (so it maps ``s`` to itself)."""
+    p = np.eye(3)[np.argmin(np.abs(s))]
+    u = np.cross(s, p)
+    u /= np.linalg.norm(u)
+    return np.eye(3) - 2.0 * np.outer(u, u)
+
+
+def region_boundaries(F: np.ndarray, n_vertices: int, xy: np.ndarray, region: np.ndarray):
+    """Mesh edges with a different region on each side.
+
+    Returns
+    -------
+    edges : (#E, 2) int64
+        All edges of ``F`` (:func:`meschers_igl.topology.edge_topology`).
+    ids : (B,) int64
+        The boundary edges between two regions.
+    dirs : (B, 2) float64
+        Their screen vectors.
+    pairs : (B, 2) int64
+        The two regions.
+    lengths : (B,) float64
+    """
+    from ..topology import edge_faces, edge_topology
+
+    edges, face_edges, _ = edge_topology(F, n_vertices)
+    ef = edge_faces(face_edges, len(edges))
+    two = ef[:, 1] >= 0
+    ra = np.where(two, region[ef[:, 0]], -1)
+    rb = np.where(two, region[np.maximum(ef[:, 1], 0)], -1)
+    ids = np.nonzero(two & (ra != rb))[0]
+    d = xy[edges[ids, 1]] - xy[edges[ids, 0]]
+    return edges, ids, d, np.stack([ra[ids], rb[ids]], axis=1), np.linalg.norm(d, axis=1)
+
+
+def crease_misalignment(normals: np.ndarray, dirs: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """``|sin|`` of the angle between boundary vectors and their creases' screen projections.
+
+    The crease of two planes with normals ``n_i, n_j`` runs along ``n_i x n_j``; a boundary
+    between their regions that does not follow its projection is an occlusion, not a crease.
+    """
+    c = np.cross(normals[pairs[:, 0]], normals[pairs[:, 1]])[:, :2]
+    c = c / np.maximum(np.linalg.norm(c, axis=1, keepdims=True), 1e-12)
+    d = dirs / np.maximum(np.linalg.norm(dirs, axis=1, keepdims=True), 1e-300)
+    return np.abs(c[:, 0] * d[:, 1] - c[:, 1] * d[:, 0])
+
+
+def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray):
+    """Cut a triangle mesh open along some of its edges (``igl.cut_mesh``).
+
+    Parameters
+    ----------
+    xy : (#V, 2) float
+    F : (#F, 3) int
+    edges : (#E, 2) int
+        All edges (any orientation).
+    cut : (C,) int
+        Indices into ``edges`` of the edges to cut.
+
+    Returns
+    -------
+    xy : (#V', 2) float64
+    F : (#F, 3) int64
+        Same faces, cut vertices duplicated (a vertex keeps one copy per side).
+    """
+    import igl
+
+    n = len(xy)
+    key = np.sort(edges[cut], axis=1)
+    keys = set((key[:, 0] * n + key[:, 1]).tolist())
+    a, b = F, F[:, [1, 2, 0]]  # igl: column i is the edge F[i] -> F[i + 1]
+    k = np.minimum(a, b) * n + np.maximum(a, b)
+    C = np.isin(k, np.fromiter(keys, dtype=np.int64, count=len(keys)))
+    if not C.any():
+        return np.asarray(xy, dtype=np.float64), np.asarray(F, dtype=np.int64)
+    V = np.column_stack([xy, np.zeros(n)])
+    Vc, Fc, _ = igl.cut_mesh(V, np.asarray(F, dtype=np.int64), C)
+    return np.ascontiguousarray(Vc[:, :2]), np.asarray(Fc, dtype=np.int64)
+
+
+def lift(
+    xy: np.ndarray, F: np.ndarray, face_normals: np.ndarray, weights: np.ndarray | None = None
+) -> Mescher:
+    """The mescher on ``(F, xy)`` whose faces best take the planes of ``face_normals``.
+
+    Each face ``f`` wishes its half-edges ``i -> j`` to climb ``g_f . (xy_j - xy_i)`` with
+    ``g_f = -(n_x, n_y) / n_z``.  ``zeta = d01 z + H c`` minimizes the (weighted) squared misfit
+    over ``z`` and the periods ``c``: every wish consistent with its neighbours is met exactly
+    and ``d12 zeta = 0`` by construction.
+
+    Parameters
+    ----------
+    xy : (#V, 2) float
+    F : (#F, 3) int
+    face_normals : (#F, 3) float
+        Unit normals with ``n_z > 0``.
+    weights : (#F,) float, optional
+
+    Returns
+    -------
+    Mescher
+    """
+    from .sobolev import closed_harmonic_basis
+
+    n = np.asarray(face_normals, dtype=np.float64)
+    if n.shape != (len(F), 3) or np.any(n[:, 2] <= 0):
+        raise MescherError(f"face_normals: expected ({len(F)}, 3) with n_z > 0, found {n.shape}")
+    m0 = Mescher.from_corner_depths(F, xy, np.zeros((len(F), 3)))
+    g = -n[:, :2] / n[:, 2:3]
+    Fm = np.asarray(m0.F)
+    P = np.asarray(m0.xy)[Fm]
+    # half-edge opposite corner i runs i+1 -> i+2; stored edge sign s: zeta_e = s * value
+    dxy = P[:, [2, 0, 1]] - P[:, [1, 2, 0]]
+    wish = np.einsum("fk,fik->fi", g, dxy)
+    fe = np.asarray(m0.face_edges)
+    sg = np.asarray(m0.face_edge_signs)
+    rows = np.arange(fe.size)
+    B = sp.csr_matrix((sg.reshape(-1), (rows, fe.reshape(-1))), shape=(fe.size, m0.n_edges))
+    H = closed_harmonic_basis(m0)
+    A = sp.hstack([B @ m0.d01, sp.csr_matrix(B @ H)]).tocsr()
+    wv = np.ones(len(F)) if weights is None else np.asarray(weights, dtype=np.float64)
+    W = sp.diags(np.repeat(wv, 3))
+    # normal equations; z is defined up to a constant: pin it with a tiny ridge
+    N = (A.T @ W @ A).tocsc() + 1e-12 * sp.identity(A.shape[1])
+    rhs = A.T @ (W @ wish.reshape(-1))
+    from scipy.sparse.linalg import spsolve
+
+    sol = spsolve(N, rhs)
+    nv = m0.n_vertices
+    zeta = m0.d01 @ sol[:nv] + H @ sol[nv:]
+    return m0.with_zeta(zeta)
+
+
+def mescher_from_picture(
+    target: np.ndarray,
+    light,
+    ambient: float = 0.2,
+    background=(1.0, 1.0, 1.0),
+    max_area_px: float = 12.0,
+    tolerance_px: float = 0.75,
+    occlusion_deg: float = 15.0,
+) -> tuple[Mescher, np.ndarray, dict]:
+    """The initialization of issue 14: segment, triangulate with holes, lift from shading.
+
+    Boundaries between two shade regions that do not run along their crease (more than
+    ``occlusion_deg`` off) are occlusions: one surface passes in front of the other there, so the
+    mesh is cut open along them before the lift (each side keeps its own depth).
+
+    Parameters
+    ----------
+    target : (N, N, 3) float in [0, 1]
+        Spans the screen square ``[-1, 1]^2``.
+    light : (3,) float
+        Direction toward the (one, white) light, camera frame.
+    ambient : float
+    background : (3,) float
+    max_area_px, tolerance_px : float
+        Triangle size and boundary straightening, in pixels.
+    occlusion_deg : float
+
+    Returns
+    -------
+    m : Mescher
+    region : (#F,) int64
+        Shade region of each face.
+    info : dict
+        ``normals`` (3, 3) per region, ``shades`` (3,), ``misfit`` (frame fit),
+        ``occlusion_length`` (screen units of cut boundary), ``labels`` (H, W).
+    """
+    seg = segment_picture(target, background)
+    if len(seg.shades) != 3:
+        raise MescherError(
+            "target: expected three flat shades (a figure of boxes under one light), found "
+            f"{len(seg.shades)}"
+        )
+    polys, preg, lines = region_polygons(seg.labels, tolerance_px)
+    pixel = 2.0 / seg.labels.shape[1]
+    xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
+    edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
+    normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
+    occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
+    xy, F = cut_along(xy, F, edges, ids[occl])
+    m = lift(xy, F, normals[region])
+    info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
+            "occlusion_length": float(lens[occl].sum()), "labels": seg.labels}  # fmt: skip
+    return m, region, info
