@@ -44,6 +44,11 @@ class GalleryModel:
         Depth gained once around the figure's loop (the cut's depth gap), 0 when the figure is
         impossible only through its depth order.
     description : str
+    builder : callable, optional
+        Builds ``(mescher, vmap)`` when the mescher is not the glued cut model.
+    front_back : ((k,) int, (l,) int), optional
+        Faces put in front of other faces after the order from the cut model's depths (the
+        order no 3D model has, for figures impossible only through their order).
     """
 
     name: str
@@ -54,6 +59,7 @@ class GalleryModel:
     expected_period: float
     description: str
     builder: Callable[[], tuple[Any, np.ndarray]] | None = field(default=None, repr=False)
+    front_back: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False)
 
     @cached_property
     def _built(self) -> tuple[Any, np.ndarray]:
@@ -84,7 +90,10 @@ class GalleryModel:
         """:class:`~meschers_igl.DepthOrder` of the mescher's faces from the cut model."""
         from ..order import DepthOrder
 
-        return DepthOrder.from_embedding(self.mescher, self.corner_depths)
+        order = DepthOrder.from_embedding(self.mescher, self.corner_depths)
+        if self.front_back is not None:  # an order no 3D model has (impossible through order)
+            order.put_in_front(*self.front_back, m=self.mescher)
+        return order
 
 
 _MODELS: dict[str, tuple[Callable, str]] = {
@@ -161,6 +170,7 @@ def get_model(name: str, **params: Any) -> GalleryModel:
         expected_period=float(period),
         description=description,
         builder=rest[0] if rest else None,
+        front_back=rest[1] if len(rest) > 1 else None,
     )
 
 

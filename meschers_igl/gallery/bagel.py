@@ -6,8 +6,7 @@ import numpy as np
 
 from ..errors import MescherError
 from ..operators import view_frame
-from ..validate import as_positive
-from .penrose import _count
+from ..validate import as_count, as_positive
 
 BAGEL_VIEW = (0.0, -0.5, 1.0)
 BAGEL_UP = (0.0, 1.0, 0.0)
@@ -69,7 +68,7 @@ def impossibagel(
     R = as_positive(major_radius, "major_radius")
     r = as_positive(minor_radius, "minor_radius")
     c = as_positive(climb, "climb")
-    n = _count(resolution, "resolution", 3)
+    n = as_count(resolution, "resolution", minimum=3)
     if not r < R:
         raise MescherError(f"minor_radius: expected less than major_radius {R}, found {r}")
     n_u, n_v = 4 * n, n

@@ -14,9 +14,8 @@ import numpy as np
 
 from ..errors import MescherError
 from ..operators import view_frame
-from ..validate import as_positive
-from .penrose import _count
-from .polycube import box_union_surface
+from ..validate import as_count, as_positive
+from .polycube import box_union_surface, slant_cut
 
 CUBE_VIEW = (1.0, 0.8, 0.4)
 CUBE_UP = (0.0, 0.0, 1.0)
@@ -64,7 +63,7 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     """
     L = as_positive(size, "size")
     w = as_positive(bar_width, "bar_width")
-    n = _count(resolution, "resolution")
+    n = as_count(resolution, "resolution", minimum=1)
     if not 8 * w <= L:
         raise MescherError(f"bar_width: expected at most size / 8 = {L / 8}, found {w}")
     zc, d = _crossing(L, CUBE_VIEW, CUBE_UP)
@@ -76,6 +75,16 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     V, F, side = box_union_surface(cube_frame_boxes(L, w), L / n, splits=[(2, P, *r)])
     in_bar = (np.abs(V[:, 0]) <= w / 2 + 1e-12) & (np.abs(V[:, 1]) <= w / 2 + 1e-12)
     z = V[:, 2]
+    # the cut in a plane containing the view: seen edge-on it shows no inside (a horizontal cut
+    # opens upward, toward the camera, at the top of the moved part). Each side of the split
+    # tilts its own copy of the cut's vertices.
+    upper = in_bar & ((z > P + 1e-12) | (side == 1))
+    lower = in_bar & (z <= P + 1e-12) & (side == 0)
+    V = np.where(
+        upper[:, None],
+        slant_cut(V, 2, P, *r, +1, w, CUBE_VIEW),
+        np.where(lower[:, None], slant_cut(V, 2, P, *r, -1, w, CUBE_VIEW), V),
+    )
     lower = in_bar & (z <= P + 1e-12) & (side == 0)  # the moved part, up to the cut
     phi = np.where(z >= flat_start, a, a * (z - bottom) / (flat_start - bottom))
     phi = np.where(lower, np.clip(phi, 0.0, a), 0.0)
@@ -99,7 +108,7 @@ def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, res
     W = as_positive(width, "width")
     H = as_positive(height, "height")
     w = as_positive(bar_width, "bar_width")
-    n = _count(resolution, "resolution")
+    n = as_count(resolution, "resolution", minimum=1)
     if not (12 * w <= W and 6 * w <= H):
         raise MescherError(
             f"bar_width: expected at most width / 12 and height / 6 ({min(W / 12, H / 6)}), "

@@ -12,17 +12,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import MescherError
-from ..validate import as_positive
-from .polycube import box_union_surface
+from ..operators import view_frame
+from ..validate import as_count, as_positive
+from .polycube import box_union_surface, slant_cut
 
 VIEW = (1.0, 1.0, 1.0)
 UP = (0.0, 0.0, 1.0)
-
-
-def _count(x, name: str, least: int = 1) -> int:
-    if not isinstance(x, (int, np.integer)) or x < least:
-        raise MescherError(f"{name}: expected an integer >= {least}, found {x!r}")
-    return int(x)
 
 
 def _bar_box(p: np.ndarray, q: np.ndarray, w: float):
@@ -43,9 +38,9 @@ def penrose_triangle(bar_length: float = 4.0, bar_width: float = 1.0, resolution
     """
     L = as_positive(bar_length, "bar_length")
     w = as_positive(bar_width, "bar_width")
-    n = _count(resolution, "resolution")
-    if not w < L:
-        raise MescherError(f"bar_width: expected less than bar_length {L}, found {w}")
+    n = as_count(resolution, "resolution", minimum=1)
+    if not 2 * w < L:
+        raise MescherError(f"bar_width: expected less than bar_length / 2 = {L / 2}, found {w}")
     P = np.array([[0, 0, 0], [L, 0, 0], [L, L, 0], [L, L, L]], dtype=float)
     c = L / 2  # the cut, in the middle of the x bar
     start = np.array([c, 0, 0])
@@ -60,6 +55,11 @@ def penrose_triangle(bar_length: float = 4.0, bar_width: float = 1.0, resolution
         (0, start[0] + L, (L - w / 2, L - w / 2), (L + w / 2, L + w / 2)),
     ]
     V, F, _ = box_union_surface(boxes, L / n, cuts)
+    # cut in a plane containing the view, as artists do: seen edge-on, the cut hides nothing
+    # and shows no inside (an axis-aligned cut would open toward the camera: a dark notch)
+    fade = c - w / 2  # up to the corner cubes, which stay square
+    V = slant_cut(V, 0, start[0], *cuts[0][2:], +1, fade, VIEW)
+    V = slant_cut(V, 0, start[0] + L, *cuts[1][2:], -1, fade, VIEW)
     return V, F, VIEW, UP, float(np.sqrt(3.0) * L)
 
 
@@ -83,9 +83,9 @@ def penrose_stairs(
     V, F, view, up, expected_period (``sqrt(3) * m * step``)
     """
     p = as_positive(step, "step")
-    n_long = _count(long_side, "long_side", 2)
-    n_short = _count(short_side, "short_side", 1)
-    res = _count(resolution, "resolution")
+    n_long = as_count(long_side, "long_side", minimum=3)
+    n_short = as_count(short_side, "short_side", minimum=1)
+    res = as_count(resolution, "resolution", minimum=1)
     if n_long <= n_short:
         raise MescherError(
             f"long_side: expected more steps than short_side ({n_short}), found {n_long}"
@@ -94,17 +94,24 @@ def penrose_stairs(
     m = n_long - n_short
     s = m * p / N
     T = as_positive(thickness, "thickness")
-    if T <= s:
-        raise MescherError(f"thickness: expected more than the rise per step {s:.4g}, found {T}")
+    if not s < T < 3 * p + s:
+        raise MescherError(
+            f"thickness: expected more than the rise per step {s:.4g} and less than "
+            f"3 step + rise {3 * p + s:.4g} (room for the slanted cut), found {T}"
+        )
     moves = np.repeat(
         np.array([[1, 0], [0, 1], [-1, 0], [0, -1]]), [n_long, n_long, n_short, n_short], axis=0
     )
-    moves = np.concatenate([moves, moves[:2]])  # blocks N and N + 1 of the next period
-    pos = np.concatenate([[[0, 0]], np.cumsum(moves, axis=0)]) * p  # cell corners, (N + 3, 2)
+    # the cut: between blocks j and j + 1, in the middle of the first long side, where the
+    # walk runs straight on both sides of both cut blocks
+    j = n_long // 2
+    moves = np.concatenate([moves, moves[: j + 2]])  # the next period's first blocks
+    pos = np.concatenate([[[0, 0]], np.cumsum(moves, axis=0)]) * p  # cell corners
     z = np.arange(pos.shape[0]) * s
-    # blocks 1..N: block N is block 0 moved by m * step * (1, 1, 1)
+    # blocks j + 1 .. j + N: block j + N is block j moved by m * step * (1, 1, 1)
     boxes = [
-        (np.array([*pos[i], z[i] - T]), np.array([*(pos[i] + p), z[i]])) for i in range(1, N + 1)
+        (np.array([*pos[i], z[i] - T]), np.array([*(pos[i] + p), z[i]]))
+        for i in range(j + 1, j + N + 1)
     ]
 
     def interface(i: int):
@@ -115,39 +122,69 @@ def penrose_stairs(
         other = pos[i][1 - axis]
         return (axis, value, (other, z[i + 1] - T), (other + p, z[i]))
 
-    V, F, _ = box_union_surface(boxes, p / res, [interface(0), interface(N)])
+    first, last = interface(j), interface(j + N)
+    V, F, _ = box_union_surface(boxes, p / res, [first, last])
+    # cut in a plane containing the view (seen edge-on: no inside shows), fading out within the
+    # two cut blocks (their neighbours along the walk are straight on, so nothing else moves)
+    for (axis, value, lo, hi), side, i in ((first, +1, j + 1), (last, -1, j + N)):
+        block = ((lo[0], z[i] - T), (hi[0], z[i]))  # the cut block's whole end face
+        V = slant_cut(V, axis, value, lo, hi, side, p, VIEW, region=block)
     return V, F, VIEW, UP, float(np.sqrt(3.0) * m * p)
 
 
 def reutersvard_triangle(
-    cube_size: float = 1.0, pitch: float = 1.25, cubes_per_side: int = 3, resolution: int = 2
+    cube_size: float = 1.0, pitch: float = 1.55, cubes_per_side: int = 3, resolution: int = 1
 ):
     """Reutersvärd's triangle of cubes (1934): separate cubes on the Penrose path.
 
-    ``cubes_per_side`` cubes of side ``cube_size`` every ``pitch`` along x, y and z; the cube at
-    the first corner is cut through its middle, its back half at the start of the path and its
-    front half at the end.  Glued, the cubes are ``3 cubes_per_side`` closed boxes: no period,
-    the figure is impossible only through its depth order.
+    ``cubes_per_side`` cubes of side ``cube_size`` every ``pitch`` along x, y and z: ``3
+    cubes_per_side`` closed boxes, no cut and no period. Seen along (1, 1, 1) the path ends where
+    it began: the last cube overlaps the first on screen and, being nearer, would hide it. The
+    figure is impossible only through its depth order: the half of the first cube that faces
+    the last one is put in front of it (:meth:`DepthOrder.put_in_front`), while its other half
+    stays behind the second cube, as Reutersvärd drew it. (Cutting the first cube into two
+    halves at the two ends of the path, as an earlier version did, shows its inside: an
+    axis-aligned cut through a cube seen along its diagonal opens toward the camera, and no cut
+    plane containing the view halves a cube without passing through its corners.)
+
+    Parameters
+    ----------
+    cube_size, pitch : float
+        Side of the cubes and distance between their centres; ``cube_size < pitch < 2
+        cube_size`` so neighbours overlap on screen, and ``pitch > 1.5 cube_size`` so the second
+        and the last cube do not both overlap the same part of the first (no cyclic pixel).
+    cubes_per_side : int
+    resolution : int
+        Grid cells per *half* cube side (even cells, so every face lies on one side of the
+        first cube's middle).
 
     Returns
     -------
-    V, F, view, up, expected_period (0)
+    V, F, view, up, expected_period (0), builder (None), and ``(front, back)`` face groups
     """
     a = as_positive(cube_size, "cube_size")
     p = as_positive(pitch, "pitch")
-    k = _count(cubes_per_side, "cubes_per_side", 2)
-    res = _count(resolution, "resolution")
-    if not p > a:
-        raise MescherError(f"pitch: expected more than cube_size {a} (cubes apart), found {p}")
+    k = as_count(cubes_per_side, "cubes_per_side", minimum=2)
+    res = as_count(resolution, "resolution", minimum=1)
+    if not 1.5 * a < p < 2 * a:
+        raise MescherError(
+            f"pitch: expected between 1.5 and 2 times cube_size ({1.5 * a:g}, {2 * a:g}): "
+            f"neighbours overlap on screen, no pixel sees three cubes; found {p}"
+        )
     L = k * p
     steps = np.arange(k)[:, None] * p
     ex, ey, ez = np.eye(3)
-    P0, P1, P2, P3 = np.zeros(3), L * ex, L * (ex + ey), L * (ex + ey + ez)
-    centers = np.concatenate([P0 + steps * ex, P1 + steps * ey, P2 + steps * ez])[1:]
+    P0, P1, P2 = np.zeros(3), L * ex, L * (ex + ey)
+    centers = np.concatenate([P0 + steps * ex, P1 + steps * ey, P2 + steps * ez])
     boxes = [(c - a / 2, c + a / 2) for c in centers]
-    boxes += [(P0 + np.array([0, -a / 2, -a / 2]), P0 + a / 2)]  # back half of the seam cube
-    boxes += [(P3 - a / 2, P3 + np.array([0, a / 2, a / 2]))]  # front half
-    r = (-a / 2, -a / 2), (a / 2, a / 2)
-    cuts = [(0, 0.0, *r), (0, L, (L - a / 2, L - a / 2), (L + a / 2, L + a / 2))]
-    V, F, _ = box_union_surface(boxes, a / res, cuts)
-    return V, F, VIEW, UP, 0.0
+    V, F, _ = box_union_surface(boxes, a / (2 * res), [])
+    # which cube each face belongs to: the cubes are apart, so the nearest centre
+    mid = V[F].mean(axis=1)
+    cube = np.argmin(((mid[:, None, :] - centers[None]) ** 2).sum(-1), axis=1)
+    # the half of the first cube nearer (on screen) to the last cube than to the second
+    R = view_frame(VIEW, UP)[:2]
+    s_mid, s_second, s_last = mid @ R.T, R @ centers[1], R @ centers[-1]
+    near_last = ((s_mid - s_last) ** 2).sum(1) < ((s_mid - s_second) ** 2).sum(1)
+    front = np.flatnonzero((cube == 0) & near_last)
+    back = np.flatnonzero(cube == len(centers) - 1)
+    return V, F, VIEW, UP, 0.0, None, (front, back)

@@ -142,3 +142,75 @@ def box_union_surface(
     T = np.concatenate([Q[:, [0, 1, 2]], Q[:, [0, 2, 3]]])
     used, F = np.unique(T, return_inverse=True)
     return grid[used], F.reshape(-1, 3).astype(np.int64), side[used]
+
+
+def slant_cut(
+    V: np.ndarray,
+    axis: int,
+    value: float,
+    lo: Sequence[float],
+    hi: Sequence[float],
+    side: int,
+    length: float,
+    view: Sequence[float],
+    region: tuple[Sequence[float], Sequence[float]] | None = None,
+) -> np.ndarray:
+    """Tilt the open end of a bar so that the cut plane contains the view direction.
+
+    An axis-aligned cut through a bar that runs toward the viewer opens toward the camera: the
+    inside of the bar shows through it (a visible back face). Cut models made by artists (and by
+    ParadoxToolkit) cut bars in a plane that *contains* the view direction, so the cut is seen
+    edge-on and covers nothing. This slides the bar's vertices along ``axis`` so that the open
+    end at ``x[axis] == value`` lands on the plane ``x[axis] - value = g . (x_o - c)`` (``x_o``
+    the two other coordinates, ``c`` the centre of the rectangle ``lo``..``hi``), with ``g`` the
+    smallest slope whose plane contains ``view``: ``view[axis] = g . view_o``. The shift fades
+    linearly to 0 at ``length`` from the cut into the bar (on the ``side`` of the cut), so the
+    bar's walls stay in their planes and nothing else moves. Two ends that are translates of
+    each other along ``view`` stay translates.
+
+    Parameters
+    ----------
+    V : (#V, 3) float64
+    axis : int
+        The bar's axis (0, 1, 2).
+    value : float
+        Plane of the open end.
+    lo, hi : (2,) float
+        The open end's rectangle in the other two coordinates (increasing axis order).
+    side : {+1, -1}
+        The bar lies on ``x[axis] > value`` (+1) or ``x[axis] < value`` (-1).
+    length : float
+        Length of bar over which the tilt fades out; must exceed the largest shift.
+    view : (3,) float
+        Direction toward the camera.
+    region : ((2,), (2,)), optional
+        The bar's whole cross-section (default ``lo``, ``hi``), when the open end covers only
+        part of it (a step's opening below its riser): the rest of the bar's end face moves
+        onto the same plane, so it is seen edge-on too.
+
+    Returns
+    -------
+    V : (#V, 3) float64
+        A moved copy.
+    """
+    others = [a for a in range(3) if a != axis]
+    v = np.asarray(view, dtype=float)
+    g = v[axis] * v[others] / float(v[others] @ v[others])
+    lo_, hi_ = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    centre = 0.5 * (lo_ + hi_)
+    shift_max = float(np.abs(g) @ (0.5 * (hi_ - lo_)))
+    if not shift_max < length:
+        raise MescherError(
+            f"length: expected more than the largest shift {shift_max:.4g} of the slanted cut, "
+            f"found {length:.4g}"
+        )
+    eps = 1e-9 * (1.0 + float(np.abs(V).max()))
+    x = V[:, axis]
+    t = side * (x - value)  # distance into the bar
+    o = V[:, others]
+    r_lo, r_hi = (lo_, hi_) if region is None else map(np.asarray, region)
+    inside = (t >= -eps) & (t <= length + eps) & np.all((o >= r_lo - eps) & (o <= r_hi + eps), 1)
+    w = np.clip(1.0 - t / length, 0.0, 1.0)
+    out = V.copy()
+    out[inside, axis] += (w * ((o - centre) @ g))[inside]
+    return out
