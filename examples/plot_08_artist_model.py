@@ -31,9 +31,9 @@ print(m.n_vertices, "vertices,", m.n_faces, "faces; periods", np.round(m.periods
 print("depth gaps the tool recorded:", pm.meta["verification"]["depth_gaps"][:2])
 
 # %%
-# The mescher rendered with its depth order under two lights, and its exact part ``z``.
+# The mescher rendered with its depth order, and its exact part ``z`` as colour.
 fig, axes = plt.subplots(1, 2, figsize=(10, 5))
-axes[0].imshow(render(m, order=order, lights=[(1, 1, 1), (-1, 0.2, 0.5)], window_size=(420, 420)))
+axes[0].imshow(render(m, order=order, lights=[(1, 1, 1)], window_size=(420, 420)))
 axes[0].set_title("ParadoxToolkit penrose_triangle as a mescher")
 axes[1].imshow(render(m, order=order, scalars=m.hodge().z, window_size=(420, 420)))
 axes[1].set_title("its depth potential z")

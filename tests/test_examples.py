@@ -1,0 +1,76 @@
+"""Every gallery example in ``examples/`` runs by itself in an empty folder and makes its figure.
+
+Each script runs in a fresh interpreter whose working directory is an empty folder (what a user
+who downloads one example has), with matplotlib's Agg backend. The test then checks what the
+sphinx-gallery page will show: at least one figure, with a picture in it (not one flat colour),
+and that the script left nothing behind in the folder it ran in (files it writes go to a
+temporary folder of its own).
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = sorted((ROOT / "examples").glob("plot_*.py"))
+
+# Runs the example as `python plot_x.py` would, then saves every open figure outside the cwd.
+RUNNER = """
+import runpy, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+plt.show = lambda *args, **kwargs: None
+runpy.run_path(sys.argv[1], run_name="__main__")
+for i in plt.get_fignums():
+    plt.figure(i).savefig(f"{sys.argv[2]}/figure_{i}.png", dpi=50)
+print("FIGURES", len(plt.get_fignums()))
+"""
+
+
+def test_there_are_at_least_eight_examples_each_with_a_title():
+    assert len(EXAMPLES) >= 8, [p.name for p in EXAMPLES]
+    for path in EXAMPLES:
+        doc = ast.get_docstring(ast.parse(path.read_text()))
+        assert doc, f"{path.name}: sphinx-gallery needs a docstring with a title"
+        title, underline = doc.strip().splitlines()[:2]
+        assert set(underline) == {"="} and len(underline) >= len(title), path.name
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_example_runs_in_an_empty_folder_and_makes_its_figure(path, tmp_path):
+    cwd = tmp_path / "empty"
+    figures = tmp_path / "figures"
+    cwd.mkdir()
+    figures.mkdir()
+    env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
+    if not env.get("DISPLAY"):
+        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    proc = subprocess.run(
+        [sys.executable, "-c", RUNNER, str(path), str(figures)],
+        cwd=cwd,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-4000:]
+    assert "bad X server connection" not in proc.stderr, proc.stderr[-2000:]
+    assert list(cwd.iterdir()) == [], "the example wrote into the folder it ran in"
+    pngs = sorted(figures.glob("figure_*.png"))
+    assert pngs, f"{path.name} made no figure"
+    import matplotlib.image as mpimg
+
+    for png in pngs:
+        img = mpimg.imread(png)[..., :3]
+        # a picture, not a blank canvas: many distinct grey levels and real contrast
+        assert img.std() > 0.05, f"{png.name} of {path.name} is (nearly) one colour"
+        assert len(np.unique(np.round(img.mean(axis=2), 2))) > 20, png.name
