@@ -140,31 +140,62 @@ def penrose_stairs(n_side: int = 3, step: float = 0.25, width: float = 1.0) -> B
     return BoxModel("stairs", V, F, view, up, math.sqrt(3.0) * len(cells) * s)
 
 
-def impossible_cube(size: float = 4.0, width: float = 0.6) -> BoxModel:
-    """An impossible cube frame: twelve bars of a cube, one corner's three bars moved.
+def impossible_cube(size: float = 4.0, width: float = 0.7, view=(1.0, 0.75, 0.55)) -> BoxModel:
+    """An impossible cube frame: a cube's twelve bars, one bar's upper half moved to the front.
 
-    The bars meeting at the corner nearest the viewer ``(a, a, a)`` are replaced by copies
-    moved by ``-(a - w)(1, 1, 1)``... is not needed: instead the top face's front bar along x is
-    moved back by ``d (1, 1, 1)`` with ``d`` chosen so that it projects exactly where it was
-    (a translation along the view leaves a picture unchanged) while it now passes *behind* the
-    vertical bar it used to cross in front of.  The frame's depth cycles through that move:
-    true period ``sqrt(3) d``.
+    The back vertical bar (through the corner farthest from the viewer) crosses a front bar on
+    screen.  It is split at the crossing and its upper half is moved *toward the viewer* along
+    the view direction by ``gap`` -- a move along the view leaves its picture where it was --
+    until it lies in front of the bar it crossed behind.  The picture then shows the back bar
+    passing behind and in front of the same front bar: the impossible cube (Escher's
+    Belvedere).  The figure has several holes.  True period: ``gap``.
     """
     a, w = float(size), float(width)
     if not a > 3 * w > 0:
         raise MescherError(f"size, width: expected size > 3 width > 0, found {a}, {w}")
+    v = np.asarray(view, dtype=np.float64)
+    v = v / np.linalg.norm(v)
+    up = np.array([0.0, 0.0, 1.0]) - v[2] * v
+    up /= np.linalg.norm(up)
+    right = np.cross(up, v)
+    P = np.stack([right, up])  # screen projection
     lo, hi = 0.0, a - w
-    boxes = []
+    bars = []
     for axis in range(3):
-        for p in (lo, hi):
+        o1, o2 = (axis + 1) % 3, (axis + 2) % 3
+        for p_ in (lo, hi):
             for q in (lo, hi):
-                b0 = np.zeros(3)
-                b1 = np.zeros(3)
-                o1, o2 = (axis + 1) % 3, (axis + 2) % 3
+                b0, b1 = np.zeros(3), np.zeros(3)
                 b0[axis], b1[axis] = 0.0, a
-                b0[o1], b1[o1] = p, p + w
+                b0[o1], b1[o1] = p_, p_ + w
                 b0[o2], b1[o2] = q, q + w
-                boxes.append((b0, b1))
+                bars.append((axis, b0, b1))
+    # the back vertical bar (x = y = lo) and the front bars it crosses on screen
+    back = next(i for i, (ax, b0, _) in enumerate(bars) if ax == 2 and b0[0] == lo and b0[1] == lo)
+    c0 = np.array([w / 2, w / 2, 0.0])
+    best = None
+    for i, (ax, b0, b1) in enumerate(bars):
+        if ax == 2 or (b0 + b1) @ v / 2 <= (c0 + [0, 0, a / 2]) @ v:
+            continue  # only bars nearer the viewer than the back bar's middle
+        m0 = (b0 + b1) / 2
+        d0 = np.zeros(3)
+        d0[ax] = 1.0
+        # screen intersection of c0 + s e_z and m0 + t d0
+        A = np.column_stack([P @ np.array([0, 0, 1.0]), -(P @ d0)])
+        if abs(np.linalg.det(A)) < 1e-9:
+            continue
+        s_, t_ = np.linalg.solve(A, P @ (m0 - c0))
+        if 2 * w < s_ < a - 2 * w and abs(t_) < a / 2 - w:
+            best = (s_, i)
+            break
+    if best is None:
+        raise MescherError("view: expected a view where a front bar crosses the back bar")
+    zc = best[0]
+    _, b0, b1 = bars[back]
+    lower = (b0.copy(), np.r_[b1[:2], zc])
+    upper = (np.r_[b0[:2], zc], b1.copy())
+    gap = 2.0 * a  # toward the viewer: far enough to clear every other bar
+    boxes = [(b0_, b1_) for i, (_, b0_, b1_) in enumerate(bars) if i != back]
+    boxes += [lower, (upper[0] + gap * v, upper[1] + gap * v)]
     V, F = boxes_mesh(boxes)
-    view, up = _iso_view()
-    return BoxModel("cube", V, F, view, up, 0.0)
+    return BoxModel("cube", V, F, v, up, gap)

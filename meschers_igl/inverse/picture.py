@@ -535,3 +535,21 @@ def mescher_from_picture(
     info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
             "occlusion_length": float(lens[occl].sum()), "labels": seg.labels}  # fmt: skip
     return m, region, info
+
+
+def fit_options(iters: int = 300, power: int = 1, **overrides):
+    """:class:`.optimize.InverseOptions` for refining a picture-made mescher.
+
+    The start already has the right faces, so the SoftRas blur stays within a pixel or two
+    (``sigma`` from ``2e-4`` to ``1e-5`` for xy, ``1e-4`` to ``1e-6`` for zeta, a pixel being
+    ``2.4e-4``), the steps are small, the offsets stay (the figure does not overlap itself
+    where it was not cut), ``lambda = 1`` with the uniform Laplacian (largesteps' choice) and
+    the best nearly-hard PSNR seen every 20 steps is kept.
+    """
+    from .optimize import InverseOptions
+
+    kw = dict(iters=iters, power=power, lam=1.0, laplacian="uniform", lr_xy=3e-3, lr_z=3e-3,
+              lr_periods=1e-3, lr_offsets=0.0, sigma_xy=(2e-4, 1e-5), sigma_zeta=(1e-4, 1e-6),
+              eval_every=20)  # fmt: skip
+    kw.update(overrides)
+    return InverseOptions(**kw)
