@@ -6,38 +6,11 @@ import numpy as np
 
 from ..errors import MescherError
 from ..operators import view_frame
+from ..shapes import torus
 from ..validate import as_count, as_positive
 
 BAGEL_VIEW = (0.0, -0.5, 1.0)
 BAGEL_UP = (0.0, 1.0, 0.0)
-
-
-def torus_grid(R: float, r: float, n_u: int, n_v: int, seam: bool):
-    """A torus around the z axis on an ``n_u x n_v`` grid, outward triangles.
-
-    With ``seam`` the column ``u = 2 pi`` is a copy of ``u = 0`` (vertices ``n_u n_v`` onward),
-    so the surface is an annulus cut open along one meridian; faces are the same either way.
-
-    Returns
-    -------
-    V : (#V, 3), F : (2 n_u n_v, 3), u : (#V,) the angle around the axis of each vertex.
-    """
-    cols = n_u + 1 if seam else n_u
-    u = np.arange(cols) * (2 * np.pi / n_u)
-    v = np.arange(n_v) * (2 * np.pi / n_v)
-    U, Vv = np.meshgrid(u, v, indexing="ij")
-    rho = R + r * np.cos(Vv)
-    X = np.stack([rho * np.cos(U), rho * np.sin(U), r * np.sin(Vv)], axis=-1).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n_u), np.arange(n_v), indexing="ij")
-    i1 = i + 1 if seam else (i + 1) % n_u
-    j1 = (j + 1) % n_v
-    a, b = i * n_v + j, i1 * n_v + j
-    c, d = i1 * n_v + j1, i * n_v + j1
-    # (u, v) is counter-clockwise seen from outside: d/du x d/dv points outward
-    F = np.concatenate(
-        [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
-    )
-    return X, F.astype(np.int64), U.reshape(-1)
 
 
 def screen_winding(xy: np.ndarray, edges: np.ndarray, loop: tuple[np.ndarray, np.ndarray]) -> int:
@@ -72,8 +45,8 @@ def impossibagel(
     if not r < R:
         raise MescherError(f"minor_radius: expected less than major_radius {R}, found {r}")
     n_u, n_v = 4 * n, n
-    Vt, F, _ = torus_grid(R, r, n_u, n_v, seam=False)
-    Vc, Fc, u = torus_grid(R, r, n_u, n_v, seam=True)
+    Vt, F = torus(n_u, n_v, R, r)
+    Vc, Fc, u = torus(n_u, n_v, R, r, seam=True, return_angles=True)
     vdir = view_frame(BAGEL_VIEW, BAGEL_UP)[2]
     Vc = Vc + (c * u / (2 * np.pi))[:, None] * vdir
 

@@ -8,10 +8,9 @@ import igl
 import numpy as np
 import pytest
 
-from meschers_igl import Mescher, MescherError
+from meschers_igl import Mescher, MescherError, shapes
 from meschers_igl.cutmesh import glue_cut_mesh
 from meschers_igl.gallery import GalleryModel, get_model, list_models
-from meschers_igl.gallery.bagel import torus_grid
 from meschers_igl.operators import view_frame
 from meschers_igl.topology import boundary_loops, connected_components
 
@@ -122,7 +121,7 @@ def test_impossibagel_is_the_torus_with_the_cut_models_periods():
     assert sorted(np.abs(m.periods()).round(12).tolist()) == [0.0, 1.7]
     # with_periods keeps the torus's exact part (its depth z) and adds a 1-form harmonic on
     # the torus: closed, and co-closed in the torus's own metric
-    Vt, Ft, _ = torus_grid(2.0, 0.6, 24, 6, seam=False)
+    Vt, Ft = shapes.torus(24, 6, R=2.0, r=0.6)
     np.testing.assert_array_equal(Ft, m.F)
     m0 = Mescher.from_mesh(Vt, Ft, view=g.view, up=g.up)
     h = np.asarray(m.zeta) - m0.d01 @ (Vt @ view_frame(g.view, g.up)[2])
