@@ -1,16 +1,21 @@
-"""``meschers inverse TARGET.png --light X,Y,Z --out DIR [--init torus] [--iters N]``.
+"""``meschers inverse TARGET --light X,Y,Z --out DIR [--init picture|torus] [--iters N]``.
 
-Recovers a mescher from a picture (paper Section 4.5): the target image spans the screen square
-``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights.  Writes into ``DIR``:
+Recovers a mescher from a picture (paper Section 4.5, issue 14): the target image spans the
+screen square ``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights.  The
+default initialization starts from the picture itself
+(:func:`meschers_igl.inverse.picture.mescher_from_picture`); ``--init torus`` is the paper's.
+Writes into ``DIR``:
 
 - ``mescher.ply``: the recovered mescher with its extracted depth order (``meschers_igl.save``);
-- ``render.png``: its final render; ``target.png``: the target as fitted; ``loss.png``: the
-  loss curve;
-- ``before_after.png``: target, initialization and result side by side;
-- ``metrics.json``: silhouette IoU, PSNR, periods and ``max |period| / size``.
+- ``target.png``, ``init.png``, ``render.png``: the target as fitted, the initialization and
+  the result; ``renders/step_NNNNN.png``: intermediate renders every ``--every`` steps;
+- ``loss.png``: the loss curve and the PSNR curve; ``before_after.png``: the three side by side;
+- ``metrics.json``: silhouette IoU, PSNR (start, end, curve), periods, the period around the
+  outline, CPU and wall time.
 
-``TARGET`` may be the word ``penrose``: the built-in Penrose-triangle picture
-(:func:`meschers_igl.inverse.optimize.penrose_target`), rendered under the same lights.
+``TARGET`` may be a built-in: ``penrose`` (the Penrose triangle drawn by this package's own
+rasterizer) or ``tribar``, ``cube``, ``stairs``: real 3D box models
+(:mod:`meschers_igl.inverse.models`) rendered by PyVista's z-buffer (:func:`zbuffer_picture`).
 """
 
 from __future__ import annotations
@@ -26,7 +31,9 @@ import numpy as np
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_count
 
-DEFAULT_LIGHT = "0.4,0.25,1"
+DEFAULT_LIGHT = "0.6,-0.1,1"
+#: built-in targets: the soft-rasterized Penrose triangle and z-buffered box models
+BUILTIN = ("penrose", "tribar", "cube", "stairs")
 
 
 def zbuffer_picture(
@@ -107,7 +114,8 @@ def _triple(text: str, name: str) -> tuple[float, float, float]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``meschers inverse`` arguments to ``parser`` (returned)."""
-    parser.add_argument("target", help="target PNG spanning the screen square, or 'penrose'")
+    parser.add_argument("target", help="target PNG spanning the screen square, or a built-in: "
+                        f"{', '.join(BUILTIN)}")  # fmt: skip
     parser.add_argument("--light", action="append", default=None, metavar="X,Y,Z",
                         help=f"direction toward a light, camera frame; repeat for several "
                         f"(default {DEFAULT_LIGHT})")  # fmt: skip
@@ -116,13 +124,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
                         "(default white, (1 - ambient) / #lights each)")  # fmt: skip
     parser.add_argument("--ambient", type=float, default=0.2, help="ambient light (default 0.2)")
     parser.add_argument("--out", required=True, help="output folder (created)")
-    parser.add_argument("--init", choices=["torus"], default="torus",
-                        help="initialization (default torus)")  # fmt: skip
-    parser.add_argument("--iters", type=int, default=1200, help="steps (default 1200)")
+    parser.add_argument("--init", choices=["picture", "torus"], default="picture",
+                        help="initialization: from the picture (segment, triangulate, lift; "
+                        "needs one white light) or a torus (default picture)")  # fmt: skip
+    parser.add_argument("--iters", type=int, default=300, help="steps (default 300)")
     parser.add_argument("--resolution", type=int, default=128,
                         help="working resolution; the target is resampled (default 128)")  # fmt: skip
     parser.add_argument("--torus", default="96,24", metavar="N_MAJOR,N_MINOR",
-                        help="torus resolution (default 96,24)")  # fmt: skip
+                        help="torus resolution for --init torus (default 96,24)")  # fmt: skip
+    parser.add_argument("--power", type=int, choices=[1, 2], default=1,
+                        help="Sobolev preconditioner (I + lambda L)^-power (default 1)")  # fmt: skip
+    parser.add_argument("--device", default=None, help="torch device, e.g. cuda (default cpu)")
+    parser.add_argument("--every", type=int, default=50,
+                        help="save a render every so many steps (default 50)")  # fmt: skip
+    parser.add_argument("--force", action="store_true", help="skip the memory-size guard")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
 
@@ -165,33 +180,54 @@ def _save_png(path: Path, image: np.ndarray) -> None:
     Image.fromarray((np.clip(image, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)).save(path)
 
 
-def _figures(out: Path, target, before, after, losses) -> None:
+def _figures(out: Path, target, before, after, losses, psnrs, init_name: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(5, 3.2), dpi=120)
+    fig, ax = plt.subplots(figsize=(5.5, 3.2), dpi=120)
     steps = np.arange(len(losses))
     # the two kinds of step render with different sigma: their losses are two curves
-    ax.semilogy(steps[0::2], losses[0::2], lw=0.8, label="xy steps")
-    ax.semilogy(steps[1::2], losses[1::2], lw=0.8, label="zeta steps")
-    ax.legend()
+    ax.semilogy(steps[0::2], losses[0::2], lw=0.8, label="loss, xy steps")
+    ax.semilogy(steps[1::2], losses[1::2], lw=0.8, label="loss, zeta steps")
     ax.set_xlabel("step")
     ax.set_ylabel("loss")
-    ax.set_title("inverse rendering loss")
+    if psnrs:
+        ax2 = ax.twinx()
+        ax2.plot([p[0] for p in psnrs], [p[1] for p in psnrs], "k.-", lw=0.8, label="PSNR")
+        ax2.set_ylabel("PSNR of the nearly hard render (dB)")
+        ax2.legend(loc="center right")
+    ax.legend(loc="upper right")
+    ax.set_title("inverse rendering")
     fig.tight_layout()
     fig.savefig(out / "loss.png")
     plt.close(fig)
 
     fig, axes = plt.subplots(1, 3, figsize=(9, 3.3), dpi=120)
-    for ax, img, title in zip(axes, (target, before, after), ("target", "torus init", "result")):
+    titles = ("target", f"{init_name} init", "result")
+    for ax, img, title in zip(axes, (target, before, after), titles):
         ax.imshow(np.clip(img, 0, 1), interpolation="nearest")
         ax.set_title(title)
         ax.axis("off")
     fig.tight_layout()
     fig.savefig(out / "before_after.png")
     plt.close(fig)
+
+
+def _builtin_target(name: str, res: int, lights, colors, ambient: float):
+    """A built-in target image and, for the box models, the model (else None)."""
+    from meschers_igl.inverse import models
+    from meschers_igl.inverse.targets import penrose_target
+
+    if name == "penrose":
+        return penrose_target(res, lights=lights, light_colors=colors, ambient=ambient), None
+    if len(lights) != 1 or colors is not None:
+        raise MescherError(f"--light: expected one white light for {name!r}, found {len(lights)}")
+    model = {"tribar": models.penrose_tribar, "cube": models.impossible_cube,
+             "stairs": models.penrose_stairs}[name]()  # fmt: skip
+    image, scale = zbuffer_picture(model, res, light=lights[0], ambient=ambient)
+    return image, (model, scale)
 
 
 def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
@@ -202,13 +238,22 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     int
         Exit status 0; bad input raises :class:`MescherError`.
     """
+    import sys
+
     if args is None or not isinstance(args, argparse.Namespace):
         args = _parser().parse_args(None if args is None else list(args))
     from meschers_igl import save
-    from meschers_igl.inverse.metrics import image_psnr, max_period_ratio, silhouette_iou
+    from meschers_igl.inverse.metrics import (
+        figure_period,
+        image_psnr,
+        max_period_ratio,
+        silhouette_iou,
+    )
     from meschers_igl.inverse.optimize import InverseOptions, extract_order, fit_mescher
+    from meschers_igl.inverse.picture import fit_options, mescher_from_picture
     from meschers_igl.inverse.rasterizer import render_mescher
-    from meschers_igl.inverse.targets import penrose_target, target_mask, torus_for_target
+    from meschers_igl.inverse.targets import target_mask, torus_for_target
+    from meschers_igl.validate import check_budget
 
     lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
     colors = None
@@ -218,62 +263,74 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
             raise MescherError(
                 f"--light-color: expected one per --light ({len(lights)}), found {len(colors)}"
             )
-    if args.iters < 1 or args.resolution < 8:
-        raise MescherError(
-            f"--iters, --resolution: expected >= 1 and >= 8, found {args.iters}, {args.resolution}"
-        )
+    iters = as_count(args.iters, "--iters", minimum=1)
+    res = as_count(args.resolution, "--resolution", minimum=8)
+    every = as_count(args.every, "--every", minimum=1)
+    # a soft rasterizer keeps per (face, pixel) pairs: about 2 kB per pixel at 128^2
+    check_budget(float(res) * res, bytes_per_face=2048.0, what=f"inverse --resolution {res}",
+                 force=bool(args.force))  # fmt: skip
     n_major, n_minor = (int(v) for v in _triple(args.torus + ",0", "--torus")[:2])
-    res = int(args.resolution)
-    if args.target == "penrose":
-        target = penrose_target(res, lights=lights, light_colors=colors, ambient=args.ambient)
+    model = None
+    if args.target in BUILTIN:
+        target, model = _builtin_target(args.target, res, lights, colors, args.ambient)
     else:
         target = _load_target(args.target, res)
     bg = _background(target)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
-    m0, off0 = torus_for_target(target, bg, n_major=n_major, n_minor=n_minor)
     shade = dict(lights=lights, light_colors=colors, ambient=args.ambient)
-    before = render_mescher(m0, off0, resolution=res, background=bg, **shade)
-    opts = InverseOptions(iters=int(args.iters), resolution=res)
-
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-    with Progress(
-        TextColumn("[bold]inverse[/] {task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        disable=bool(args.no_progress),
-    ) as progress:
-        task = progress.add_task("loss -", total=opts.iters)
-
-        def tick(it: int, state: dict) -> None:
-            progress.update(task, advance=1, description=f"loss {state['loss']:.5f}")
-
-        result = fit_mescher(target, m0, off0, background=bg, options=opts, callback=tick, **shade)
+    if args.init == "picture":
+        if len(lights) != 1 or colors is not None:
+            raise MescherError(
+                f"--init picture: expected one white --light, found {len(lights)} lights"
+                + (" with colours" if colors is not None else "")
+            )
+        m0, _, _ = mescher_from_picture(target, lights[0], args.ambient, background=bg)
+        off0 = None
+        opts = fit_options(iters=iters, power=args.power, eval_every=every)
+    else:
+        m0, off0 = torus_for_target(target, bg, n_major=n_major, n_minor=n_minor)
+        opts = InverseOptions(iters=iters, resolution=res, power=args.power, eval_every=every)
+    before = render_mescher(m0, off0, resolution=res, background=bg, sigma=1e-6, **shade)
+    progress = (not args.no_progress) and sys.stderr.isatty()
+    result = fit_mescher(target, m0, off0, background=bg, options=opts, progress=progress,
+                         device=args.device, **shade)  # fmt: skip
 
     m = result.mescher
     order = extract_order(m, result.offsets)
     save(m, out / "mescher.ply", order=order)
     _save_png(out / "target.png", target)
+    _save_png(out / "init.png", before)
     _save_png(out / "render.png", result.image)
-    _figures(out, target, before, result.image, result.losses)
+    renders = out / "renders"
+    renders.mkdir(exist_ok=True)
+    for step, img in result.snapshots:
+        _save_png(renders / f"step_{step:05d}.png", img)
+    _figures(out, target, before, result.image, result.losses, result.psnr, args.init)
     metrics = {
         "silhouette_iou": silhouette_iou(result.alpha > 0.5, target_mask(target, bg)),
         "psnr_db": image_psnr(result.image, target),
+        "psnr_init_db": image_psnr(before, target),
+        "psnr_curve": [[int(s_), float(p)] for s_, p in result.psnr],
         "periods": [float(p) for p in m.periods()],
+        "figure_period": figure_period(m),
+        "impossible": bool(m.is_impossible()),
         "max_period_over_size": max_period_ratio(m),
         "max_abs_d12_zeta": result.max_residual,
         "order_arcs": int(order.n_arcs),
         "seconds": result.seconds,
+        "cpu_seconds": result.cpu_seconds,
         "faces": int(m.n_faces),
-        "iters": opts.iters,
+        "iters": iters,
+        "init": args.init,
     }
+    if model is not None:
+        metrics["true_gap"] = float(model[0].gap * model[1])
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2))
     print(
-        f"silhouette IoU {metrics['silhouette_iou']:.4f}  PSNR {metrics['psnr_db']:.2f} dB  "
-        f"max |period| / size {metrics['max_period_over_size']:.3f}  "
+        f"silhouette IoU {metrics['silhouette_iou']:.4f}  PSNR {metrics['psnr_init_db']:.2f} -> "
+        f"{metrics['psnr_db']:.2f} dB  period {metrics['figure_period']:.3f}  "
         f"max |d12 zeta| {result.max_residual:.1e}  {result.seconds:.0f} s  -> {out}"
     )
     return 0
