@@ -202,6 +202,29 @@ class Mescher:
         m = cls(a.F, a.xy, a.edges, a.zeta, project=True)
         return (m, a.vmap) if return_map else m
 
+    @classmethod
+    def from_model(
+        cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), perceive=None, *,
+        return_report=False, **kwargs,
+    ):  # fmt: skip
+        """Any 3D model -- closed solids, separate blocks, reliefs, soups -- as seen from ``view``.
+
+        The visible surface with its false edges glued crosswise (their depth gaps become
+        periods) and hidden gaps bridged; ``view="auto"`` finds the view where junctions line
+        up, ``perceive="manhattan"`` snaps normals to the perceived right angles.  See
+        :func:`meschers_igl.visible.see_model` (which returns arrays; the depth order is in
+        ``report.arcs``, or use :func:`meschers_igl.models.model_to_mescher`).
+
+        Returns
+        -------
+        Mescher, and the :class:`~meschers_igl.visible.ConversionReport` with ``return_report``.
+        """
+        from .visible import see_model
+
+        vm = see_model(V, F, view=view, up=up, perceive=perceive, **kwargs)
+        m = cls.from_corner_depths(vm.F, vm.xy, vm.Z)
+        return (m, vm.report) if return_report else m
+
     def with_xy(self, xy) -> Mescher:
         """Same topology and depths, new screen positions."""
         xy = as_points(xy, "xy", 2, self.n_vertices)
@@ -585,12 +608,12 @@ class Mescher:
 
     def geodesic_distance(self, sources, **kwargs) -> np.ndarray:
         """(#V,) heat-method geodesic distance to the nearest source (one-off)."""
-        from .heat import geodesic_distance
+        from .paths import geodesic_distance
 
         return geodesic_distance(self, sources, **kwargs)
 
     def shortest_path(self, source: int, target: int, **kwargs):
         """A shortest polyline on the surface from ``source`` to ``target`` vertex."""
-        from .heat import shortest_path
+        from .paths import shortest_path
 
         return shortest_path(self, source, target, **kwargs)

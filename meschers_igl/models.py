@@ -21,6 +21,7 @@ from .cutmesh import camera_coordinates
 from .mescher import Mescher
 from .order import DepthOrder
 from .validate import as_faces, as_points
+from .visible import ConversionReport, see_model
 
 __all__ = ["cut_model_to_mescher", "model_to_mescher"]
 
@@ -66,3 +67,46 @@ def cut_model_to_mescher(
     m = Mescher.from_cut_mesh(V, F, view=view, up=up, tol=tol, merge=merge)
     Zc = camera_coordinates(V, view, up)[:, 2][F]
     return m, DepthOrder.from_embedding(m, Zc)
+
+
+def model_to_mescher(
+    V: Any,
+    F: Any,
+    view: Any = (0.0, 0.0, 1.0),
+    up: Any = (0.0, 1.0, 0.0),
+    perceive: str | None = None,
+    *,
+    tol: float | None = None,
+    bridge: bool = True,
+) -> tuple[Mescher, DepthOrder, ConversionReport]:
+    """Any 3D model seen from a view: the mescher of what the viewer sees, its depth order and
+    a conversion report.
+
+    :func:`meschers_igl.visible.see_model` builds the visible surface (false edges glued
+    crosswise, true occlusions kept apart, hidden gaps bridged); the mescher is
+    ``Mescher.from_corner_depths`` of its per-face depths (edge values averaged, then projected
+    onto locally integrable forms, paper Eq. 3-4) and the order holds the occlusion and bridge
+    arcs.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float
+    F : (#F, 3) array_like of int
+    view : (3,) array_like or "auto", default: (0, 0, 1)
+    up : (3,) array_like, default: (0, 1, 0)
+    perceive : {None, "manhattan"}
+    tol : float, optional
+        Relative tolerance (default 1e-5 of the bounding-box diagonal).
+    bridge : bool, default: True
+        Bridge hidden gaps (amodal completion).
+
+    Returns
+    -------
+    m : Mescher
+    order : DepthOrder
+    report : ConversionReport
+        Junctions (screen position, depth gap), arcs, repairs, snapping, warnings, the view.
+    """
+    vm = see_model(V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge)
+    m = Mescher.from_corner_depths(vm.F, vm.xy, vm.Z)
+    return m, DepthOrder(m.n_faces, vm.arcs, m=m), vm.report

@@ -73,7 +73,8 @@ class Junction:
     Attributes
     ----------
     kind : str
-        ``"false edge"`` (visible junction) or ``"hidden gap"`` (amodal bridge).
+        ``"false edge"`` (visible junction), ``"hidden gap"`` (amodal bridge across a depth
+        offset) or ``"occluded continuation"`` (amodal bridge without offset).
     position : (2,) float
         Screen position (middle of the chain).
     depth_gap : float
@@ -106,7 +107,11 @@ class ConversionReport:
     view, up : (3,) float
         The view used (``view="auto"`` reports the one it found).
     source_face : (#F,) int64
-        Input face each mescher face comes from (-1 for bridge faces behind an occluder).
+        Input face (after clean-up) each mescher face comes from (-1 for bridge faces).
+    arcs : (k, 2) int64
+        The depth-order arcs ``i -> j`` (face ``i`` behind face ``j``).
+    cleanup : object or None
+        A loader's clean-up report (``meshlab_filters`` puts its ``CleanupReport`` here).
     """
 
     junctions: list = field(default_factory=list)
@@ -114,9 +119,11 @@ class ConversionReport:
     repairs: list = field(default_factory=list)
     warnings: list = field(default_factory=list)
     snapped: np.ndarray | None = None
+    arcs: np.ndarray | None = None
     view: np.ndarray | None = None
     up: np.ndarray | None = None
     source_face: np.ndarray | None = None
+    cleanup: Any = None
 
     def __str__(self) -> str:
         lines = [f"view {np.round(self.view, 6).tolist()}, up {np.round(self.up, 6).tolist()}"]
@@ -131,6 +138,8 @@ class ConversionReport:
                 f"normals snapped to the perceived frame: max {np.degrees(self.snapped.max()):.3g}"
                 f" deg, mean {np.degrees(self.snapped.mean()):.3g} deg"
             )
+        if self.cleanup is not None:
+            lines.append(f"clean-up: {self.cleanup}")
         lines += [f"repair: {r}" for r in self.repairs]
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
@@ -252,7 +261,9 @@ def _clip_occluded(T: np.ndarray, pl: np.ndarray, tol: float, grid: float):
     # the farther face of each overlapping pair is clipped by the nearer one
     back = np.where(dz > 0, i, j)
     front = np.where(dz > 0, j, i)
-    keep = np.abs(dz) > tol  # faces crossing in 3D at the overlap: leave to the z-order of centroids
+    keep = (
+        np.abs(dz) > tol
+    )  # faces crossing in 3D at the overlap: leave to the z-order of centroids
     back, front = back[keep], front[keep]
     involved[i] = involved[j] = True
     polys = shapely.polygons(T)
@@ -371,7 +382,9 @@ def _split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: flo
                 newS.append(src[f])
         Ft = np.vstack([Ft[keep], np.asarray(newF, dtype=np.int64)])
         src = np.concatenate([src[keep], np.asarray(newS, dtype=np.int64)])
-    raise MescherError("F: expected the visible map's T-junctions to resolve, found more after 64 passes")
+    raise MescherError(
+        "F: expected the visible map's T-junctions to resolve, found more after 64 passes"
+    )
 
 
 # ------------------------------------------------------------------------------ gluing
@@ -389,11 +402,10 @@ def _edge_on_source(xy, E, src, C, F, tol):
         L = np.linalg.norm(d, axis=1)
         L = np.where(L > 0, L, 1.0)
 
-        def dist(P):
-            w = P - a
-            return np.abs(w[:, 0] * d[:, 1] - w[:, 1] * d[:, 0]) / L
-
-        out[(dist(p) <= tol) & (dist(q) <= tol) & (out < 0)] = k
+        wp, wq = p - a, q - a
+        dp = np.abs(wp[:, 0] * d[:, 1] - wp[:, 1] * d[:, 0]) / L
+        dq = np.abs(wq[:, 0] * d[:, 1] - wq[:, 1] * d[:, 0]) / L
+        out[(dp <= tol) & (dq <= tol) & (out < 0)] = k
     return out
 
 
@@ -402,6 +414,7 @@ def see_model(
     F: Any,
     view: Any = (0.0, 0.0, 1.0),
     up: Any = (0.0, 1.0, 0.0),
+    perceive: str | None = None,
     *,
     tol: float | None = None,
     bridge: bool = True,
@@ -414,9 +427,15 @@ def see_model(
         Model vertices (world frame); closed solids, separate parts, open reliefs, soups.
     F : (#F, 3) array_like of int
         Triangles (any orientation: each part is oriented outward by its signed volume).
-    view : (3,) array_like, default: (0, 0, 1)
-        Direction from the model toward the camera.
+    view : (3,) array_like or "auto", default: (0, 0, 1)
+        Direction from the model toward the camera; ``"auto"``: the view in which most vertex
+        pairs line up (:func:`meschers_igl.autoview.find_view`, reported in ``report.view``).
     up : (3,) array_like, default: (0, 1, 0)
+        Screen up (with ``view="auto"``: world +z projected, as modelling tools do).
+    perceive : {None, "manhattan"}, default: None
+        ``"manhattan"``: snap each face's normal to the perceived orthogonal frame and
+        re-project zeta (paper Eq. 3-4), see :mod:`meschers_igl.manhattan`; the angles are in
+        ``report.snapped``.
     tol : float, optional
         Relative tolerance (of the bounding-box diagonal) for screen coincidence and depth
         continuity; default :data:`REL_TOL`.
@@ -437,12 +456,13 @@ def see_model(
     """
     V = as_points(V, "V", 3)
     F = as_faces(F, "F", V.shape[0])
-    R = view_frame(view, up)
-    report = ConversionReport(view=R[2].copy(), up=R[1].copy())
+    if perceive not in (None, "manhattan"):
+        raise MescherError(f"perceive: expected None or 'manhattan', found {perceive!r}")
     used = np.unique(F)
     diag = float(np.linalg.norm(V[used].max(axis=0) - V[used].min(axis=0)))
     if diag == 0.0:
         raise MescherError("V: expected vertices spanning a non-empty box, found a single point")
+    report = ConversionReport()
     rel = REL_TOL if tol is None else float(tol)
     tol_abs = rel * diag
     grid = REL_GRID * diag
@@ -458,6 +478,14 @@ def see_model(
     F, n_flip, n_parts = orient_outward(V, F)
     if n_flip:
         report.repairs.append(f"re-oriented {n_flip} face(s) outward ({n_parts} part(s))")
+    if isinstance(view, str):
+        if view != "auto":
+            raise MescherError(f"view: expected a direction (3,) or 'auto', found {view!r}")
+        from .autoview import find_view
+
+        view, up = find_view(V, F)
+    R = view_frame(view, up)
+    report.view, report.up = R[2].copy(), R[1].copy()
     _pinch_warning(F, report)
 
     C = V @ R.T
@@ -520,7 +548,14 @@ def see_model(
     report.source_face = np.where(is_bridge, -1, sb)
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
     first[Fm.reshape(-1)] = corner_vertex
-    return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
+    xym = xy[first]
+    if perceive == "manhattan":
+        from .manhattan import perceive_manhattan
+
+        Zb, report.snapped = perceive_manhattan(xym, Fm, Zb)
+    report.arcs = arcs
+    _expectation_warning(report, V, F, C, front)
+    return VisibleModel(F=Fm, xy=xym, Z=Zb, arcs=arcs, report=report)
 
 
 def _stuck_cuts(Fm: np.ndarray, h1: np.ndarray, h2: np.ndarray) -> np.ndarray:
@@ -545,6 +580,31 @@ def _split_cut_faces(xy, Fa, src, h1, h2):
     Fa = np.vstack([Fa[keep], np.stack([a, m, c], 1), np.stack([m, b, c], 1)])
     src = np.concatenate([src[keep], src[f], src[f]])
     return xy, Fa, src
+
+
+def _expectation_warning(report, V, F, C, front) -> None:
+    """Warn when nothing impossible was found although the model looks built for it.
+
+    Two signs that a junction was meant: silhouette vertices that *nearly* line up on screen
+    (within 1% of the size) far apart in depth -- the view is slightly off, try ``view="auto"``
+    -- and faces whose normals are near, but not exactly on, three orthogonal directions -- a
+    sheared trick, try ``perceive="manhattan"``.
+    """
+    if any(j.depth_gap > 0 for j in report.junctions if j.kind != "occluded continuation"):
+        return
+    diag = float(np.linalg.norm(np.ptp(V, axis=0)))
+    vs = np.unique(F[front])
+    P = C[vs]
+    near = cKDTree(P[:, :2]).query_pairs(1e-2 * diag, output_type="ndarray")
+    dz = np.abs(P[near[:, 0], 2] - P[near[:, 1], 2]) if near.size else np.zeros(0)
+    hints = []
+    if np.any(dz > 0.2 * diag):
+        hints.append("view='auto' (vertices far apart in depth nearly line up on screen)")
+    if report.snapped is None:
+        hints.append("perceive='manhattan' (if the figure looks impossible by its right angles)")
+    msg = "the result is possible (no junction glued, no period); try " + " or ".join(hints)
+    report.warnings.append(msg)
+    warnings.warn(f"see_model: {msg}", MescherWarning, stacklevel=4)
 
 
 def _pinch_warning(F: np.ndarray, report: ConversionReport) -> None:
@@ -718,23 +778,22 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
             if not _parallel_to_face_edge(s0, sa, xy, pl, T, Fa, src, tol):
                 continue
             poly = [*A[::-1], *B[::-1]]
+            c = xy[poly].mean(axis=0)
+            gap = float(_plane_depth(c, pl[sb]) - _plane_depth(c, pl[sa]))
             if not _hidden(xy[poly], pl[sa], pl[sb], T, Z, tol):
                 continue
             if best is None or L0 < best[0]:
-                best = (L0, ib, poly, sb)
-        del B
+                best = (L0, ib, poly, sb, gap)
         if best is None:
             continue
-        _, ib, poly, sb = best
+        _, ib, poly, sb, gap = best
         P = xy[poly]
-        gap = float(_plane_depth(P.mean(axis=0), pl[sb]) - _plane_depth(P.mean(axis=0), pl[sa]))
-        if abs(gap) <= tol:  # an ordinary occlusion: the depth order alone handles it
-            continue
         used |= {ia, ib}
         tri = _fan_ccw(len(poly))
         new_faces += [[poly[i] for i in t] for t in tri]
         new_src += [sa] * len(tri)
-        bridges.append(Junction("hidden gap", P.mean(axis=0), abs(gap), len(poly) // 2))
+        kind = "hidden gap" if abs(gap) > tol else "occluded continuation"
+        bridges.append(Junction(kind, P.mean(axis=0), abs(gap), len(poly) // 2))
     if not new_faces:
         return none
     Fb = np.vstack([Fa, np.asarray(new_faces, dtype=np.int64)])

@@ -3,7 +3,8 @@
 * :func:`load_artist_model` reads any format PyMeshLab reads and cleans it
   (:mod:`meshlab_filters.cleanup` lists the steps), reporting what changed.
 * :func:`cut_model_to_mescher` turns a cut 3D model of an impossible object into a mescher and
-  its depth order.
+  its depth order; :func:`model_to_mescher` does it for any model (closed solids, separate
+  blocks, soups) seen from a view, with a conversion report.
 * :func:`export_cut_embedding`, :func:`export_bent_embedding` and :func:`export_render_mesh`
   write files MeshLab opens, with scalar fields as vertex colours.
 * :func:`mescher_to_meshset` / :func:`meshset_to_mescher` convert without touching disk.
@@ -21,6 +22,7 @@ from .convert import (
     export_bent_embedding,
     export_cut_embedding,
     export_render_mesh,
+    model_to_mescher,
     scalars_to_colors,
 )
 from .load import load_artist_model, read_meshset
@@ -40,6 +42,7 @@ __all__ = [
     "mescher_to_meshset",
     "meshset_metadata",
     "meshset_to_mescher",
+    "model_to_mescher",
     "read_meshset",
     "scalars_to_colors",
 ]

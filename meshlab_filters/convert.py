@@ -99,6 +99,58 @@ def cut_model_to_mescher(
     return (m, order, report) if return_report else (m, order)
 
 
+def model_to_mescher(
+    path_or_V_F: Any,
+    view: Any = (0.0, 0.0, 1.0),
+    up: Any = (0.0, 1.0, 0.0),
+    perceive: str | None = None,
+    merge_tol: float = 0.0,
+    tol: float | None = None,
+):
+    """Any artist model -- closed solids, separate blocks, reliefs, STL soups -- as seen from a
+    view: (mescher, depth order, report).
+
+    A path is loaded and cleaned with :func:`load_artist_model` (polygons triangulated,
+    duplicate vertices welded, non-manifold edges repaired, parts oriented; the
+    :class:`CleanupReport` lands in ``report.cleanup``), then
+    :func:`meschers_igl.models.model_to_mescher` builds what the viewer sees.
+
+    Parameters
+    ----------
+    path_or_V_F : str, os.PathLike or (V (n,3), F (m,3))
+    view : (3,) array_like or "auto", default: (0, 0, 1)
+    up : (3,) array_like, default: (0, 1, 0)
+    perceive : {None, "manhattan"}
+    merge_tol : float, default: 0.0
+        3D weld distance of the clean-up (only with a path).
+    tol : float, optional
+        Relative tolerance of the conversion.
+
+    Returns
+    -------
+    m : Mescher
+    order : DepthOrder
+    report : meschers_igl.visible.ConversionReport
+        Junctions with their depth gaps, arcs, repairs (clean-up included), warnings, the view.
+    """
+    from meschers_igl.models import model_to_mescher as core_model_to_mescher
+
+    cleanup = None
+    if isinstance(path_or_V_F, (str, os.PathLike)):
+        V, F, cleanup = load_artist_model(path_or_V_F, merge_tol=merge_tol)
+    elif isinstance(path_or_V_F, (tuple, list)) and len(path_or_V_F) == 2:
+        V = as_points(path_or_V_F[0], "path_or_V_F[0] (V)", 3)
+        F = as_faces(path_or_V_F[1], "path_or_V_F[1] (F)", V.shape[0])
+    else:
+        raise MescherError(
+            "path_or_V_F: expected a file path or a pair (V, F), found "
+            f"{type(path_or_V_F).__name__}"
+        )
+    m, order, report = core_model_to_mescher(V, F, view=view, up=up, perceive=perceive, tol=tol)
+    report.cleanup = cleanup
+    return m, order, report
+
+
 def _translate_pairs(merge: Any, vmap: np.ndarray, path: Any) -> np.ndarray:
     pairs = np.asarray(merge)
     if pairs.ndim != 2 or pairs.shape[1] != 2 or not np.issubdtype(pairs.dtype, np.integer):

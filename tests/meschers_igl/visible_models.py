@@ -8,7 +8,7 @@ Each builder returns the model and the depth gap(s) it was built with.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import ConvexHull, HalfspaceIntersection
+from scipy.spatial import HalfspaceIntersection
 
 ISO_VIEW = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)
 ISO_UP = np.array([-1.0, -1.0, 2.0]) / np.sqrt(6.0)
@@ -98,7 +98,9 @@ def ring(steps, t=1.0, split=0.5, hidden=None, view=ISO_VIEW):
     blocks = [_bar(S0, R[1], d0, dirs[1], t, ("plane", m) if cut is None else ("cap",), None)]
     for k in range(1, K):
         blocks.append(_bar(R[k], R[k + 1], dirs[k], dirs[(k + 1) % K], t, None, dirs[k - 1]))
-    blocks.append(_bar(R[K], E, d0, None, t, None, dirs[K - 1], end=("plane", m) if cut is None else ("cap",)))
+    blocks.append(
+        _bar(R[K], E, d0, None, t, None, dirs[K - 1], end=("plane", m) if cut is None else ("cap",))
+    )
     return blocks, float(gap_vec @ view)
 
 
@@ -168,7 +170,7 @@ def soup(V, F):
 
 def write_obj(path, V, polys):
     with open(path, "w") as fh:
-        fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V)
+        fh.writelines(f"v {x:.17g} {y:.17g} {z:.17g}\n" for x, y, z in V)
         fh.writelines("f " + " ".join(str(i + 1) for i in p) + "\n" for p in polys)
     return path
 
@@ -181,9 +183,10 @@ def write_stl(path, V, F):
     with open(path, "w") as fh:
         fh.write("solid m\n")
         for k in range(F.shape[0]):
-            fh.write(f" facet normal {n[k,0]:e} {n[k,1]:e} {n[k,2]:e}\n  outer loop\n")
+            fh.write(f" facet normal {n[k, 0]:e} {n[k, 1]:e} {n[k, 2]:e}\n  outer loop\n")
             for c in range(3):
-                fh.write(f"   vertex {np.float32(T[k,c,0])!r} {np.float32(T[k,c,1])!r} {np.float32(T[k,c,2])!r}\n".replace("np.float32(", "").replace(")", ""))
+                x, y, z = (float(np.float32(a)) for a in T[k, c])
+                fh.write(f"   vertex {x:.9g} {y:.9g} {z:.9g}\n")
             fh.write("  endloop\n endfacet\n")
         fh.write("endsolid m\n")
     return path
