@@ -10,6 +10,7 @@ temporary folder of its own).
 from __future__ import annotations
 
 import ast
+import json
 import os
 import subprocess
 import sys
@@ -74,3 +75,45 @@ def test_example_runs_in_an_empty_folder_and_makes_its_figure(path, tmp_path):
         # a picture, not a blank canvas: many distinct grey levels and real contrast
         assert img.std() > 0.05, f"{png.name} of {path.name} is (nearly) one colour"
         assert len(np.unique(np.round(img.mean(axis=2), 2))) > 20, png.name
+
+
+NOTEBOOK = ROOT / "notebooks" / "meschers_trame.ipynb"
+
+# The notebook's code cells, run as one script off screen (no Jupyter server here): the trame
+# backend call is recorded instead of made, every plotter renders off screen.
+NOTEBOOK_RUNNER = """
+import json, sys
+import pyvista as pv
+pv.OFF_SCREEN = True
+backends = []
+pv.set_jupyter_backend = lambda name, *args, **kwargs: backends.append(name)
+cells = json.load(open(sys.argv[1]))["cells"]
+code = "\\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
+scope = {}
+exec(compile(code, sys.argv[1], "exec"), scope)
+image = scope["plot"](scope["m"], order=scope["order"], window_size=(200, 200))
+print("BACKENDS", backends, "IMAGE", image.shape, int(image.std() > 10))
+"""
+
+
+def test_notebook_uses_trame_and_its_cells_run(tmp_path):
+    nb = json.loads(NOTEBOOK.read_text())
+    assert nb["nbformat"] == 4 and nb["metadata"]["kernelspec"]["language"] == "python"
+    code = "".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
+    assert 'set_jupyter_backend("trame")' in code and 'jupyter_backend="trame"' in code
+    assert all(c.get("outputs", []) == [] for c in nb["cells"]), (
+        "commit the notebook without outputs"
+    )
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    if not env.get("DISPLAY"):
+        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    proc = subprocess.run(
+        [sys.executable, "-c", NOTEBOOK_RUNNER, str(NOTEBOOK)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    assert "BACKENDS ['trame'] IMAGE (200, 200, 3) 1" in proc.stdout, proc.stdout[-2000:]
