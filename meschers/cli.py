@@ -1,10 +1,12 @@
 """The ``meschers`` command line: the comparison study and everyday work on meschers.
 
-``meschers study`` runs every operation of the paper on the built-in gallery and writes an HTML
-report; the other subcommands each wrap one library call::
+``meschers study`` runs every operation of the paper on the built-in gallery (or on your own
+models) and writes an HTML report; the other subcommands each wrap one library call::
 
     meschers study --quick --out study        # report in study/index.html
+    meschers study my_models/ --jobs 2        # a folder of models on two worker processes
     meschers info penrose_triangle            # counts, genus, periods
+    meschers convert paradox:penrose_triangle penrose.ply   # a shipped model, written out
     meschers convert model.obj model.ply --view 1,1,1 --up 0,0,1
     meschers render model.ply -o model.png --light 1,1,1 --light -1,0,1
     meschers geodesic model.ply --source 0 --target 10 -o distance.png
@@ -13,7 +15,11 @@ report; the other subcommands each wrap one library call::
     meschers view model.ply                   # interactive (needs a display)
     meschers inverse target.png --light 0,0,1 --out fit
 
-A user error (missing or corrupt file, unknown model, bad option) prints one line
+A model is named as in :mod:`meschers.inputs`: a gallery name, ``paradox:NAME``, a saved
+``.ply``/``.npz`` mescher or a mesh with a sidecar JSON view.
+
+A user error (missing or corrupt file, unknown model, bad option, a request too big for the
+memory without ``--force``) prints one line
 ``meschers: error: ...`` on stderr and exits with status 2 (1 for a failed step); genuine bugs
 keep their traceback.  pyvista, pymeshlab and torch are imported only inside the subcommands that
 need them (``import meschers_igl`` never imports pyvista).
@@ -32,7 +38,9 @@ import numpy as np
 
 from meschers_igl.errors import MescherError
 
-__all__ = ["describe", "load_input", "main"]
+from .describe import describe, format_info
+
+__all__ = ["build_parser", "describe", "load_input", "main"]
 
 PROG = "meschers"
 
@@ -87,84 +95,19 @@ def _nonnegative(text: str) -> float:
     return v
 
 
-def describe(m: Any, order: Any = None) -> dict:
-    """Counts, topology, impossibility and periods of a mescher (``meschers info``).
-
-    Parameters
-    ----------
-    m : Mescher
-    order : DepthOrder, optional
-
-    Returns
-    -------
-    dict
-        ``vertices``, ``edges``, ``faces``, ``euler_characteristic`` (V - E + F), ``components``,
-        ``boundary_loops``, ``genus`` (sum over components of ``(2 - chi_i - b_i) / 2``, the
-        surface being orientable), ``impossible``, ``periods``, ``max_integrability_residual``
-        and, with an order, ``depth_arcs`` and ``depth_cycles``.
-    """
-    from meschers_igl import topology
-
-    F = np.asarray(m.F)
-    n = int(m.n_vertices)
-    n_comp, label = topology.connected_components(F, n)
-    loops = topology.boundary_loops(F)
-    chi = int(m.n_vertices) - int(m.n_edges) + int(m.n_faces)
-    # genus summed over components: 2 - 2 g_i - b_i = chi_i, so sum g_i = (2c - chi - b) / 2
-    used = np.zeros(n, dtype=bool)
-    used[F.ravel()] = True
-    n_comp_used = int(np.unique(np.asarray(label)[used]).size)
-    genus2 = 2 * n_comp_used - chi - len(loops)
-    periods = np.asarray(m.periods(), dtype=np.float64)
-    info = {
-        "vertices": n,
-        "edges": int(m.n_edges),
-        "faces": int(m.n_faces),
-        "euler_characteristic": chi,
-        "components": n_comp_used,
-        "boundary_loops": len(loops),
-        "genus": genus2 // 2 if genus2 % 2 == 0 else genus2 / 2,
-        "impossible": bool(m.is_impossible()),
-        "periods": periods.tolist(),
-        "max_integrability_residual": float(np.abs(m.integrability_residual()).max(initial=0.0)),
-    }
-    if order is not None:
-        info["depth_arcs"] = int(order.n_arcs)
-        info["depth_cycles"] = len(order.cycles(warn=False))
-    return info
-
-
 def load_input(spec: str) -> tuple[Any, Any, str]:
-    """A mescher from a gallery model name or a ``.ply`` / ``.npz`` mescher file.
+    """A mescher from a model name (:mod:`meschers.inputs`): a gallery model, ``paradox:NAME``,
+    a ``.ply`` / ``.npz`` mescher file, or a mesh with a sidecar JSON view.
 
     Returns
     -------
     (Mescher, DepthOrder or None, label)
     """
-    from meschers_igl import io
+    from .inputs import load_mescher, resolve
 
-    path = Path(spec)
-    if path.suffix.lower() in (".ply", ".npz") or path.exists():
-        if not path.is_file():
-            raise MescherError(
-                f"INPUT: expected an existing .ply or .npz mescher file, found nothing at '{spec}'"
-            )
-        if path.suffix.lower() not in (".ply", ".npz"):
-            raise MescherError(
-                f"INPUT: expected a .ply or .npz mescher file, found '{path.name}' "
-                f"(convert an artist model first: meschers convert {spec} OUT.ply --view X,Y,Z)"
-            )
-        m, order = io.load(path, return_order=True)
-        return m, order, str(path)
-    from meschers_igl.gallery import get_model, list_models
-
-    if spec not in list_models():
-        raise MescherError(
-            f"INPUT: expected a .ply/.npz mescher file or a gallery model "
-            f"({', '.join(list_models())}), found {spec!r}"
-        )
-    g = get_model(spec)
-    return g.mescher, g.order, spec
+    model = resolve(spec, "INPUT")
+    m, order = load_mescher(model)
+    return m, order, model.label
 
 
 def _out_path(text: str, suffixes: Sequence[str], name: str = "OUT") -> Path:
@@ -185,7 +128,7 @@ def _headless_views():
     import pyvista
 
     import pyvista_views
-    from pyvista_views._offscreen import has_display
+    from pyvista_views.headless import has_display
 
     if not has_display():
         pyvista.OFF_SCREEN = True
@@ -199,37 +142,38 @@ def _save_png(image: np.ndarray, path: Path) -> None:
 
 
 def _print_info(info: dict, label: str) -> None:
-    periods = info["periods"]
-    print(f"{label}")
-    print(f"  vertices {info['vertices']}, edges {info['edges']}, faces {info['faces']}")
-    print(
-        f"  Euler characteristic {info['euler_characteristic']}, components {info['components']}, "
-        f"boundary loops {info['boundary_loops']}, genus {info['genus']}"
-    )
-    print(f"  impossible: {'yes' if info['impossible'] else 'no'}")
-    print(
-        "  periods: " + (", ".join(f"{p:.6g}" for p in periods) if periods else "none (no loops)")
-    )
-    if "depth_arcs" in info:
-        print(f"  depth order: {info['depth_arcs']} arcs, {info['depth_cycles']} cycles")
+    print(format_info(info, label))
 
 
 # ------------------------------------------------------------------------------------------------
 # subcommands
 # ------------------------------------------------------------------------------------------------
+def _split_names(chunks: Sequence[str] | None) -> list[str]:
+    return [n.strip() for chunk in chunks or () for n in chunk.split(",") if n.strip()]
+
+
 def _cmd_study(args: argparse.Namespace) -> int:
+    from meschers_igl.validate import as_count
+
     from .study import run_study
 
+    jobs = as_count(args.jobs, "--jobs", minimum=1) if args.jobs is not None else _default_jobs()
     _headless_views()
-    models = None
-    if args.models:
-        models = [n.strip() for chunk in args.models for n in chunk.split(",") if n.strip()]
-    result = run_study(models, out=args.out, quick=args.quick, progress=not args.no_progress,
-                       other_tools=not args.no_other_tools)  # fmt: skip
+    names = [*args.inputs, *_split_names(args.models)]
+    result = run_study(names or None, out=args.out, quick=args.quick, progress=not args.no_progress,
+                       other_tools=not args.no_other_tools, jobs=jobs, scheduler=args.scheduler)  # fmt: skip
     print(f"wrote {result.index} ({result.metrics['runtime_s']:.1f} s)")
     for err in result.errors:
         print(f"{PROG}: step failed: {err}", file=sys.stderr)
     return 1 if result.errors else 0
+
+
+def _default_jobs() -> int:
+    """Worker processes of a study by default: the cores this process may use, at most 4."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return max(1, min(int(cores or 1), 4))
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
@@ -245,25 +189,47 @@ def _cmd_info(args: argparse.Namespace) -> int:
 def _cmd_convert(args: argparse.Namespace) -> int:
     from meschers_igl import io
 
-    src = Path(args.input)
-    if not src.is_file():
-        raise MescherError(f"INPUT: expected an existing mesh file, found nothing at '{src}'")
-    out = _out_path(args.output, (".ply", ".npz"))
-    from meshlab_filters import cut_model_to_mescher, load_artist_model
+    from .inputs import ModelSpec, load_artist, resolve
 
-    V, F, report = load_artist_model(src, merge_tol=args.merge_tol)
-    print(report)
-    m, order = cut_model_to_mescher((V, F), view=args.view, up=args.up, tol=args.tol)
+    out = _out_path(args.output, (".ply", ".npz"))
+    src = Path(args.input)
+    if src.is_file() and src.with_suffix(".json").is_file() or not src.exists():
+        model = resolve(args.input, "INPUT")  # a named model, or a mesh with its sidecar view
+    else:
+        if not src.is_file():
+            raise MescherError(f"INPUT: expected a mesh file, found a folder at '{src}'")
+        model = ModelSpec("artist", src.stem, str(src), source=args.input)
+    if model.kind != "artist":  # a gallery model or a saved mescher: written as it is
+        from .inputs import load_mescher
+
+        m, order = load_mescher(model)
+    else:
+        view = args.view or model.view or (0.0, 0.0, 1.0)
+        up = args.up or model.up or (0.0, 1.0, 0.0)
+        model = ModelSpec("artist", model.name, model.path, tuple(view), tuple(up), model.meta)
+        m, order, _, _, report = load_artist(model, merge_tol=args.merge_tol, tol=args.tol)
+        print(report)
     io.save(m, out, order=order)
     _print_info(describe(m, order), f"wrote {out}")
     return 0
 
 
+def _budget(m: Any, levels: int, force: bool, what: str) -> None:
+    """Refuse (exit 2, before any work) a subdivision whose result would not fit in memory."""
+    from meschers_igl.validate import check_budget
+
+    check_budget(float(m.n_faces) * 4.0**levels, what=what, force=force)
+
+
 def _cmd_render(args: argparse.Namespace) -> int:
+    from meschers_igl.validate import as_count
+
     m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".png",), "-o")
-    if args.subdivide:
-        m, order = _subdivide(m, order, args.subdivide)
+    levels = as_count(args.subdivide, "--subdivide")
+    if levels:
+        _budget(m, levels, args.force, f"render --subdivide {levels}")
+        m, order = _subdivide(m, order, levels, force=args.force)
     pvv = _headless_views()
     image = pvv.render(
         m, order=order if args.representation == "mescher" else None,
@@ -275,17 +241,19 @@ def _cmd_render(args: argparse.Namespace) -> int:
     return 0
 
 
-def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint") -> tuple:
+def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint", force: bool = False):
     if order is None:
-        return m.subdivide(levels, scheme=scheme), None
-    return m.subdivide(levels, scheme=scheme, order=order)
+        return m.subdivide(levels, scheme=scheme, force=force), None
+    return m.subdivide(levels, scheme=scheme, order=order, force=force)
 
 
 def _cmd_geodesic(args: argparse.Namespace) -> int:
-    from meschers_igl.heat import HeatGeodesicSolver
+    from meschers_igl import HeatGeodesicSolver
 
     m, order, _ = load_input(args.input)
-    solver = HeatGeodesicSolver(m, method=args.method)
+    solver = (
+        HeatGeodesicSolver(m) if args.method is None else HeatGeodesicSolver(m, method=args.method)
+    )
     d = solver.distance(args.source)
     finite = np.isfinite(d)
     print(f"distance from vertex(es) {', '.join(map(str, args.source))}: max {d[finite].max():.6g}, "
@@ -302,18 +270,17 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
     if args.output:
         out = _out_path(args.output, (".png",), "-o")
         pvv = _headless_views()
-        size = args.size
-        from pyvista_views.render import _xy_box, default_bounds
+        from pyvista_views.camera import default_bounds, xy_box
 
-        from .study import _overlay
+        from .figures import overlay
 
-        bounds = default_bounds(_xy_box(np.asarray(m.xy)), size)
+        bounds = default_bounds(xy_box(np.asarray(m.xy)), args.size)
         image = pvv.render(m, order=order, shading="smooth", scalars=d, isolines=args.isolines,
-                           window_size=size, bounds=bounds, anti_aliasing=True)  # fmt: skip
+                           window_size=args.size, bounds=bounds, anti_aliasing=True)  # fmt: skip
         if path is not None:
             P = np.asarray(path.xy)
-            image = _overlay(image, bounds, segments=[(np.stack([P[:-1], P[1:]], 1), "#ff2020", 3)],
-                             points=[(P[[0]], "white", 5), (P[[-1]], "#ff2020", 5)])  # fmt: skip
+            image = overlay(image, bounds, segments=[(np.stack([P[:-1], P[1:]], 1), "#ff2020", 3)],
+                            points=[(P[[0]], "white", 5), (P[[-1]], "#ff2020", 5)])  # fmt: skip
         _save_png(image, out)
         print(f"wrote {out}")
     return 0
@@ -321,31 +288,36 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
 
 def _cmd_smooth(args: argparse.Namespace) -> int:
     from meschers_igl import io
+    from meschers_igl.validate import as_count
 
     m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".ply", ".npz"), "-o")
-    ms = m.smooth(t_xy=args.t_xy, t_zeta=args.t_zeta, iterations=args.iterations)
+    iterations = as_count(args.iterations, "--iterations", minimum=1)
+    ms = m.smooth(t_xy=args.t_xy, t_zeta=args.t_zeta, iterations=iterations)
     p0, p1 = np.asarray(m.periods()), np.asarray(ms.periods())
     io.save(ms, out, order=order)
-    print(f"wrote {out}: t_xy {args.t_xy:g}, t_zeta {args.t_zeta:g}, {args.iterations} iteration(s); "
+    print(f"wrote {out}: t_xy {args.t_xy:g}, t_zeta {args.t_zeta:g}, {iterations} iteration(s); "
           f"largest period change {np.abs(p1 - p0).max(initial=0.0):.2e}")  # fmt: skip
     return 0
 
 
 def _cmd_subdivide(args: argparse.Namespace) -> int:
     from meschers_igl import io
+    from meschers_igl.validate import as_count
 
+    levels = as_count(args.levels, "--levels")
     m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".ply", ".npz"), "-o")
-    ms, order_s = _subdivide(m, order, args.levels, args.scheme)
+    _budget(m, levels, args.force, f"subdivide --levels {levels}")
+    ms, order_s = _subdivide(m, order, levels, args.scheme, force=args.force)
     io.save(ms, out, order=order_s)
-    print(f"wrote {out}: {m.n_faces} -> {ms.n_faces} faces ({args.scheme}, {args.levels} level(s))")
+    print(f"wrote {out}: {m.n_faces} -> {ms.n_faces} faces ({args.scheme}, {levels} level(s))")
     return 0
 
 
 def _cmd_view(args: argparse.Namespace) -> int:
     m, order, _ = load_input(args.input)
-    from pyvista_views._offscreen import has_display
+    from pyvista_views.headless import has_display
 
     if not has_display():
         raise MescherError(
@@ -374,11 +346,48 @@ def _cmd_inverse(args: argparse.Namespace) -> int:
     return int(inverse_main(list(args.rest)) or 0)
 
 
+def _cmd_info_or_list(args: argparse.Namespace) -> int:
+    if args.list or args.input is None:
+        from meschers_igl.gallery import get_model, list_models
+        from meschers_igl.paradox import list_paradox_models
+
+        if args.input is None and not args.list:
+            raise MescherError("INPUT: expected a model name or a .ply/.npz file, found nothing")
+        print("gallery models:")
+        for name in list_models():
+            print(f"  {name:30s} {get_model(name).description}")
+        print("shipped ParadoxToolkit cut models (GPL-3.0 data):")
+        for name in list_paradox_models():
+            print(f"  paradox:{name}")
+        return 0
+    return _cmd_info(args)
+
+
 # ------------------------------------------------------------------------------------------------
 # parser
 # ------------------------------------------------------------------------------------------------
 def _examples(*lines: str) -> str:
     return "example:\n" + "\n".join(f"  {PROG} {ln}" for ln in lines)
+
+
+def _add(p: argparse.ArgumentParser, *names: str, **kw: Any) -> None:
+    """``add_argument`` that insists on a help text (every option documents itself)."""
+    if not kw.get("help"):
+        raise ValueError(f"option {names[0]} has no help text")  # a programming error
+    p.add_argument(*names, **kw)
+
+
+def _input(p: argparse.ArgumentParser, nargs: str | None = None) -> None:
+    _add(p, "input", metavar="INPUT", nargs=nargs,
+         help="a gallery model (e.g. penrose_triangle), paradox:NAME (a shipped ParadoxToolkit "
+              "model), a .ply/.npz mescher file, or a mesh with a sidecar .json view; "
+              "'meschers info --list' lists the names")  # fmt: skip
+
+
+def _force(p: argparse.ArgumentParser) -> None:
+    _add(p, "--force", action="store_true",
+         help="do it even when the estimated result does not fit in the memory available "
+              "(otherwise refused at once, exit status 2)")  # fmt: skip
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -395,153 +404,194 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     raw = argparse.RawDescriptionHelpFormatter
-    inp = "a gallery model name (see 'meschers info --list') or a .ply/.npz mescher file"
+    size_help = "image size in pixels, WIDTH,HEIGHT or N for a square (default %(default)s)"
 
-    p = sub.add_parser("study", help="run the comparison study on the gallery; write an HTML report",
-                       formatter_class=raw, description="Every operation of the paper on the built-in gallery, "
-                       "mescher vs cut vs bent, written to OUT/index.html with PNGs and metrics.json.",
-                       epilog=_examples("study", "study --quick --models penrose_triangle,impossibagel --out study"))  # fmt: skip
-    p.add_argument(
-        "--models",
-        action="append",
-        metavar="NAMES",
-        help="comma-separated gallery models (default: all)",
-    )
-    p.add_argument(
+    p = sub.add_parser("study", help="run the comparison study; write one HTML page", formatter_class=raw,
+                       description="Every operation of the paper on each model, mescher vs cut vs bent, written "
+                       "to OUT/index.html (one file, figures embedded) with the PNGs and metrics.json. Default: "
+                       f"the gallery and the shipped ParadoxToolkit models ({STUDY_TIME}).",
+                       epilog=_examples("study", "study --quick --models penrose_triangle,impossibagel --out study",
+                                        "study 'my_models/*.obj' saved.ply --jobs 2 --out mine",
+                                        "study --scheduler tcp://10.0.0.5:8786"))  # fmt: skip
+    _add(p, "inputs", nargs="*", metavar="MODEL",
+         help="models to study, exactly these: gallery names, paradox:NAME, .ply/.npz meschers, meshes "
+              "with a sidecar .json view ({'view': [x,y,z], 'up': [x,y,z]}), folders, glob patterns "
+              "(quoted); default: the gallery and the shipped ParadoxToolkit models")  # fmt: skip
+    _add(p, "--models", action="append", metavar="NAMES",
+         help="comma-separated models, like MODEL (repeatable); only these are run")  # fmt: skip
+    _add(
+        p,
         "--out",
         default="meschers_study",
         metavar="DIR",
         help="output folder (default: meschers_study)",
     )
-    p.add_argument(
-        "--quick", action="store_true", help="small renders, one subdivision level (<= 2 minutes)"
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--no-other-tools", action="store_true", help="leave out the ParadoxToolkit section"
-    )
+    _add(p, "--quick", action="store_true",
+         help=f"192-pixel panels and one subdivision level instead of 320 and two ({QUICK_TIME})")  # fmt: skip
+    _add(p, "--jobs", type=int, default=None, metavar="N",
+         help="worker processes of a local Dask cluster, one model per task; 1 runs here, one model "
+              "after another (default: the cores available, at most 4)")  # fmt: skip
+    _add(p, "--scheduler", default=None, metavar="ADDRESS",
+         help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (its workers need meschers "
+              "installed); --jobs is then ignored")  # fmt: skip
+    _add(p, "--no-progress", action="store_true", help="no progress bar")
+    _add(p, "--no-other-tools", action="store_true",
+         help="without MODEL/--models: leave out the ParadoxToolkit section")  # fmt: skip
     p.set_defaults(func=_cmd_study)
 
     p = sub.add_parser("info", help="counts, genus, components, impossible?, periods", formatter_class=raw,
-                       description="Describe a mescher.", epilog=_examples("info penrose_triangle", "info model.ply --json"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", nargs="?", help=inp)
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--list", action="store_true", help="list the gallery models")
+                       description="Describe a mescher: counts, Euler characteristic, genus, boundary loops, "
+                       "whether it is impossible, its periods and its depth order.",
+                       epilog=_examples("info penrose_triangle", "info paradox:penrose_triangle --json",
+                                        "info --list"))  # fmt: skip
+    _input(p, nargs="?")
+    _add(p, "--json", action="store_true", help="print one JSON object")
+    _add(
+        p, "--list", action="store_true", help="list the gallery and shipped ParadoxToolkit models"
+    )
     p.set_defaults(func=_cmd_info_or_list)
 
-    p = sub.add_parser("convert", help="artist cut model (OBJ, PLY, ...) -> .ply mescher", formatter_class=raw,
-                       description="Load and clean an artist's cut model with PyMeshLab, glue its seam into a mescher "
-                       "seen from --view, and save it with its depth order. Prints the clean-up report.",
-                       epilog=_examples("convert penrose_triangle.obj penrose.ply --view 0.577,-0.577,0.577 --up -0.408,0.408,0.816"))  # fmt: skip
-    p.add_argument(
-        "input", metavar="INPUT", help="mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...)"
-    )
-    p.add_argument("output", metavar="OUT", help="the mescher file (.ply or .npz)")
-    p.add_argument("--view", type=lambda s: _vector(s, "--view"), default=(0.0, 0.0, 1.0), metavar="X,Y,Z",
-                   help="direction from the model toward the camera (default 0,0,1)")  # fmt: skip
-    p.add_argument("--up", type=lambda s: _vector(s, "--up"), default=(0.0, 1.0, 0.0), metavar="X,Y,Z",
-                   help="screen up (default 0,1,0)")  # fmt: skip
-    p.add_argument(
-        "--tol", type=float, default=None, help="gluing tolerance relative to the model's size"
-    )
-    p.add_argument(
-        "--merge-tol",
-        type=_nonnegative,
-        default=0.0,
-        help="3D duplicate-vertex distance of the clean-up",
-    )
+    p = sub.add_parser("convert", help="a model (artist cut model, paradox:NAME, gallery) -> .ply mescher",
+                       formatter_class=raw,
+                       description="Write a mescher file. An artist's cut model (OBJ, PLY, STL, ... any format "
+                       "PyMeshLab reads) is cleaned with PyMeshLab and its seam glued into a mescher seen from "
+                       "--view (default: its sidecar .json view, else 0,0,1); a shipped model "
+                       "(paradox:NAME) uses its own camera; a gallery model is written as it is. The depth "
+                       "order is saved with it; the clean-up report is printed.",
+                       epilog=_examples("convert paradox:penrose_triangle penrose.ply",
+                                        "convert penrose_triangle.obj penrose.ply --view 0.577,-0.577,0.577 --up -0.408,0.408,0.816"))  # fmt: skip
+    _add(p, "input", metavar="INPUT",
+         help="a mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...), paradox:NAME or a gallery model")  # fmt: skip
+    _add(p, "output", metavar="OUT", help="the mescher file to write (.ply or .npz)")
+    _add(p, "--view", type=lambda s: _vector(s, "--view"), default=None, metavar="X,Y,Z",
+         help="direction from the model toward the camera (default: the sidecar .json's, else 0,0,1)")  # fmt: skip
+    _add(p, "--up", type=lambda s: _vector(s, "--up"), default=None, metavar="X,Y,Z",
+         help="screen up (default: the sidecar .json's, else 0,1,0)")  # fmt: skip
+    _add(p, "--tol", type=float, default=None, metavar="T",
+         help="gluing tolerance relative to the model's size (default: automatic)")  # fmt: skip
+    _add(p, "--merge-tol", type=_nonnegative, default=0.0, metavar="D",
+         help="3D distance under which the clean-up merges duplicate vertices (default 0: exact)")  # fmt: skip
     p.set_defaults(func=_cmd_convert)
 
     p = sub.add_parser("render", help="render a mescher head-on to a PNG", formatter_class=raw,
                        description="Render a mescher in its depth order (or its cut/bent embedding) under "
                        "directional lights and an optional environment map.",
                        epilog=_examples("render penrose_triangle -o penrose.png --light 1,1,1 --light -1,0,1 --shading smooth",
-                                        "render model.ply -o bent.png --representation bent --env studio"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", help=inp)
-    p.add_argument("-o", "--output", required=True, metavar="PNG")
-    p.add_argument("--light", action="append", type=lambda s: _vector(s, "--light"), metavar="X,Y,Z",
-                   help="direction toward a directional light, camera frame (repeatable; default 1,1,1)")  # fmt: skip
-    p.add_argument("--shading", choices=("flat", "smooth"), default="flat")
-    p.add_argument(
-        "--env",
-        default=None,
-        metavar="MAP",
-        help="environment map: studio, sky, uniform or a lat-long image",
-    )
-    p.add_argument("--representation", choices=("mescher", "cut", "bent"), default="mescher")
-    p.add_argument(
-        "--subdivide", type=int, default=0, metavar="N", help="midpoint subdivision levels first"
-    )
-    p.add_argument("--size", type=_size, default=(800, 800), metavar="W,H")
+                                        "render paradox:penrose_triangle -o bent.png --representation bent --env studio"))  # fmt: skip
+    _input(p)
+    _add(p, "-o", "--output", required=True, metavar="PNG", help="the image to write (.png)")
+    _add(p, "--light", action="append", type=lambda s: _vector(s, "--light"), metavar="X,Y,Z",
+         help="direction toward a directional light, camera frame (repeatable; default 1,1,1)")  # fmt: skip
+    _add(p, "--shading", choices=("flat", "smooth"), default="flat",
+         help="per-face or interpolated normals (default %(default)s)")  # fmt: skip
+    _add(p, "--env", default=None, metavar="MAP",
+         help="environment map: studio, sky, uniform or a lat-long image")  # fmt: skip
+    _add(p, "--representation", choices=("mescher", "cut", "bent"), default="mescher",
+         help="draw the mescher in its depth order, or its cut or bent 3D embedding (default %(default)s)")  # fmt: skip
+    _add(p, "--subdivide", type=int, default=0, metavar="N",
+         help="midpoint subdivision levels before rendering (each level: 4x the faces; default 0)")  # fmt: skip
+    _add(p, "--size", type=_size, default=(800, 800), metavar="W,H", help=size_help)
+    _force(p)
     p.set_defaults(func=_cmd_render)
 
     p = sub.add_parser("geodesic", help="heat-method geodesic distance and a shortest path", formatter_class=raw,
                        description="Geodesic distance from source vertices (heat method), optionally a shortest "
                        "path to a target, a PNG with isolines and the path, and the distances as .npy.",
                        epilog=_examples("geodesic penrose_triangle --source 0 --target 30 -o distance.png"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", help=inp)
-    p.add_argument("--source", type=int, nargs="+", required=True, metavar="V")
-    p.add_argument(
-        "--target", type=int, default=None, metavar="V", help="draw and report a shortest path"
+    _input(p)
+    _add(p, "--source", type=int, nargs="+", required=True, metavar="V",
+         help="source vertex index (or several: distance to the nearest)")  # fmt: skip
+    _add(p, "--target", type=int, default=None, metavar="V",
+         help="draw and report a shortest path from the first source to this vertex")  # fmt: skip
+    _add(p, "--method", default=None, metavar="NAME",
+         help="heat-method preset of meschers_igl.HeatGeodesicSolver, e.g. standard or accurate "
+              "(intrinsic refinement, about 3x less error); default: the library's")  # fmt: skip
+    _add(
+        p, "-o", "--output", metavar="PNG", help="render the distance with isolines (and the path)"
     )
-    p.add_argument("--method", choices=("standard", "accurate"), default="standard")
-    p.add_argument("-o", "--output", metavar="PNG", help="render the distance")
-    p.add_argument("--save", metavar="NPY", help="save the (#V,) distances")
-    p.add_argument("--isolines", type=int, default=12)
-    p.add_argument("--size", type=_size, default=(800, 800), metavar="W,H")
+    _add(p, "--save", metavar="NPY", help="save the (#V,) distances as a .npy file")
+    _add(
+        p,
+        "--isolines",
+        type=int,
+        default=12,
+        metavar="K",
+        help="isolines in the PNG (default %(default)s)",
+    )
+    _add(p, "--size", type=_size, default=(800, 800), metavar="W,H", help=size_help)
     p.set_defaults(func=_cmd_geodesic)
 
     p = sub.add_parser("smooth", help="Laplacian smoothing of xy and/or zeta (periods kept)", formatter_class=raw,
                        description="Implicit Laplacian smoothing of screen positions and of the exact part of the "
                        "depths (paper Sec. 4.4); the harmonic part and every period are kept.",
                        epilog=_examples("smooth penrose_triangle -o smooth.ply --t-xy 0.05 --t-zeta 0.05"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", help=inp)
-    p.add_argument("-o", "--output", required=True, metavar="OUT", help=".ply or .npz")
-    p.add_argument(
-        "--t-xy", type=_nonnegative, default=0.0, help="diffusion time for xy (length^2)"
+    _input(p)
+    _add(
+        p,
+        "-o",
+        "--output",
+        required=True,
+        metavar="OUT",
+        help="the mescher file to write (.ply or .npz)",
     )
-    p.add_argument("--t-zeta", type=_nonnegative, default=0.0, help="diffusion time for the depths")
-    p.add_argument("--iterations", type=int, default=1)
+    _add(p, "--t-xy", type=_nonnegative, default=0.0, metavar="T",
+         help="diffusion time for the screen positions, in squared screen units (default 0: kept)")  # fmt: skip
+    _add(p, "--t-zeta", type=_nonnegative, default=0.0, metavar="T",
+         help="diffusion time for the exact part of the depths (default 0: kept)")  # fmt: skip
+    _add(p, "--iterations", type=int, default=1, metavar="N",
+         help="repeat, rebuilding the operators each time (default %(default)s)")  # fmt: skip
     p.set_defaults(func=_cmd_smooth)
 
     p = sub.add_parser("subdivide", help="1-to-4 subdivision (midpoint or Loop), depth order kept", formatter_class=raw,
-                       description="Subdivide a mescher; periods and local integrability are kept.",
+                       description="Subdivide a mescher; periods and local integrability are kept. A request whose "
+                       "result would not fit in memory is refused at once unless --force is given.",
                        epilog=_examples("subdivide penrose_triangle -o fine.ply --levels 2 --scheme loop"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", help=inp)
-    p.add_argument("-o", "--output", required=True, metavar="OUT", help=".ply or .npz")
-    p.add_argument("--levels", type=int, default=1)
-    p.add_argument("--scheme", choices=("midpoint", "loop"), default="midpoint")
+    _input(p)
+    _add(
+        p,
+        "-o",
+        "--output",
+        required=True,
+        metavar="OUT",
+        help="the mescher file to write (.ply or .npz)",
+    )
+    _add(p, "--levels", type=int, default=1, metavar="N",
+         help="subdivision levels; each multiplies the faces by 4 (default %(default)s)")  # fmt: skip
+    _add(p, "--scheme", choices=("midpoint", "loop"), default="midpoint",
+         help="midpoint split (the surface is unchanged) or Loop subdivision of the covering "
+              "(default %(default)s)")  # fmt: skip
+    _force(p)
     p.set_defaults(func=_cmd_subdivide)
 
     p = sub.add_parser("view", help="interactive view (needs a display)", formatter_class=raw,
                        description="Open an interactive window: sliders move the light, 's' cycles scalars, "
                        "'f' toggles flat/smooth, 'r' selects faces to put in front.",
                        epilog=_examples("view penrose_triangle"))  # fmt: skip
-    p.add_argument("input", metavar="INPUT", help=inp)
-    p.add_argument("--shading", choices=("flat", "smooth"), default="flat")
-    p.add_argument("--size", type=_size, default=(900, 900), metavar="W,H")
+    _input(p)
+    _add(p, "--shading", choices=("flat", "smooth"), default="flat",
+         help="per-face or interpolated normals (default %(default)s)")  # fmt: skip
+    _add(
+        p,
+        "--size",
+        type=_size,
+        default=(900, 900),
+        metavar="W,H",
+        help="window size in pixels (default 900,900)",
+    )
     p.set_defaults(func=_cmd_view)
 
     p = sub.add_parser("inverse", help="recover a mescher from a picture (needs torch)", formatter_class=raw,
                        add_help=False, description="Inverse rendering (paper Sec. 4.5); arguments go to "
                        "meschers.inverse_cli ('meschers inverse --help' for them).",
                        epilog=_examples("inverse target.png --light 0,0,1 --out fit --init torus --iters 300"))  # fmt: skip
-    p.add_argument("rest", nargs=argparse.REMAINDER, help="arguments of the inverse command")
+    _add(p, "rest", nargs=argparse.REMAINDER, help="arguments of the inverse command")
     p.set_defaults(func=_cmd_inverse)
     return parser
 
 
-def _cmd_info_or_list(args: argparse.Namespace) -> int:
-    if args.list or args.input is None:
-        from meschers_igl.gallery import get_model, list_models
-
-        if args.input is None and not args.list:
-            raise MescherError("INPUT: expected a gallery model or a .ply/.npz file, found nothing")
-        for name in list_models():
-            print(f"{name:22s} {get_model(name).description}")
-        return 0
-    return _cmd_info(args)
-
+#: Measured wall times of the study on the gallery, shown in its help (bench_study.py measures them).
+STUDY_TIME = "about 40 s on 2 cores"
+QUICK_TIME = "about 20 s"
 
 _VECTOR_OPTIONS = ("--view", "--up", "--light")
 

@@ -1,12 +1,19 @@
-"""``index.html`` of the comparison study: one self-contained page, relative links to its PNGs.
+"""``index.html`` of the comparison study: one self-contained file.
 
-The page has no script and no external resource (styles inline), so it opens from a folder, an
-archive or a file server alike: a summary table of the numbers, then one section per model with
-its figures and captions, then "Models from other tools", the errors if any, and the citation.
+The figures are embedded as ``data:image/png;base64`` URIs and the styles are inline; the page
+has no script and no external resource, so the one file opens anywhere (mail it, archive it).
+The PNGs are also written beside it for reuse.  Content: a summary table per part of the report
+(:data:`meschers.study.GROUPS`), one section per model with its figures and captions, the errors
+if any, and the citation.  Every HTML id is unique: ``<part>-<model>``.
+
+**dL**, everywhere in the study (figures, tables, ``metrics.json``): the mean absolute difference
+of Rec. 709 luminance between two renders, luminance on the scale 0 = black to 1 = white
+(:func:`pyvista_views.compare.luminance`).
 """
 
 from __future__ import annotations
 
+import base64
 import html
 import math
 import re
@@ -14,7 +21,13 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["referenced_images", "write_report"]
+__all__ = ["DL_NOTE", "TABLES", "embedded_images", "referenced_images", "write_report"]
+
+#: The one explanation of dL, used by the page (the figures' captions say the same).
+DL_NOTE = (
+    "<b>dL</b>: mean absolute difference of luminance between two renders with one camera, "
+    "luminance from 0 (black) to 1 (white) (Rec. 709; <code>pyvista_views.compare.luminance</code>)"
+)
 
 _STYLE = """
 body { font-family: system-ui, -apple-system, 'Segoe UI', sans-serif; margin: 2em auto;
@@ -70,6 +83,13 @@ def _periods(values: Any, tol: float = 1e-9) -> str:
     return ", ".join(f"{v:.4g}" for v in nz) if nz else "0"
 
 
+def _drift(x: Any, scale: float) -> str:
+    """A period change: 0 when below 1e-9 of the periods' scale (round-off)."""
+    if not isinstance(x, (int, float)) or not math.isfinite(x):
+        return "&ndash;"
+    return "0" if abs(x) < 1e-9 * scale else f"{x:.2g}"
+
+
 def _gallery_table(models: dict) -> str:
     head = (
         "<tr><th>model</th><th>#V</th><th>#F</th><th>genus</th><th>impossible</th>"
@@ -83,6 +103,8 @@ def _gallery_table(models: dict) -> str:
         drift = [_get(r, "subdivision", "period_drift")]
         sm = _get(r, "smoothing", "period_drift")
         drift.append(max(sm.values()) if isinstance(sm, dict) and sm else None)
+        periods = _get(r, "hodge", "periods") or _get(r, "input", "periods") or []
+        scale = max([abs(p) for p in periods] + [1.0])
         ge = _get(r, "comparison", "geodesic_error_vs_exact") or {}
         rows.append(
             _tr(
@@ -93,7 +115,7 @@ def _gallery_table(models: dict) -> str:
                     _num(_get(r, "input", "genus")),
                     _num(_get(r, "hodge", "impossible")),
                     _periods(_get(r, "hodge", "periods")),
-                    " / ".join(_num(d, digits=2) for d in drift),
+                    " / ".join(_drift(d, scale) for d in drift),
                     _num(_max(_get(r, "relighting", "mescher", "luminance_mae")), digits=3),
                     _num(_max(_get(r, "relighting", "bent", "luminance_mae")), digits=3),
                     _num(_get(ge, "mescher", "mean"), pct=True),
@@ -144,95 +166,108 @@ def _tools_table(tools: dict) -> str:
     return f"<table>{head}{''.join(rows)}</table>"
 
 
-def _section(sec: Any, record: dict, level: str = "h2") -> str:
+def _anchor(group: str, name: str) -> str:
+    """A unique HTML id: the report part and the model (ids are unique within a part)."""
+    return re.sub(r"[^A-Za-z0-9_-]", "-", f"{group}-{name}")
+
+
+def _data_uri(data: bytes) -> str:
+    return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+
+
+def _section(result: Any, level: str = "h2") -> str:
+    sec, record = result.section, result.record
     parts = [
-        f'<{level} id="{_e(sec.name)}">{_e(sec.title)}</{level}>',
+        f'<{level} id="{_e(_anchor(result.group, sec.name))}">{_e(sec.title)}</{level}>',
         f"<p>{_e(sec.description)}</p>",
     ]
     for fig in sec.figures:
-        if not fig.file:
+        if not fig.data:
             continue
         parts.append(
-            f'<figure><img src="{_e(fig.file)}" alt="{_e(sec.title)}: {_e(fig.title)}" loading="lazy">'
-            f"<figcaption><b>{_e(fig.title)}.</b> {_e(fig.caption)}</figcaption></figure>"
+            f'<figure><img src="{_data_uri(fig.data)}" alt="{_e(sec.title)}: {_e(fig.title)}" '
+            f'title="{_e(fig.file)}"><figcaption><b>{_e(fig.title)}.</b> {_e(fig.caption)}'
+            "</figcaption></figure>"
         )
     for err in record.get("errors", []):
         parts.append(f'<p class="err">Step failed: {_e(err)}</p>')
     return "\n".join(parts)
 
 
+#: Summary table of each report part (:data:`meschers.study.GROUPS`): key -> function(records).
+TABLES = {"models": _gallery_table, "other_tools": _tools_table}
+
+
 def write_report(
-    out: str | Path, metrics: dict, sections: Sequence[Any], tool_sections: Sequence[Any] = ()
+    out: str | Path, metrics: dict, results: Sequence[Any], groups: Sequence[Any]
 ) -> Path:
     """Write ``out/index.html`` for a study.
 
     Parameters
     ----------
-    out : folder holding the study's PNGs
+    out : folder of the study
     metrics : dict
-        The study's ``metrics.json`` content (``models``, ``other_tools``, ``settings``, ...).
-    sections, tool_sections : sequences of :class:`meschers.study.Section`
-        Figures per gallery model and per model from other tools; only figures whose PNG exists
-        in ``out`` are linked.
+        The study's ``metrics.json`` content (``settings``, ``runtime_s``, a dict of records
+        per part, ...).
+    results : sequence of :class:`meschers.job.ModelResult`
+        Figures (with their PNG bytes) and records per model, in report order.
+    groups : sequence of :class:`meschers.study.Group`
+        The parts of the report, in order; a part without results is left out.
 
     Returns
     -------
     Path of ``index.html``.
     """
     out = Path(out)
-
-    def present(secs: Sequence[Any]) -> list:
-        for s in secs:
-            s.figures = [f for f in s.figures if f.file and (out / f.file).is_file()]
-        return list(secs)
-
-    sections, tool_sections = present(sections), present(tool_sections)
-    models, tools = metrics.get("models", {}), metrics.get("other_tools", {})
     st = metrics.get("settings", {})
-    toc = " &middot; ".join(f'<a href="#{_e(s.name)}">{_e(s.title)}</a>' for s in sections)
+    by_group = {g.key: [r for r in results if r.group == g.key] for g in groups}
+    toc = " &middot; ".join(
+        f'<a href="#{_e(_anchor(r.group, r.section.name))}">{_e(r.section.title)}</a>'
+        for g in groups
+        for r in by_group[g.key]
+    )
     body = [
         "<h1>Meschers: a comparison study of impossible objects</h1>",
-        "<p>Every operation of <i>Meschers: Geometry Processing of Impossible Objects</i> on the built-in "
-        "gallery, with the mescher compared to the two earlier representations: the <b>cut</b> model "
+        "<p>Every operation of <i>Meschers: Geometry Processing of Impossible Objects</i> on each "
+        "model, with the mescher compared to the two earlier representations: the <b>cut</b> model "
         "(a real mesh with a seam where the depth jumps) and the <b>bent</b> model (the harmonic part "
         "of the depth dropped). Generated by <code>meschers study"
         + (" --quick" if st.get("quick") else "")
         + f"</code> in {_num(metrics.get('runtime_s'), digits=3)} s "
-        f"({_num(st.get('cell'))}-pixel panels, {_num(st.get('levels'))} subdivision level(s)).</p>",
+        f"({_num(st.get('cell'))}-pixel panels, {_num(st.get('levels'))} subdivision level(s)). "
+        "This page is one file: its figures are embedded.</p>",
         f"<p>{toc}</p>",
         "<h2 id='summary'>Summary</h2>",
-        "<p><b>dL</b>: worst mean luminance difference (0&ndash;1) to the cut model's z-buffered render over "
-        "four lights. <b>Geodesic error</b>: mean |d &minus; d*| / max d*, heat method on each "
-        "representation against exact distances d* on a real 3D covering of the mescher. <b>Seam "
-        "crack</b>: widest screen gap between copies of one vertex after smoothing the cut model as a "
-        "mesh, as a fraction of the object's size. <b>Period drift</b>: largest change of a period under "
-        "subdivision / smoothing (zero up to round-off: both keep the harmonic part).</p>",
-        _gallery_table(models),
+        f"<p>{DL_NOTE}. <b>relight dL</b>: the worst, over four lights, of the dL to the cut "
+        "model's z-buffered render on the pixels both cover. <b>Geodesic error</b>: mean |d &minus; d*| / "
+        "max d*, heat method on each representation against exact distances d* on a real 3D covering "
+        "of the mescher. <b>Seam crack</b>: widest screen gap between copies of one vertex after "
+        "smoothing the cut model as a mesh, as a fraction of the object's size. <b>Period drift</b>: "
+        "largest change of a period under subdivision / smoothing (zero up to round-off: both keep the "
+        "harmonic part). Values below 1e-9 of their scale are round-off and printed as 0.</p>",
     ]
-    for sec in sections:
-        body.append(_section(sec, models.get(sec.name, {})))
-    if tool_sections:
-        body.append("<h2 id='other-tools'>Models from other tools</h2>")
-        body.append(
-            "<p>Cut models of six classic figures made by the Blender add-on ParadoxToolkit "
-            "(github.com/matgarate/Blender_ParadoxToolkit, GPL-3.0), glued into meschers from their view "
-            "and up vectors alone (<code>meshlab_filters.cut_model_to_mescher</code>). The tori carry a "
-            "period equal to the tool's depth gap; the stairs and block triangle are closed boxes, "
-            "impossible through their depth order only.</p>"
-        )
-        body.append(_tools_table(tools))
-        for sec in tool_sections:
-            body.append(_section(sec, tools.get(sec.name, {}), level="h3"))
-    elif metrics.get("other_tools_note"):
-        body.append(f"<h2>Models from other tools</h2><p>{_e(metrics['other_tools_note'])}</p>")
+    for g in groups:
+        results_g = by_group[g.key]
+        if not results_g:
+            continue
+        level = "h2" if g.key == "models" else "h3"
+        if g.key != "models":
+            body.append(f"<h2 id='{_e(g.key)}'>{_e(g.title)}</h2>")
+            if g.intro:
+                body.append(f"<p>{g.intro}</p>")
+        table = TABLES.get(g.key)
+        if table is not None:
+            body.append(table({r.section.name: r.record for r in results_g}))
+        for r in results_g:
+            body.append(_section(r, level=level))
     if metrics.get("errors"):
         items = "".join(f"<li>{_e(e)}</li>" for e in metrics["errors"])
-        body.append(f"<h2>Errors</h2><ul class='err'>{items}</ul>")
+        body.append(f"<h2 id='errors'>Errors</h2><ul class='err'>{items}</ul>")
     body.append(
         "<h2 id='citation'>Citation</h2>"
         f"<p class='cite'>{_e(metrics.get('citation', ''))} "
         f'<a href="{_e(metrics.get("doi", ""))}">{_e(metrics.get("doi", ""))}</a></p>'
-        "<p>All numbers are in <a href='metrics.json'>metrics.json</a>.</p>"
+        "<p>All numbers are in <code>metrics.json</code> beside this page.</p>"
     )
     page = (
         "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
@@ -247,6 +282,14 @@ def write_report(
 
 
 def referenced_images(index: str | Path) -> list[str]:
-    """The ``src`` of every ``<img>`` in an HTML file (for checking that they all exist)."""
+    """The ``src`` of every ``<img>`` in an HTML file (``data:`` URIs in a study's page)."""
     text = Path(index).read_text(encoding="utf-8")
     return [html.unescape(s) for s in re.findall(r"<img[^>]*\bsrc=\"([^\"]+)\"", text)]
+
+
+def embedded_images(index: str | Path) -> list[bytes]:
+    """The PNG bytes of every image embedded as a ``data:image/png;base64`` URI."""
+    prefix = "data:image/png;base64,"
+    return [
+        base64.b64decode(s[len(prefix) :]) for s in referenced_images(index) if s.startswith(prefix)
+    ]

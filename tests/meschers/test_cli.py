@@ -291,3 +291,105 @@ def test_subprocess_info_and_error():
 def test_importing_the_cli_does_not_import_pyvista():
     code = "import sys, meschers.cli; sys.exit(int(any(m in sys.modules for m in ('pyvista', 'pymeshlab', 'torch'))))"
     assert subprocess.run([sys.executable, "-c", code], timeout=60).returncode == 0
+
+
+# ------------------------------------------------------------------------------------------------
+# CLI manners: help texts, shipped models by name, exact model selection, size guards
+# ------------------------------------------------------------------------------------------------
+def test_every_option_has_a_help_text():
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    for name, p in sub.choices.items():
+        for action in p._actions:
+            if action.dest in ("help",):
+                continue
+            assert action.help and action.help.strip(), (
+                f"{name} {action.option_strings or action.dest}"
+            )
+
+
+def test_quick_help_quotes_a_measured_time(capsys):
+    from meschers import cli
+
+    assert main(["study", "--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert cli.QUICK_TIME in out and "2 minutes" not in out
+
+
+def test_info_shipped_model_by_name(capsys):
+    pytest.importorskip("pymeshlab")
+    assert main(["info", "paradox:penrose_triangle", "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    from meschers_igl.paradox import paradox_model
+
+    meta = paradox_model("penrose_triangle").meta
+    assert info["euler_characteristic"] == meta["verification"]["glued_chi"]
+    gap = max(meta["verification"]["depth_gaps"])
+    assert max(np.abs(info["periods"])) == pytest.approx(gap, rel=1e-4)
+    assert main(["info", "paradox:no_such_model"]) == 2
+    assert "penrose_triangle" in _one_error_line(capsys)
+
+
+def test_convert_shipped_model_in_an_empty_folder(tmp_path, monkeypatch, capsys):
+    """The README's line: no file but the package's own is needed."""
+    pytest.importorskip("pymeshlab")
+    monkeypatch.chdir(tmp_path)
+    assert main(["convert", "paradox:penrose_triangle", "penrose.ply"]) == 0
+    m, order = load(tmp_path / "penrose.ply", return_order=True)
+    assert order is not None and order.n_arcs > 0 and m.is_impossible()
+    assert "wrote penrose.ply" in capsys.readouterr().out
+    # a gallery model is written as it is
+    assert main(["convert", "impossibagel", "bagel.npz"]) == 0
+    assert load(tmp_path / "bagel.npz").n_faces == get_model("impossibagel").mescher.n_faces
+
+
+def test_too_big_subdivision_is_refused_at_once(tmp_path, capsys):
+    import time
+
+    t0 = time.perf_counter()
+    assert (
+        main(["subdivide", "penrose_triangle", "-o", str(tmp_path / "x.ply"), "--levels", "30"])
+        == 2
+    )
+    assert time.perf_counter() - t0 < 1.0
+    line = _one_error_line(capsys)
+    assert "--force" in line and "faces" in line
+    assert not (tmp_path / "x.ply").exists()
+    assert (
+        main(["render", "penrose_triangle", "-o", str(tmp_path / "x.png"), "--subdivide", "30"])
+        == 2
+    )
+    assert "--force" in _one_error_line(capsys)
+
+
+def test_force_bypasses_the_size_guard(tmp_path, monkeypatch):
+    from meschers_igl import validate
+
+    # pretend the machine has 1 MB: one level is then "too big" unless forced
+    monkeypatch.setattr(validate, "available_memory", lambda: 2**20)
+    out = tmp_path / "x.ply"
+    assert main(["subdivide", "penrose_triangle", "-o", str(out), "--levels", "2"]) == 2
+    assert main(["subdivide", "penrose_triangle", "-o", str(out), "--levels", "2", "--force"]) == 0
+    assert load(out).n_faces == 16 * get_model("penrose_triangle").mescher.n_faces
+
+
+def test_study_models_select_exactly_what_they_name(monkeypatch, tmp_path):
+    from meschers import study
+
+    seen = {}
+
+    def fake(specs, keys, st, progress):
+        seen["specs"] = specs
+        return []
+
+    monkeypatch.setattr(study, "_run_serial", fake)
+    monkeypatch.setattr(study, "write_report", lambda *a, **k: None, raising=False)
+    assert main(["study", "--quick", "--jobs", "1", "--no-progress", "--models",
+                 "penrose_triangle", "--out", str(tmp_path / "s")]) == 0  # fmt: skip
+    assert [(s.kind, s.name) for s in seen["specs"]] == [("gallery", "penrose_triangle")]
+    assert main(["study", "paradox:penrose_stair", "impossibagel", "--jobs", "1", "--no-progress",
+                 "--out", str(tmp_path / "s")]) == 0  # fmt: skip
+    assert [(s.kind, s.name) for s in seen["specs"]] == [
+        ("artist", "penrose_stair"),
+        ("gallery", "impossibagel"),
+    ]

@@ -1,7 +1,7 @@
 """The comparison study: its measurements on hand-made cases, then one quick run end to end.
 
-The end-to-end run (``run_study(quick=True)`` on the smallest gallery model plus the
-ParadoxToolkit section) checks the paper's claims as numbers, not that files exist only:
+The end-to-end run (``run_study(quick=True)`` on the smallest gallery model plus one
+ParadoxToolkit model) checks the paper's claims as numbers, not that files exist only:
 the mescher relights exactly like the cut model and the bent model does not; the mescher's
 geodesics beat the cut's and the bent's against exact covering distances; subdivision and
 smoothing keep the periods; the ParadoxToolkit triangle's period is the tool's depth gap.
@@ -10,6 +10,7 @@ smoothing keep the periods; the ParadoxToolkit triangle's period is the tool's d
 from __future__ import annotations
 
 import json
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -17,21 +18,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from meschers.cli import describe
-from meschers.report import referenced_images
-from meschers.study import (
-    _sources,
-    compose,
-    distance_error,
-    image_agreement,
-    loop_periods,
-    run_study,
-    screen_to_pixel,
-    seam_gap,
-)
+from meschers.describe import describe
+from meschers.figures import compose, screen_to_pixel
+from meschers.metrics import distance_error, loop_periods, one_source_per_component, seam_gap
+from meschers.report import embedded_images, referenced_images
+from meschers.study import run_study
 from meschers_igl import Mescher, MescherError, shapes
 from meschers_igl.gallery import get_model
-from pyvista_views._offscreen import gl_available
+from pyvista_views.headless import gl_available
 
 requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL context")
 
@@ -39,41 +33,6 @@ requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL
 # ------------------------------------------------------------------------------------------------
 # measurements on hand-sized cases
 # ------------------------------------------------------------------------------------------------
-def _image(mask: np.ndarray, grey: np.ndarray | float) -> np.ndarray:
-    img = np.full(mask.shape + (3,), 255, dtype=np.uint8)
-    img[mask] = np.broadcast_to(np.asarray(grey, dtype=np.uint8), mask.shape)[mask, None]
-    return img
-
-
-def test_image_agreement_hand_values():
-    ma = np.zeros((4, 4), bool)
-    ma[:2, :] = True  # 8 pixels
-    mb = np.zeros((4, 4), bool)
-    mb[1:3, :] = True  # 8 pixels, 4 shared
-    a = _image(ma, 51)  # luminance 0.2
-    b = _image(mb, 102)  # luminance 0.4
-    g = image_agreement(a, b)
-    assert g["iou"] == pytest.approx(4 / 12)
-    assert g["luminance_mae"] == pytest.approx(0.2, abs=1e-12)
-    assert g["luminance_corr"] == 0.0  # both constant on the overlap but different
-    same = image_agreement(a, a)
-    assert same == {"iou": 1.0, "luminance_mae": 0.0, "luminance_corr": 1.0}
-
-
-def test_image_agreement_correlation_is_affine_invariant():
-    rng = np.random.default_rng(0)
-    mask = np.ones((6, 5), bool)
-    grey = rng.integers(10, 120, size=(6, 5))
-    g = image_agreement(_image(mask, grey), _image(mask, 2 * grey + 5))
-    assert g["iou"] == 1.0
-    assert g["luminance_corr"] == pytest.approx(1.0, abs=1e-6)  # uint8 rounding only
-
-
-def test_image_agreement_rejects_mismatched_shapes():
-    with pytest.raises(MescherError, match=r"a, b: expected .* found \(2, 2, 3\) and \(3, 3, 3\)"):
-        image_agreement(np.zeros((2, 2, 3), np.uint8), np.zeros((3, 3, 3), np.uint8))
-
-
 def test_distance_error_hand_values():
     d_exact = np.array([0.0, 1.0, 2.0, 4.0, np.inf])
     d = np.array([0.0, 1.5, 2.0, 3.0, 7.0])
@@ -107,7 +66,7 @@ def test_one_source_per_component():
     V = np.vstack([V1, V1 + [5.0, 0, 0]])
     F = np.vstack([F1, F1 + len(V1)])
     m = Mescher.from_mesh(V, F)
-    s = _sources(m)
+    s = one_source_per_component(m)
     assert s.size == 2 and (s < len(V1)).sum() == 1
     d = m.geodesic_distance(s)
     assert np.isfinite(d).all() and np.allclose(d[s], 0.0)
@@ -152,12 +111,15 @@ def test_describe_topology(mesh, expected):
 # ------------------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
-    from pyvista_views._offscreen import gl_available
-
     if not gl_available():
         pytest.skip("no offscreen OpenGL context")
     out = tmp_path_factory.mktemp("study")
-    return run_study(["penrose_triangle"], out=out, quick=True, progress=False)
+    return run_study(
+        ["penrose_triangle", "paradox:penrose_triangle", "paradox:penrose_stair"],
+        out=out,
+        quick=True,
+        progress=False,
+    )
 
 
 @requires_gl
@@ -167,18 +129,27 @@ def test_study_writes_report_and_metrics(study):
     assert (out / "index.html").is_file() and (out / "metrics.json").is_file()
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["errors"] == [] and "10.1145/3731422" in metrics["citation"]
+    # one file: every image is embedded, each is one of the PNGs written beside the page, and
+    # every PNG is in the page
     refs = referenced_images(out / "index.html")
-    pngs = sorted(p.name for p in out.glob("*.png"))
-    assert refs and all((out / r).is_file() for r in refs)  # only images that exist ...
-    assert sorted(set(refs)) == pngs  # ... and every figure is in the report
+    assert refs and all(r.startswith("data:image/png;base64,") for r in refs)
+    pngs = {p.name: p.read_bytes() for p in out.glob("*.png")}
+    assert sorted(embedded_images(out / "index.html")) == sorted(pngs.values())
     kinds = {"hodge", "render", "heat", "geodesic", "smoothing", "relight", "compare"}
     assert {f"penrose_triangle_{k}.png" for k in kinds} <= set(pngs)
+    assert {"tool_penrose_triangle_relight.png", "tool_penrose_triangle_periods.png"} <= set(pngs)
     html = (out / "index.html").read_text()
     assert (
         "<table>" in html
         and "Models from other tools" in html
         and "doi.org/10.1145/3731422" in html
     )
+    assert 'src="' not in html.replace('src="data:', "")  # no link to another file
+    ids = re.findall(r"\bid=[\"']([^\"']+)[\"']", html)
+    assert len(ids) == len(set(ids)), "HTML ids repeat"
+    # the gallery's and the tool's penrose_triangle are two sections with their own ids
+    assert {"models-penrose_triangle", "other_tools-penrose_triangle"} <= set(ids)
+    assert "{st." not in html and "{" not in re.sub(r"<style>.*?</style>", "", html, flags=re.S)
 
 
 @requires_gl
@@ -192,8 +163,13 @@ def test_study_numbers_match_the_paper(study):
     assert r["heat"]["heat_conservation_error"] < 1e-10
     # relighting: the mescher is the cut model pixel for pixel; the bent model's normals are wrong
     mes, bent = r["relighting"]["mescher"], r["relighting"]["bent"]
-    assert min(mes["iou"]) > 0.99 and max(mes["luminance_mae"]) < 0.01
+    assert min(mes["iou"]) > 0.99 and max(mes["luminance_mae"]) < 0.01  # dL on the 0-1 scale
     assert min(bent["luminance_mae"]) > 5 * max(max(mes["luminance_mae"]), 0.005)
+    # the Fig. 10 numbers are on the same 0-1 dL scale as the relighting table
+    numbers = r["comparison"]["numbers"]
+    dl = [numbers[row][col] for row in numbers for col in ("render", "relit", "smoothed")]
+    assert all(0.0 <= v <= 1.0 for v in dl) and numbers["cut"]["render"] == 0.0
+    assert numbers["bent"]["render"] > 2 * numbers["mescher"]["render"]
     # geodesics against exact covering distances: the mescher beats both (the cut's seam blocks
     # paths, the bent model's metric is not the object's); which of those two is worse depends
     # on where the seam runs
@@ -212,9 +188,8 @@ def test_study_numbers_match_the_paper(study):
 @requires_gl
 def test_study_models_from_other_tools(study):
     tools = study.metrics["other_tools"]
-    if not tools:
-        pytest.skip("ParadoxToolkit data not installed in meschers_igl/data/paradox")
-    assert set(tools) >= {"penrose_triangle", "penrose_stair"}
+    assert set(tools) == {"penrose_triangle", "penrose_stair"}  # exactly what was named
+    assert set(study.metrics["models"]) == {"penrose_triangle"}
     tri = tools["penrose_triangle"]
     gap = max(tri["expected"]["depth_gaps"])
     assert max(np.abs(tri["periods"])) == pytest.approx(gap, rel=1e-4)
@@ -247,3 +222,21 @@ def test_report_screenshot_in_headless_chromium(study, tmp_path):
     dark = img < 128  # text, table rules, figures
     assert dark.mean() > 0.01 and img.std() > 10, "the screenshot of the report is blank"
     assert Path(shot).stat().st_size > 10_000
+
+
+@requires_gl
+def test_study_captions_and_heat_scale(study):
+    sec = next(s for s in study.sections if s.name == "penrose_triangle")
+    caps = {f.title: f.caption for f in sec.figures}
+    assert "10 isolines" in caps["Geodesic distance and shortest path"]
+    assert "log10(u / max u)" in caps["Heat diffusion"]
+    # the heat panels show the heat: on the log scale most covered pixels are not black
+    import io
+
+    from PIL import Image
+
+    heat = next(f for f in sec.figures if f.title == "Heat diffusion")
+    img = np.asarray(Image.open(io.BytesIO(heat.data)).convert("L"), dtype=float)
+    panel = img[20 : 20 + 192, : 3 * 192]
+    covered = panel < 250
+    assert (panel[covered] > 40).mean() > 0.5, "heat panels are nearly black"

@@ -1,0 +1,317 @@
+"""Figures of the study and the command line, composed with PIL from renders.
+
+Pure image work: labelled grids of panels (:func:`compose`), colour bars, screen-space marks on a
+render (:func:`overlay`, whose labels are placed so that they never overlap), numbers printed
+with round-off shown as 0 (:func:`format_value`), and PNG bytes.  No rendering happens here; the
+renders come from :class:`pyvista_views.MescherScene`.
+"""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "Colorbar",
+    "compose",
+    "format_value",
+    "format_values",
+    "overlay",
+    "place_labels",
+    "png_bytes",
+    "screen_to_pixel",
+]
+
+#: A value below this fraction of its scale is round-off and printed as 0.
+ZERO_FRACTION = 1e-9
+
+
+def format_value(x: float, scale: float | None = None, digits: int = 4) -> str:
+    """``x`` with ``digits`` significant digits, or ``"0"`` when ``|x| < 1e-9 * scale``.
+
+    Parameters
+    ----------
+    x : float
+    scale : float, optional
+        The size the value is compared with (default ``|x|`` itself: only exact zeros are 0).
+    digits : int
+
+    Examples
+    --------
+    >>> format_value(1.78e-15, scale=6.93)
+    '0'
+    >>> format_value(6.928203, scale=6.93)
+    '6.928'
+    """
+    x = float(x)
+    s = abs(x) if scale is None else abs(float(scale))
+    if x == 0 or (s > 0 and abs(x) < ZERO_FRACTION * s):
+        return "0"
+    return f"{x:.{digits}g}"
+
+
+def format_values(values: Sequence[float], digits: int = 4, scale: float | None = None) -> str:
+    """Comma-separated :func:`format_value` with one scale for all (default: the largest |value|),
+    ``"none"`` for an empty sequence."""
+    values = [float(v) for v in values]
+    if not values:
+        return "none"
+    s = max(abs(v) for v in values) if scale is None else scale
+    return ", ".join(format_value(v, s, digits) for v in values)
+
+
+def _font(size: int = 13):
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.load_default(size=size)
+    except TypeError:  # Pillow < 10.1 has one bitmap size
+        return ImageFont.load_default()
+
+
+def screen_to_pixel(P: np.ndarray, bounds: Sequence[float], size: tuple[int, int]) -> np.ndarray:
+    """Screen points to pixel coordinates of an image with exactly ``bounds`` as extent.
+
+    Parameters
+    ----------
+    P : (k, 2) float
+        Screen positions (x right, y up).
+    bounds : (xmin, xmax, ymin, ymax)
+    size : (width, height)
+
+    Returns
+    -------
+    (k, 2) float
+        ``(column, row)`` with row 0 at the top: ``c = (x - xmin) / (xmax - xmin) * W``,
+        ``r = (ymax - y) / (ymax - ymin) * H`` (pixel centres at half-integers).
+    """
+    P = np.asarray(P, dtype=np.float64).reshape(-1, 2)
+    xmin, xmax, ymin, ymax = (float(b) for b in bounds)
+    w, h = size
+    return np.column_stack(
+        [(P[:, 0] - xmin) / (xmax - xmin) * w, (ymax - P[:, 1]) / (ymax - ymin) * h]
+    )
+
+
+class Colorbar:
+    """A vertical colour bar: ``cmap`` from ``vmin`` (bottom) to ``vmax`` (top), with a title.
+
+    Parameters
+    ----------
+    cmap : str
+        A matplotlib colour map name (the one the panels were rendered with).
+    vmin, vmax : float
+    title : str
+        What the colour means, e.g. ``"log10(u / max u)"``.
+    ticks : int
+        Labelled values, evenly spaced.
+    """
+
+    width = 100
+
+    def __init__(self, cmap: str, vmin: float, vmax: float, title: str, ticks: int = 5):
+        self.cmap, self.vmin, self.vmax, self.title, self.ticks = cmap, vmin, vmax, title, ticks
+
+    def draw(self, height: int):
+        """The bar as a PIL image ``(width, height)``."""
+        from matplotlib import colormaps
+        from PIL import Image, ImageDraw
+
+        canvas = Image.new("RGB", (self.width, height), "white")
+        draw, font = ImageDraw.Draw(canvas), _font(11)
+        top, bottom, x0, x1 = 30, height - 12, 6, 20
+        n = max(bottom - top, 2)
+        ramp = colormaps[self.cmap](np.linspace(1.0, 0.0, n))[:, :3]  # top = vmax
+        strip = np.repeat((255 * ramp).astype(np.uint8)[:, None, :], x1 - x0, axis=1)
+        canvas.paste(Image.fromarray(strip), (x0, top))
+        draw.rectangle([x0 - 1, top - 1, x1, top + n], outline="black")
+        for i, line in enumerate(_wrap(self.title, 15)[:2]):
+            draw.text((2, 2 + 12 * i), line, fill="black", font=font)
+        span = self.vmax - self.vmin
+        for k in range(self.ticks):
+            f = k / (self.ticks - 1)
+            y = top + (1 - f) * (n - 1)
+            value = self.vmin + f * span
+            draw.line([(x1, y), (x1 + 3, y)], fill="black")
+            label = format_value(value, scale=max(abs(self.vmin), abs(self.vmax)), digits=3)
+            draw.text((x1 + 5, y - 6), label, fill="black", font=font)
+        return canvas
+
+
+def _wrap(text: str, width: int) -> list[str]:
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}".strip()
+    return lines + ([line] if line else [])
+
+
+def compose(
+    cells: Sequence[Sequence[np.ndarray]],
+    col_labels: Sequence[str] | None = None,
+    row_labels: Sequence[str] | None = None,
+    notes: Sequence[Sequence[str]] | None = None,
+    colorbar: Colorbar | None = None,
+):
+    """A labelled grid of equally sized renders (a PIL image).
+
+    Parameters
+    ----------
+    cells : rows of (H, W, 3) uint8
+    col_labels, row_labels : str per column / row, optional
+    notes : rows of str, optional
+        A short line printed under each cell (numbers).
+    colorbar : Colorbar, optional
+        Drawn right of the grid, as tall as the first row.
+    """
+    from PIL import Image, ImageDraw
+
+    h, w = np.asarray(cells[0][0]).shape[:2]
+    n_rows, n_cols = len(cells), max(len(r) for r in cells)
+    left = 92 if row_labels else 0
+    top = 20 if col_labels else 0
+    below = 18 if notes else 0
+    right = Colorbar.width if colorbar is not None else 0
+    canvas = Image.new("RGB", (left + n_cols * w + right, top + n_rows * (h + below)), "white")
+    draw, font = ImageDraw.Draw(canvas), _font()
+    for j, label in enumerate(col_labels or ()):
+        draw.text(
+            (left + j * w + 4, 3), _fit(draw, str(label), font, w - 6), fill="black", font=font
+        )
+    for i, row in enumerate(cells):
+        y = top + i * (h + below)
+        if row_labels:
+            text = _fit(draw, str(row_labels[i]), font, left - 6)
+            draw.text((4, y + h // 2 - 7), text, fill="black", font=font)
+        for j, image in enumerate(row):
+            canvas.paste(
+                Image.fromarray(np.ascontiguousarray(image, dtype=np.uint8)), (left + j * w, y)
+            )
+            if notes and i < len(notes) and j < len(notes[i]) and notes[i][j]:
+                text = _fit(draw, notes[i][j], font, w - 6)
+                draw.text((left + j * w + 4, y + h + 2), text, fill="black", font=font)
+    if colorbar is not None:
+        canvas.paste(colorbar.draw(h), (left + n_cols * w, top))
+    return canvas
+
+
+def _fit(draw: Any, text: str, font: Any, width: int) -> str:
+    """``text`` shortened with an ellipsis until it fits in ``width`` pixels (labels of
+    neighbouring panels never run into each other)."""
+    if draw.textlength(text, font=font) <= width:
+        return text
+    while text and draw.textlength(text + "...", font=font) > width:
+        text = text[:-1]
+    return text + "..."
+
+
+def place_labels(
+    anchors: np.ndarray, sizes: Sequence[tuple[float, float]], image_size: tuple[int, int]
+) -> np.ndarray:
+    """Top-left corners for text boxes near their anchors, no two boxes overlapping.
+
+    Greedy: each label tries offsets around its anchor, nearest first (right, left, above,
+    below, then twice and three times as far), and takes the first whose box stays in the image
+    and misses every box placed before it; if none does, the candidate with the least overlap.
+
+    Parameters
+    ----------
+    anchors : (k, 2) float
+        Pixel positions (column, row) the labels belong to.
+    sizes : k pairs (width, height)
+        Text box sizes in pixels.
+    image_size : (width, height)
+
+    Returns
+    -------
+    (k, 2) float
+        Top-left corner of each box.
+    """
+    W, H = image_size
+    placed: list[tuple[float, float, float, float]] = []
+    corners = np.zeros((len(sizes), 2))
+    for i, ((c, r), (w, h)) in enumerate(zip(np.asarray(anchors, float).reshape(-1, 2), sizes)):
+        best, best_cost = None, np.inf
+        for reach in (1, 2, 3, 5):
+            d = 6 * reach
+            for dx, dy in ((d, -h / 2), (-w - d, -h / 2), (-w / 2, -h - d), (-w / 2, d),
+                           (d, -h - d), (-w - d, -h - d), (d, d), (-w - d, d)):  # fmt: skip
+                x0 = min(max(c + dx, 0.0), max(W - w, 0.0))
+                y0 = min(max(r + dy, 0.0), max(H - h, 0.0))
+                box = (x0, y0, x0 + w, y0 + h)
+                cost = sum(_overlap(box, b) for b in placed)
+                if cost < best_cost:
+                    best, best_cost = box, cost
+                if cost == 0:
+                    break
+            if best_cost == 0:
+                break
+        placed.append(best)
+        corners[i] = best[:2]
+    return corners
+
+
+def _overlap(a: tuple, b: tuple) -> float:
+    w = min(a[2], b[2]) - max(a[0], b[0])
+    h = min(a[3], b[3]) - max(a[1], b[1])
+    return max(w, 0.0) * max(h, 0.0)
+
+
+def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.ndarray:
+    """Draw screen-space segments, dots and text on a render (occlusion ignored).
+
+    Parameters
+    ----------
+    image : (H, W, 3) uint8
+    bounds : (xmin, xmax, ymin, ymax)
+        The render's exact extent in screen units.
+    segments : iterable of (P (k, 2, 2), colour, width)
+    points : iterable of (P (k, 2), colour, radius)
+    labels : iterable of (p (2,), text, colour)
+        Placed next to ``p`` by :func:`place_labels`, so they never overlap each other.
+
+    Returns
+    -------
+    (H, W, 3) uint8
+    """
+    from PIL import Image, ImageDraw
+
+    h, w = image.shape[:2]
+    canvas = Image.fromarray(np.ascontiguousarray(image))
+    draw, font = ImageDraw.Draw(canvas), _font(12)
+    for P, colour, width in segments:
+        Q = screen_to_pixel(np.asarray(P).reshape(-1, 2), bounds, (w, h)).reshape(-1, 4)
+        for q in Q:  # PIL draws one primitive per call; these are a few hundred segments
+            draw.line([(q[0], q[1]), (q[2], q[3])], fill=colour, width=width)
+    for P, colour, r in points:
+        for c, rr in screen_to_pixel(P, bounds, (w, h)):
+            draw.ellipse([c - r, rr - r, c + r, rr + r], fill=colour, outline="black")
+    labels = list(labels)
+    if labels:
+        anchors = np.vstack([screen_to_pixel(p, bounds, (w, h)) for p, _, _ in labels])
+        sizes = []
+        for _, text, _ in labels:
+            x0, y0, x1, y1 = draw.textbbox((0, 0), text, font=font, stroke_width=2)
+            sizes.append((x1 - x0 + 2, y1 - y0 + 2))
+        for (x, y), (_, text, colour) in zip(place_labels(anchors, sizes, (w, h)), labels):
+            draw.text((x + 1, y + 1), text, fill=colour, font=font, stroke_width=2,
+                      stroke_fill="white")  # fmt: skip
+    return np.asarray(canvas)
+
+
+def png_bytes(image: Any) -> bytes:
+    """PNG file content of a PIL image or an (H, W, 3) uint8 array (fast zlib level: the study
+    writes a few dozen figures and embeds them in its page)."""
+    from PIL import Image
+
+    if isinstance(image, np.ndarray):
+        image = Image.fromarray(np.ascontiguousarray(image))
+    buf = io.BytesIO()
+    image.save(buf, format="PNG", compress_level=3)
+    return buf.getvalue()

@@ -1,0 +1,78 @@
+"""Settings of the comparison study: resolutions, lights, colour maps and the citation.
+
+One place for every constant a study step or figure reads, so that a step is a function of
+(its inputs, :class:`StudySettings`) and two runs with the same settings compute the same thing
+wherever they run (in this process or on a Dask worker).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "CITATION",
+    "DOI_URL",
+    "ENV_MAP",
+    "GEODESIC_CMAP",
+    "HEAT_CMAP",
+    "LIGHTS",
+    "StudySettings",
+    "study_settings",
+]
+
+CITATION = (
+    "Ana Dodik, Isabella Yu, Kartik Chandra, Jonathan Ragan-Kelley, Joshua Tenenbaum, "
+    "Vincent Sitzmann, Justin Solomon. Meschers: Geometry Processing of Impossible Objects. "
+    "ACM Transactions on Graphics 44(4), 2025. DOI 10.1145/3731422."
+)
+DOI_URL = "https://doi.org/10.1145/3731422"
+
+#: Four directional lights (directions *toward* the light, camera frame) as in the paper's Fig. 5.
+LIGHTS: tuple[tuple[float, float, float], ...] = (
+    (1.0, 1.0, 1.0),
+    (-1.0, 1.0, 0.6),
+    (0.3, -1.0, 0.8),
+    (-0.6, -0.4, 1.0),
+)
+#: Environment map of the render figures (:mod:`pyvista_views.envmap`).
+ENV_MAP = "studio"
+GEODESIC_CMAP = "viridis"
+HEAT_CMAP = "inferno"
+
+
+@dataclass(frozen=True)
+class StudySettings:
+    """Resolutions of one study run.
+
+    Attributes
+    ----------
+    quick : bool
+    cell : int
+        Width and height in pixels of one rendered panel.
+    levels : int
+        Midpoint subdivision levels applied to each gallery model before processing.
+    heat_times : tuple of float
+        Heat diffusion times in units of ``h^2`` (``h`` the mean edge length after subdivision).
+    smooth_times : tuple of float
+        Smoothing times in units of ``s^2``, ``s`` the diagonal of the model's xy box.
+    compare_time : float
+        Smoothing time of the mescher / cut / bent comparison, in units of ``s^2``; one of
+        ``smooth_times`` so that the smoothing is computed once.
+    isolines : int
+        Isolines drawn on distance fields.
+    """
+
+    quick: bool
+    cell: int
+    levels: int
+    heat_times: tuple[float, ...] = (2.0, 10.0, 50.0)
+    smooth_times: tuple[float, ...] = (0.0, 2e-4, 1e-3, 5e-3)
+    compare_time: float = 1e-3
+    isolines: int = 10
+
+
+def study_settings(quick: bool = False) -> StudySettings:
+    """``--quick``: 192-pixel panels and one subdivision level; default: 320 pixels, two levels."""
+    if quick:
+        return StudySettings(quick=True, cell=192, levels=1)
+    return StudySettings(quick=False, cell=320, levels=2)
