@@ -11,6 +11,9 @@ install it (``pip install 'meschers[inverse]'``).
 - :mod:`~meschers_igl.inverse.optimize`: the fit of a mescher to a target image.
 - :mod:`~meschers_igl.inverse.targets`: test pictures and the torus initialization;
   :mod:`~meschers_igl.inverse.metrics`: PSNR, silhouette IoU and period figures of merit.
+- :mod:`~meschers_igl.inverse.picture`: the start from the picture itself (segment, triangulate
+  the silhouette with its holes, lift from shading); :mod:`~meschers_igl.inverse.models`: real
+  3D box models of impossible figures whose z-buffered pictures are the acceptance targets.
 - the command line ``meschers inverse`` lives in the application, :mod:`meschers.inverse_cli`.
 """
 
@@ -45,6 +48,14 @@ _LAZY = {
     "silhouette_iou": "metrics",
     "image_psnr": "metrics",
     "max_period_ratio": "metrics",
+    "boundary_loop_periods": "metrics",
+    "figure_period": "metrics",
+    "axis_aligned_share": "metrics",
+    "mescher_from_picture": "picture",
+    "fit_options": "picture",
+    "penrose_tribar": "models",
+    "impossible_cube": "models",
+    "penrose_stairs": "models",
 }
 
 __all__ = ["INSTALL_HINT", "require_torch", *_LAZY]
