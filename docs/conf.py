@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 import sys
 import types
 from pathlib import Path
@@ -73,6 +74,26 @@ numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 numpydoc_validation_checks: set[str] = set()
 nitpicky = False
+
+# The docstrings write absolute values and norms as plain-text math (``|d - d*|``, ``|x|``);
+# reStructuredText would read ``|x|`` as a substitution reference and fail the build. Escape
+# bars outside inline literals and roles, so they print as written.
+_LITERAL = re.compile(r"(``.*?``|:[a-z:]+:`[^`]*`|`[^`]*`)")
+
+
+def _escape_bars(app, what, name, obj, options, lines) -> None:
+    for i, line in enumerate(lines):
+        if "|" not in line or line.lstrip().startswith(("|", "+")):  # line blocks, grid tables
+            continue
+        parts = _LITERAL.split(line)
+        lines[i] = "".join(
+            p if k % 2 else re.sub(r"(?<!\\)\|", r"\\|", p) for k, p in enumerate(parts)
+        )
+
+
+def setup(app) -> None:
+    app.connect("autodoc-process-docstring", _escape_bars)
+
 
 # --- the gallery (sphinx-gallery runs every script in examples/) --------------------------
 sphinx_gallery_conf = {
