@@ -204,30 +204,37 @@ def drop_contact_faces(F: np.ndarray) -> tuple[np.ndarray, int]:
     return F[~dup], int(np.count_nonzero(dup)) // 2
 
 
-def orient_outward(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, int, int]:
-    """Consistent orientation per connected part, outward by the part's signed volume.
+def orient_outward(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:
+    """Consistent orientation per connected part; closed parts outward by their signed volume.
 
-    ``igl.bfs_orient`` makes each part coherent; a part whose signed volume
-    ``sum det(v0, v1, v2) / 6`` is negative is flipped.
+    ``igl.bfs_orient`` makes each part coherent; a *closed* part whose signed volume
+    ``sum det(v0, v1, v2) / 6`` is negative is flipped (an open part has no inside: the caller
+    turns it toward the viewer).
 
     Returns
     -------
     F : (#F, 3) int64
     n_flipped_faces : int
         Faces whose orientation changed.
-    n_parts : int
+    part : (#F,) int64
+        Connected part of each face.
     """
     Fo, comp = igl.bfs_orient(F)
     Fo = np.asarray(Fo, dtype=np.int64)
-    comp = np.asarray(comp).reshape(-1)
+    comp = np.asarray(comp).reshape(-1).astype(np.int64)
     T = V[Fo]
     vol6 = np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2]))
     k = int(comp.max()) + 1
     vol = np.bincount(comp, weights=vol6, minlength=k)
-    flip = vol[comp] < 0
+    # a part is closed when every edge has two faces
+    he = np.sort(np.concatenate([Fo[:, [0, 1]], Fo[:, [1, 2]], Fo[:, [2, 0]]]), axis=1)
+    _, inv, cnt = np.unique(he, axis=0, return_inverse=True, return_counts=True)
+    open_face = (cnt[inv.reshape(-1)] == 1).reshape(3, -1).any(axis=0)
+    is_open = np.bincount(comp, weights=open_face, minlength=k) > 0
+    flip = (vol[comp] < 0) & ~is_open[comp]
     Fo[flip] = Fo[flip][:, [0, 2, 1]]
     changed = int(np.count_nonzero(np.any(Fo != F, axis=1)))
-    return Fo, changed, k
+    return Fo, changed, comp
 
 
 # ------------------------------------------------------------------------------ planar map
@@ -475,8 +482,9 @@ def see_model(
         report.repairs.append(
             f"removed {n_contact} pair(s) of coincident opposite faces (blocks touching)"
         )
-    F, n_flip, n_parts = orient_outward(V, F)
+    F, n_flip, part = orient_outward(V, F)
     if n_flip:
+        n_parts = int(part.max()) + 1
         report.repairs.append(f"re-oriented {n_flip} face(s) outward ({n_parts} part(s))")
     if isinstance(view, str):
         if view != "auto":
@@ -490,6 +498,18 @@ def see_model(
 
     C = V @ R.T
     N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    # an open part (a relief, a sheet) has no outside: it is seen from the side facing the view
+    he = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    _, inv, cnt = np.unique(he, axis=0, return_inverse=True, return_counts=True)
+    open_face = (cnt[inv.reshape(-1)] == 1).reshape(3, -1).any(axis=0)
+    k = int(part.max()) + 1
+    is_open = np.bincount(part, weights=open_face, minlength=k) > 0
+    away = is_open & (np.bincount(part, weights=N[:, 2], minlength=k) < 0)
+    if away.any():
+        turn = away[part]
+        F[turn] = F[turn][:, [0, 2, 1]]
+        N[turn] *= -1
+        report.repairs.append(f"turned {int(away.sum())} open part(s) toward the viewer")
     nrm = np.linalg.norm(N, axis=1)
     front = N[:, 2] > FRONT_NZ * np.maximum(nrm, 1e-300)
     if not front.any():
@@ -789,7 +809,7 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
         _, ib, poly, sb, gap = best
         P = xy[poly]
         used |= {ia, ib}
-        tri = _fan_ccw(len(poly))
+        tri = _polygon_triangles(P)
         new_faces += [[poly[i] for i in t] for t in tri]
         new_src += [sa] * len(tri)
         kind = "hidden gap" if abs(gap) > tol else "occluded continuation"
@@ -841,8 +861,23 @@ def _cross(a, b) -> float:
     return float(a[0] * b[1] - a[1] * b[0])
 
 
-def _fan_ccw(n: int) -> list:
-    return [[0, i, i + 1] for i in range(1, n - 1)]
+def _polygon_triangles(P: np.ndarray) -> list:
+    """Triangles (local corner indices, CCW) of a simple polygon whose consecutive vertices may
+    be collinear (a fan would make flat triangles there): constrained Delaunay, no new points."""
+    import triangle as tr
+
+    n = P.shape[0]
+    seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
+    out = tr.triangulate({"vertices": P, "segments": seg}, "pQ")
+    T = np.asarray(out["triangles"], dtype=np.int64)
+    if out["vertices"].shape[0] != n:
+        raise MescherError("F: expected a bridge polygon triangulated without new points")
+    Q = P[T]
+    a2 = (Q[:, 1, 0] - Q[:, 0, 0]) * (Q[:, 2, 1] - Q[:, 0, 1]) - (Q[:, 2, 0] - Q[:, 0, 0]) * (
+        Q[:, 1, 1] - Q[:, 0, 1]
+    )
+    T[a2 < 0] = T[a2 < 0][:, [0, 2, 1]]
+    return T.tolist()
 
 
 def _parallel_to_face_edge(s, f, xy, pl, T, Fa, src, tol) -> bool:

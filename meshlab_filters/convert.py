@@ -110,9 +110,12 @@ def model_to_mescher(
     """Any artist model -- closed solids, separate blocks, reliefs, STL soups -- as seen from a
     view: (mescher, depth order, report).
 
-    A path is loaded and cleaned with :func:`load_artist_model` (polygons triangulated,
-    duplicate vertices welded, non-manifold edges repaired, parts oriented; the
-    :class:`CleanupReport` lands in ``report.cleanup``), then
+    A path is read with PyMeshLab (polygons triangulated); vertices that coincide in 3D are
+    welded and pairs of coincident opposite faces -- blocks touching face to face -- removed
+    *before* PyMeshLab's clean-up (which would keep one face of each pair and then cut the
+    non-manifold edges this leaves, removing real surface faces); then :func:`clean_mesh`
+    repairs what is left (duplicate and zero-area faces, non-manifold edges and vertices,
+    orientation; its :class:`CleanupReport` lands in ``report.cleanup``) and
     :func:`meschers_igl.models.model_to_mescher` builds what the viewer sees.
 
     Parameters
@@ -134,10 +137,31 @@ def model_to_mescher(
         Junctions with their depth gaps, arcs, repairs (clean-up included), warnings, the view.
     """
     from meschers_igl.models import model_to_mescher as core_model_to_mescher
+    from meschers_igl.visible import drop_contact_faces, weld
 
-    cleanup = None
+    from .cleanup import clean_mesh
+    from .load import read_meshset
+
+    cleanup, pre = None, []
     if isinstance(path_or_V_F, (str, os.PathLike)):
-        V, F, cleanup = load_artist_model(path_or_V_F, merge_tol=merge_tol)
+        ms = read_meshset(path_or_V_F)
+        mesh = ms.current_mesh()
+        V0 = np.asarray(mesh.vertex_matrix(), dtype=np.float64)
+        F0 = np.asarray(mesh.face_matrix(), dtype=np.int64)
+        if F0.shape[0] == 0 or not np.isfinite(V0).all():
+            raise MescherError(
+                f"path: expected faces with finite coordinates in '{path_or_V_F}', found "
+                f"{F0.shape[0]} faces"
+            )
+        diag = float(np.linalg.norm(np.ptp(V0, axis=0)))
+        V0, F0, n_w = weld(V0, F0, max(merge_tol, 1e-9 * diag))
+        F0, n_c = drop_contact_faces(F0)
+        if n_w:
+            pre.append(f"welded {n_w} vertex(es) that coincide in 3D (before PyMeshLab)")
+        if n_c:
+            pre.append(f"removed {n_c} pair(s) of coincident opposite faces (blocks touching)")
+        V, F, cleanup = clean_mesh(V0, F0, merge_tol=merge_tol)
+        cleanup.source = str(path_or_V_F)
     elif isinstance(path_or_V_F, (tuple, list)) and len(path_or_V_F) == 2:
         V = as_points(path_or_V_F[0], "path_or_V_F[0] (V)", 3)
         F = as_faces(path_or_V_F[1], "path_or_V_F[1] (F)", V.shape[0])
@@ -148,6 +172,13 @@ def model_to_mescher(
         )
     m, order, report = core_model_to_mescher(V, F, view=view, up=up, perceive=perceive, tol=tol)
     report.cleanup = cleanup
+    report.repairs[:0] = pre
+    if cleanup is not None:
+        report.repairs[len(pre) : len(pre)] = [
+            f"PyMeshLab: {k.replace('_', ' ')} {v}"
+            for k, v in cleanup.as_dict().items()
+            if k.endswith(("_merged", "_removed", "_split", "_flipped")) and v
+        ]
     return m, order, report
 
 

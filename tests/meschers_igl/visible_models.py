@@ -229,3 +229,18 @@ def hidden_gap_frame(L=6.0, t=1.0, hole=0.6):
     occ = convex_block(hs, c)
     V, polys = separate_blocks([frame, occ])
     return V, polys, gap
+
+
+def read_obj(path):
+    """(V, F) of an OBJ file, polygons fanned into triangles (a test-side reader)."""
+    V, F = [], []
+    for line in open(path):
+        t = line.split()
+        if not t:
+            continue
+        if t[0] == "v":
+            V.append([float(x) for x in t[1:4]])
+        elif t[0] == "f":
+            idx = [int(x.split("/")[0]) - 1 for x in t[1:]]
+            F += [[idx[0], idx[i], idx[i + 1]] for i in range(1, len(idx) - 1)]
+    return np.asarray(V), np.asarray(F, dtype=np.int64)

@@ -1,0 +1,178 @@
+"""Perceived right angles (``perceive="manhattan"``): what a person reads in a box-like drawing.
+
+Sheared tricks (a closed torus that looks like a Penrose triangle) and reliefs (Reutersvärd's
+cubes in bas-relief) look impossible only because a person assumes right angles.  A person reads
+an axonometric drawing from the screen directions of its three edge families; so do we:
+
+1. The **crease edges** (adjacent faces not coplanar) vote with their screen length for their
+   screen direction (mod 180 degrees); the three strongest directions ``d_1, d_2, d_3`` are the
+   projected axes.  Depth shears along the view do not change screen directions, so this reads
+   the frame a person perceives, not the model's true one.
+2. The **orthogonal frame** with those screen directions: its axes are ``e_i = (l_i d_i, w_i)``
+   with ``[l_1 d_1, l_2 d_2, l_3 d_3]`` the first two rows of a rotation, i.e.
+   ``sum_i l_i^2 d_i d_i^T = I_2`` -- three linear equations in ``l_i^2`` -- and
+   ``w_i = +-sqrt(1 - l_i^2)`` with signs making the axes orthogonal (the classical solution of
+   the axonometric drawing).
+3. Each face's normal is **snapped** to the nearest axis (``|n . e_k|`` largest, within
+   :data:`MAX_SNAP`), and its depths re-made on the snapped plane ``z = a x + b y``,
+   ``(a, b) = -(e_x, e_y) / e_z``; the caller projects onto locally integrable forms (paper
+   Eq. 3-4, ``Mescher.from_corner_depths``).  Where the snapped normals do not integrate, the
+   result is impossible.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .errors import MescherError
+
+__all__ = ["perceived_frame", "perceive_manhattan", "snap_to_manhattan"]
+
+#: Faces farther than this from every perceived axis keep their own normal (radians).
+MAX_SNAP = np.radians(40.0)
+#: Adjacent faces whose normals differ by less than this share a plane (not a crease).
+CREASE = np.radians(1.0)
+
+
+def _normals(xy: np.ndarray, F: np.ndarray, Z: np.ndarray) -> np.ndarray:
+    P = np.concatenate([xy[F], Z[:, :, None]], axis=2)
+    n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+    return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+
+def _crease_directions(xy, F, n):
+    """Screen angles (mod pi) and lengths of crease and boundary edges."""
+    he = np.stack([F[:, [1, 2]], F[:, [2, 0]], F[:, [0, 1]]], axis=1).reshape(-1, 2)
+    key = np.minimum(he[:, 0], he[:, 1]) * xy.shape[0] + np.maximum(he[:, 0], he[:, 1])
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    first = np.r_[True, ks[1:] != ks[:-1]]
+    last = np.r_[ks[1:] != ks[:-1], True]
+    single = order[first & last]
+    pair = np.flatnonzero(~last)  # positions of the first of two equal keys
+    h1, h2 = order[pair], order[pair + 1]
+    cosang = np.einsum("ij,ij->i", n[h1 // 3], n[h2 // 3])
+    crease = np.r_[h1[cosang < np.cos(CREASE)], single]
+    d = xy[he[crease, 1]] - xy[he[crease, 0]]
+    L = np.linalg.norm(d, axis=1)
+    theta = np.mod(np.arctan2(d[:, 1], d[:, 0]), np.pi)
+    return theta[L > 0], L[L > 0]
+
+
+def perceived_frame(xy: Any, F: Any, Z: Any) -> np.ndarray:
+    """(3, 3) perceived orthogonal axes (rows, camera frame) of a box-like drawing.
+
+    Parameters
+    ----------
+    xy : (#V, 2) float
+    F : (#F, 3) int
+    Z : (#F, 3) float
+        Per-face corner depths (any per-face offset).
+
+    Raises
+    ------
+    MescherError
+        When the crease directions do not form an axonometric drawing of three orthogonal
+        axes (fewer than three edge families, or no real solution).
+    """
+    xy, F, Z = np.asarray(xy, float), np.asarray(F, np.int64), np.asarray(Z, float)
+    n = _normals(xy, F, Z)
+    theta, L = _crease_directions(xy, F, n)
+    if theta.size < 3:
+        raise MescherError("F: expected crease edges in three directions, found fewer than 3")
+    # histogram of directions (0.1 degree bins, circular), three strongest separated peaks
+    nb = 1800
+    b = np.minimum((theta / np.pi * nb).astype(np.int64), nb - 1)
+    h = np.bincount(b, weights=L, minlength=nb)
+    hs = h + np.roll(h, 1) + np.roll(h, -1)
+    peaks = []
+    for k in np.argsort(-hs).tolist():  # strongest bins first, few needed
+        if hs[k] <= 0:
+            break
+        if all(min(abs(k - p), nb - abs(k - p)) > 100 for p in peaks):  # 10 degrees apart
+            peaks.append(k)
+        if len(peaks) == 3:
+            break
+    if len(peaks) < 3:
+        raise MescherError(
+            "F: expected crease edges in three screen directions (a box-like drawing), found "
+            f"{len(peaks)}"
+        )
+    D = []
+    for p in peaks:  # refine each direction as the weighted mean within 1 degree (doubled angles)
+        dd = np.abs(((theta - (p + 0.5) * np.pi / nb) + np.pi / 2) % np.pi - np.pi / 2)
+        sel = dd < np.radians(1.0)
+        a = np.angle(np.sum(L[sel] * np.exp(2j * theta[sel]))) / 2
+        D.append([np.cos(a), np.sin(a)])
+    D = np.asarray(D)
+    # sum_i l_i^2 d_i d_i^T = I_2: three linear equations in l_i^2
+    A = np.stack([D[:, 0] ** 2, D[:, 0] * D[:, 1], D[:, 1] ** 2])
+    l2 = np.linalg.solve(A, np.array([1.0, 0.0, 1.0]))
+    if np.any(l2 <= 0) or np.any(l2 >= 1):
+        raise MescherError(
+            "F: expected edge directions of an axonometric drawing of three orthogonal axes, "
+            f"found directions {np.degrees(np.arctan2(D[:, 1], D[:, 0])).round(3).tolist()} "
+            "with no orthogonal frame"
+        )
+    ell, w = np.sqrt(l2), np.sqrt(1 - l2)
+    E = np.column_stack([ell[:, None] * D, w])
+    # signs of w so that the axes are orthogonal: e_i . e_j = 0
+    s = np.ones(3)
+    for j in (1, 2):
+        s[j] = -np.sign((E[0, :2] @ E[j, :2]) / (w[0] * w[j]))
+    E[:, 2] *= s
+    return E
+
+
+def perceive_manhattan(xy: Any, F: Any, Z: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Corner depths on the planes of snapped normals, and how far each face was snapped.
+
+    Parameters
+    ----------
+    xy : (#V, 2), F : (#F, 3), Z : (#F, 3)
+        A mescher's screen positions, faces and per-face corner depths.
+
+    Returns
+    -------
+    Z : (#F, 3) float64
+        Corner depths ``a x + b y`` of the snapped planes (faces left alone keep theirs).
+    snapped : (#F,) float64
+        Angle (radians) between each face's normal and its snapped normal (0 where left).
+    """
+    xy, F, Z = np.asarray(xy, float), np.asarray(F, np.int64), np.asarray(Z, float)
+    E = perceived_frame(xy, F, Z)
+    n = _normals(xy, F, Z)
+    c = n @ E.T  # (#F, 3) cosines to the three axes
+    k = np.argmax(np.abs(c), axis=1)
+    ck = c[np.arange(F.shape[0]), k]
+    e = E[k] * np.sign(ck)[:, None]
+    ang = np.arccos(np.clip(np.abs(ck), -1.0, 1.0))
+    ok = (ang <= MAX_SNAP) & (e[:, 2] > 1e-6)
+    a = -e[:, 0] / np.where(ok, e[:, 2], 1.0)
+    b = -e[:, 1] / np.where(ok, e[:, 2], 1.0)
+    P = xy[F]
+    Zs = a[:, None] * P[:, :, 0] + b[:, None] * P[:, :, 1]
+    Zs = np.where(ok[:, None], Zs, Z)
+    return Zs, np.where(ok, ang, 0.0)
+
+
+def snap_to_manhattan(m: Any) -> tuple[Any, np.ndarray]:
+    """A mescher as a person reads it: normals snapped to the perceived orthogonal frame.
+
+    Parameters
+    ----------
+    m : Mescher
+
+    Returns
+    -------
+    m_perceived : Mescher
+        ``type(m).from_corner_depths(F, xy, Z_snapped)`` (averaged, then projected onto locally
+        integrable forms, paper Eq. 3-4).
+    snapped : (#F,) float64
+        Angle each face's normal moved (radians).
+    """
+    F, xy = np.asarray(m.F), np.asarray(m.xy)
+    Zs, ang = perceive_manhattan(xy, F, np.asarray(m.corner_depths()))
+    return type(m).from_corner_depths(F, xy, Zs), ang
