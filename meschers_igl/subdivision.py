@@ -296,7 +296,7 @@ def check_levels(n_faces: int, levels, force: bool = False) -> int:
     """
     levels = as_count(levels, "levels")
     check_budget(
-        float(n_faces) * 4.0 ** min(levels, 600), BYTES_PER_FACE,
+        float(n_faces) * 4.0 ** min(levels, 200), BYTES_PER_FACE,
         what=f"subdivide(levels={levels}) of {n_faces} faces", force=force,
     )  # fmt: skip
     return levels
@@ -312,7 +312,7 @@ def subdivide_levels(
     """
     scheme = as_choice(scheme, "scheme", SCHEMES)
     levels = check_levels(F.shape[0], levels, force)
-    work = F.shape[0] * 4.0**levels
+    work = F.shape[0] * 4.0 ** min(levels, 200)
     for _ in track(range(levels), f"subdivide ({scheme})", total=levels, work=work):
         lvl = subdivide_level(F, xy, edges, face_edges, signs, zeta, generators, scheme)
         yield lvl
