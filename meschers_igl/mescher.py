@@ -24,7 +24,15 @@ from . import subdivision as _sub
 from . import topology as topo
 from .cutmesh import cut_mesh_arrays
 from .errors import MescherError
-from .validate import as_choice, as_faces, as_float_array, as_int_array, as_points, as_vector
+from .validate import (
+    as_choice,
+    as_faces,
+    as_float_array,
+    as_int_array,
+    as_points,
+    as_vector,
+    check_referenced,
+)
 
 #: Relative tolerance of the local-integrability check, times the model's size.
 INTEGRABILITY_RTOL = 1e-9
@@ -69,6 +77,7 @@ class Mescher:
             if xy.shape[0] == 0:
                 raise MescherError("xy: expected at least three vertices, found none")
             F = as_faces(F, "F", xy.shape[0])
+            check_referenced(F, xy.shape[0], "xy")
             edges_in = as_int_array(edges, "edges", 2, 2)
             zeta = as_vector(zeta, "zeta", edges_in.shape[0])
             cedges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
@@ -132,6 +141,7 @@ class Mescher:
         """
         xy = as_points(xy, "xy", 2)
         F = as_faces(F, "F", xy.shape[0])
+        check_referenced(F, xy.shape[0], "xy")
         Z = as_float_array(Z, "Z", (F.shape[0], 3))
         # half-edge opposite corner i runs i+1 -> i+2
         h = Z[:, [2, 0, 1]] - Z[:, [1, 2, 0]]
@@ -151,6 +161,7 @@ class Mescher:
         """
         V = as_points(V, "V", 3)
         F = as_faces(F, "F", V.shape[0])
+        check_referenced(F, V.shape[0], "V")
         C = V @ ops.view_frame(view, up).T
         edges, face_edges, signs = topo.edge_topology(F, V.shape[0])
         zeta = C[edges[:, 1], 2] - C[edges[:, 0], 2]

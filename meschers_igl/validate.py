@@ -236,3 +236,24 @@ def check_budget(
             "mean it"
         )
     return est
+
+
+def check_referenced(F: np.ndarray, n_vertices: int, name: str = "xy") -> None:
+    """Refuse vertices that no face uses (a mescher's operators are sized by #V, and such a
+    vertex would get a zero row: no area, no neighbours, a singular heat or Poisson system).
+
+    Raises
+    ------
+    MescherError
+        Naming the unreferenced vertices (the first ten) and how many there are.
+    """
+    used = np.zeros(int(n_vertices), dtype=bool)
+    used[F.reshape(-1)] = True
+    if not used.all():
+        bad = np.flatnonzero(~used)
+        more = "..." if bad.size > 10 else ""
+        raise MescherError(
+            f"{name}: expected every vertex to be a corner of some face, found {bad.size} "
+            f"unreferenced vertex(es) {bad[:10].tolist()}{more}; remove them first (e.g. "
+            "igl.remove_unreferenced(V, F))"
+        )

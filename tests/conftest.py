@@ -34,6 +34,27 @@ def _bumpy_grid(seed):
 ALL = {**CLOSED, **BOUNDARY}
 
 
+def _with_unreferenced(V, F, at):
+    """Insert a vertex no face uses at index ``at`` (later indices shift up by one)."""
+    V = np.insert(V, at, V.mean(axis=0) + 10.0, axis=0)
+    return V, np.where(F >= at, F + 1, F), at
+
+
+#: Meshes a mescher must refuse (issue 13.3): (V, F, index of the unreferenced vertex).
+UNREFERENCED = {
+    "grid_extra_last": lambda: _with_unreferenced(*shapes.grid(5, 4), 20),
+    "torus_extra_middle": lambda: _with_unreferenced(*shapes.torus(10, 5), 17),
+    "annulus_extra_first": lambda: _with_unreferenced(*shapes.annulus(12, 3), 0),
+}
+
+
+@pytest.fixture(params=sorted(UNREFERENCED))
+def unreferenced_mesh(request):
+    """(name, V, F, k): an ordinary mesh with one vertex ``k`` that no face uses."""
+    V, F, k = UNREFERENCED[request.param]()
+    return request.param, V, F, k
+
+
 @pytest.fixture(params=sorted(ALL))
 def embedded_mesh(request):
     """(name, V, F) of an ordinary mesh in a random rotation."""

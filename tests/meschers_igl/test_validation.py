@@ -135,3 +135,30 @@ def test_check_budget_refuses_with_faces_and_bytes():
         val.check_budget(float("inf"), 1, available=8 * gib)
     assert val.check_budget(1e30, 400, force=True, available=1) == 4e32
     assert val.available_memory() > 0
+
+
+def test_unreferenced_vertices_are_refused_by_every_constructor(unreferenced_mesh, tmp_path):
+    """Issue 13.3: before, the mescher was accepted and cotmatrix came out (F.max()+1)-sized,
+    so heat_diffuse / smooth / geodesic_distance failed with a raw ValueError later."""
+    _, V, F, k = unreferenced_mesh
+    want = rf"expected every vertex to be a corner of some face, found 1 unreferenced vertex\(es\) \[{k}\]"
+    with pytest.raises(MescherError, match="V: " + want):
+        Mescher.from_mesh(V, F)
+    ok = np.delete(np.arange(V.shape[0]), k)
+    m = Mescher.from_mesh(V[ok], np.searchsorted(ok, F))  # the same mesh without it is fine
+    xy = np.insert(np.asarray(m.xy), k, [5.0, 5.0], axis=0)
+    with pytest.raises(MescherError, match="xy: " + want):
+        Mescher(F, xy, np.where(m.edges >= k, m.edges + 1, m.edges), m.zeta)
+    with pytest.raises(MescherError, match="xy: " + want):
+        Mescher.from_corner_depths(F, xy, np.zeros(F.shape))
+    # a file holding such a mescher is refused by name too
+    np.savez(tmp_path / "u.npz", F=F, xy=xy, edges=np.where(m.edges >= k, m.edges + 1, m.edges),
+             zeta=m.zeta)  # fmt: skip
+    from meschers_igl import load
+
+    with pytest.raises(MescherError, match="u.npz: the stored mescher is invalid: xy: " + want):
+        load(tmp_path / "u.npz")
+    # a cut model may have stray vertices: they are dropped (vmap -1), not refused
+    mc, vmap = Mescher.from_cut_mesh(V, F, return_map=True)
+    assert vmap[k] == -1 and mc.n_vertices == V.shape[0] - 1
+    assert mc.cotmatrix().shape == (mc.n_vertices, mc.n_vertices)
