@@ -206,6 +206,15 @@ def _cmd_convert(args: argparse.Namespace) -> int:
     else:
         view = args.view or model.view or (0.0, 0.0, 1.0)
         up = args.up or model.up or (0.0, 1.0, 0.0)
+        if view == "auto" or args.perceive or args.visible:  # any model seen from the view
+            from meshlab_filters import model_to_mescher
+
+            m, order, report = model_to_mescher(model.path, view=view, up=up, perceive=args.perceive,
+                                                merge_tol=args.merge_tol, tol=args.tol)  # fmt: skip
+            print(report)
+            io.save(m, out, order=order)
+            _print_info(describe(m, order), f"wrote {out}")
+            return 0
         model = ModelSpec("artist", model.name, model.path, tuple(view), tuple(up), model.meta)
         m, order, _, _, report = load_artist(model, merge_tol=args.merge_tol, tol=args.tol)
         print(report)
@@ -463,12 +472,18 @@ def build_parser() -> argparse.ArgumentParser:
     _add(p, "input", metavar="INPUT",
          help="a mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...), paradox:NAME or a gallery model")  # fmt: skip
     _add(p, "output", metavar="OUT", help="the mescher file to write (.ply or .npz)")
-    _add(p, "--view", type=lambda s: _vector(s, "--view"), default=None, metavar="X,Y,Z",
-         help="direction from the model toward the camera (default: the sidecar .json's, else 0,0,1)")  # fmt: skip
+    _add(p, "--view", type=lambda s: s if s == "auto" else _vector(s, "--view"), default=None,
+         metavar="X,Y,Z|auto", help="direction from the model toward the camera (default: the sidecar "
+         ".json's, else 0,0,1); 'auto': the view where the model's junctions line up")  # fmt: skip
     _add(p, "--up", type=lambda s: _vector(s, "--up"), default=None, metavar="X,Y,Z",
          help="screen up (default: the sidecar .json's, else 0,1,0)")  # fmt: skip
     _add(p, "--tol", type=float, default=None, metavar="T",
          help="gluing tolerance relative to the model's size (default: automatic)")  # fmt: skip
+    _add(p, "--visible", action="store_true",
+         help="any model (closed solids, separate blocks, STL soups) as seen from the view: false "
+         "edges glued, hidden gaps bridged (implied by --view auto and --perceive)")  # fmt: skip
+    _add(p, "--perceive", choices=["manhattan"], default=None,
+         help="'manhattan': snap normals to the perceived right angles (sheared tricks, reliefs)")  # fmt: skip
     _add(p, "--merge-tol", type=_nonnegative, default=0.0, metavar="D",
          help="3D distance under which the clean-up merges duplicate vertices (default 0: exact)")  # fmt: skip
     p.set_defaults(func=_cmd_convert)

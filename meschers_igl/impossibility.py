@@ -28,7 +28,7 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
 from .errors import MescherError
-from .geometry2d import barycentric, intersection_centroids
+from .geometry2d import barycentric, intersection_centroids, triangles_overlap
 
 __all__ = ["Impossibility", "order_realisable", "impossibility"]
 
@@ -58,23 +58,26 @@ class Impossibility:
         return self.reason
 
 
-def _overlap_points(xy: np.ndarray, F: np.ndarray, arcs: np.ndarray) -> np.ndarray:
+def _overlap_points(xy: np.ndarray, F: np.ndarray, arcs: np.ndarray):
     """A screen point common to faces ``i`` and ``j`` of each arc (overlap centroid, or the mean
-    of their shared screen corners when they only touch)."""
+    of their shared screen corners when they only touch), and whether they only touch."""
     A, B = xy[F[arcs[:, 0]]], xy[F[arcs[:, 1]]]
-    cen, area = intersection_centroids(A, B)
-    touch = ~(area > 0) | ~np.isfinite(cen).all(axis=1)
+    scale = float(np.linalg.norm(np.ptp(xy, axis=0)))
+    # intersection_centroids assumes an overlap: test it first (SAT, positive area)
+    touch = ~triangles_overlap(A, B, 1e-9 * scale)
+    cen = np.zeros((arcs.shape[0], 2))
+    if (~touch).any():
+        cen[~touch] = intersection_centroids(A[~touch], B[~touch])[0]
     if touch.any():
         # touching faces: points of A that lie on B's boundary (shared corners), averaged
         a, b = A[touch], B[touch]
         d = np.linalg.norm(a[:, :, None, :] - b[:, None, :, :], axis=3)  # (k, 3, 3)
-        scale = np.linalg.norm(np.ptp(xy, axis=0))
         shared = d.min(axis=2) <= 1e-9 * scale  # (k, 3) corners of A also corners of B
         n = shared.sum(axis=1, keepdims=True)
         cen[touch] = np.where(
             n > 0, (a * shared[:, :, None]).sum(axis=1) / np.maximum(n, 1), a.mean(axis=1)
         )
-    return cen
+    return cen, touch
 
 
 def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool, float, str]:
@@ -111,10 +114,13 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
     tol = (1e-9 if tol is None else float(tol)) * scale
     if arcs.shape[0] == 0:
         return True, np.inf, "no arcs"
-    c = _overlap_points(xy, F, arcs)
+    c, touch = _overlap_points(xy, F, arcs)
     zi = (barycentric(c, xy[F[arcs[:, 0]]]) * z[F[arcs[:, 0]]]).sum(axis=1)
     zj = (barycentric(c, xy[F[arcs[:, 1]]]) * z[F[arcs[:, 1]]]).sum(axis=1)
     dz = zj - zi  # must become > 0 after the offsets
+    # faces that only touch on screen (an occlusion contour) need not be apart in depth there;
+    # faces that overlap must be strictly ordered
+    strict = ~touch
     E = np.asarray(m.edges)
     n = xy.shape[0]
     _, comp_v = csgraph.connected_components(
@@ -122,11 +128,12 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
     )
     ci, cj = comp_v[F[arcs[:, 0], 0]], comp_v[F[arcs[:, 1], 0]]
     same = ci == cj
-    if same.any() and dz[same].min() <= tol:
-        k = int(np.flatnonzero(same)[np.argmin(dz[same])])
+    bad = same & np.where(strict, dz <= tol, dz < -tol)  # touching arcs: dz >= -tol suffices
+    if bad.any():
+        k = int(np.flatnonzero(bad)[np.argmin(dz[bad])])
         return (
             False,
-            float(dz[same].min()),
+            float(dz[k]),
             f"arc {arcs[k].tolist()} puts face {arcs[k, 1]} in front of face {arcs[k, 0]} of "
             f"the same part, but the bent embedding has it {-dz[k]:.4g} behind",
         )
@@ -138,10 +145,11 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
     a, b = inv[: cross.sum()], inv[cross.sum() :]
     rows = np.arange(a.size)
     # variables (o_1..o_K, t); constraint  o_a - o_b + t <= dz  (i.e. dz + o_b - o_a >= t)
+    st = strict[cross]
     A = sp.coo_matrix(
         (
-            np.r_[np.ones(a.size), -np.ones(a.size), np.ones(a.size)],
-            (np.r_[rows, rows, rows], np.r_[a, b, np.full(a.size, K)]),
+            np.r_[np.ones(a.size), -np.ones(a.size), np.ones(int(st.sum()))],
+            (np.r_[rows, rows, rows[st]], np.r_[a, b, np.full(int(st.sum()), K)]),
         ),
         shape=(a.size, K + 1),
     ).tocsr()
@@ -150,12 +158,13 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
     cost[K] = -1.0
     bounds = [(None, None)] * K + [(None, scale)]
     bounds[0] = (0.0, 0.0)  # offsets are relative: pin one
-    res = linprog(cost, A_ub=A, b_ub=dz[cross], bounds=bounds, method="highs")
+    b_ub = np.where(st, dz[cross], dz[cross] + tol)
+    res = linprog(cost, A_ub=A, b_ub=b_ub, bounds=bounds, method="highs")
     if res.status != 0:
         raise MescherError(f"order: the realisability LP failed ({res.message})")
-    t = float(res.x[K])
-    if same.any():
-        t = min(t, float(dz[same].min()))
+    t = float(res.x[K]) if st.any() else scale
+    if same.any() and strict[same].any():
+        t = min(t, float(dz[same & strict].min()))
     if t > tol:
         return True, t, f"realisable with one offset per part (margin {t:.4g})"
     return (
@@ -171,15 +180,14 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
 def impossibility(m: Any, order: Any = None, tol: float | None = None) -> Impossibility:
     """Both kinds of impossibility (see the module docstring): zeta first, then the order.
 
-    ``tol`` is relative to the model's size for the periods (default: the mescher's own
-    ``is_impossible`` tolerance) and 1e-9 for the order margin.
+    ``tol`` is the mescher's own ``is_impossible`` tolerance for the periods (relative to its
+    size); the order margin counts as zero below 1e-9 of the size.
     """
-    p = np.asarray(m.periods())
-    ptol = (1e-9 if tol is None else float(tol)) * float(m.scale())
-    if p.size and np.abs(p).max() > max(ptol, 1e-9 * float(m.scale())):
+    if m.is_impossible(tol=tol):
+        p = np.asarray(m.periods())
+        big = np.abs(p) > 1e-9 * float(m.scale())
         return Impossibility(
-            "zeta",
-            f"zeta does not integrate: period(s) {np.round(p[np.abs(p) > ptol], 6).tolist()}",
+            "zeta", f"zeta does not integrate: period(s) {np.round(p[big], 6).tolist()}"
         )
     if order is None:
         return Impossibility(None, "zeta integrates and no order was given")

@@ -512,11 +512,19 @@ class Mescher:
         """(k,) depth gained going once around each homology generator (``Gamma @ zeta``)."""
         return np.asarray(self._loop_matrix @ np.asarray(self._zeta))
 
-    def is_impossible(self, tol: float | None = None) -> bool:
+    def is_impossible(self, tol: float | None = None, order=None):
         """True when some period is non-zero (``omega != 0``): the mescher cannot embed in 3D.
 
-        ``tol`` is relative to the model's size (default ``IMPOSSIBLE_RTOL``).
+        ``tol`` is relative to the model's size (default ``IMPOSSIBLE_RTOL``).  With a depth
+        ``order``, also impossible when zeta integrates but no depth offset per connected part
+        lets the bent embedding realise the order; the answer is then an
+        :class:`~meschers_igl.impossibility.Impossibility` (truthy when impossible) whose
+        ``kind`` says which: ``"zeta"``, ``"order"`` or ``None``.
         """
+        if order is not None:
+            from .impossibility import impossibility
+
+            return impossibility(self, order, tol)
         tol = IMPOSSIBLE_RTOL if tol is None else float(tol)
         p = self.periods()
         return bool(p.size and np.abs(p).max() > tol * self.scale())

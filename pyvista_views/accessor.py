@@ -98,6 +98,18 @@ class MescherAccessor:
             return _recover(self._mesh)
         return _from_cut_model(self._mesh, view, up, tol, merge)
 
+    def seen_from(self, view: Any = (0.0, 0.0, 1.0), up: Any = (0.0, 1.0, 0.0), perceive=None):
+        """Any 3D model (closed solids, separate blocks, soups) as seen from ``view``.
+
+        :func:`meschers_igl.models.model_to_mescher` of the mesh's triangles: ``(m, order,
+        report)`` with false edges glued crosswise (their depth gaps become periods);
+        ``view="auto"`` and ``perceive="manhattan"`` as there.
+        """
+        from meschers_igl.models import model_to_mescher
+
+        mesh = _triangles(self._mesh)
+        return model_to_mescher(mesh.points, mesh.regular_faces, view=view, up=up, perceive=perceive)
+
     def to_polydata(
         self,
         view: Any = (0.0, 0.0, 1.0),

@@ -57,7 +57,7 @@ def converted(request, tmp_path_factory):
 
 def test_period_is_the_depth_gap(converted):
     name, _, _, gap, out = converted
-    for how, (m, order, report) in out.items():
+    for how, (m, _, report) in out.items():
         p = _nonzero_periods(m, gap)
         # exactly one loop gains depth, and it gains the gap the model was built with
         assert p.size == 1, (name, how, m.periods())
