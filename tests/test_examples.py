@@ -117,3 +117,37 @@ def test_notebook_uses_trame_and_its_cells_run(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr[-4000:]
     assert "BACKENDS ['trame'] IMAGE (200, 200, 3) 1" in proc.stdout, proc.stdout[-2000:]
+
+
+def _rst_python(path: Path) -> str:
+    """The ``.. code-block:: python`` blocks of a documentation page, in order, dedented."""
+    code, lines, i = [], path.read_text().splitlines(), 0
+    while i < len(lines):
+        if lines[i].strip() == ".. code-block:: python":
+            i += 1
+            block = []
+            while i < len(lines) and (not lines[i].strip() or lines[i].startswith("   ")):
+                block.append(lines[i][3:])
+                i += 1
+            code.append("\n".join(block))
+        else:
+            i += 1
+    return "\n".join(code)
+
+
+@pytest.mark.parametrize("page", ["index.rst", "getting_started.rst"])
+def test_documentation_code_runs_in_an_empty_folder(page, tmp_path):
+    code = _rst_python(ROOT / "docs" / page)
+    assert "import" in code
+    env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
+    if not env.get("DISPLAY"):
+        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode == 0, f"{page}:\n{code}\n{proc.stderr[-4000:]}"
