@@ -11,7 +11,7 @@ Printed per target, against the issue's bar: PSNR (>= 30 dB), silhouette IoU (>=
 the mescher is impossible, the share of figure pixels on faces within 10 degrees of the figure's
 three axis directions (>= 70%, visible faces by the painter's algorithm
 :func:`meschers_igl.painter.visible_faces`), the period around the outline against the true
-depth gap (within 15%), and wall and CPU seconds (<= 300 s; the CPUs are shared).  With
+depth gained around the hole (within 15%; see ``BoxModel.gap``), and wall and CPU seconds (<= 300 s; the CPUs are shared).  With
 ``--compare-power`` the tribar is also fitted with ``(I + lambda L)^-1`` and ``^-2``.
 
 Run:  python benchmarks/bench_inverse.py [--iters 300] [--targets tribar,cube,stairs]

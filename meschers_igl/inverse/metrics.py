@@ -67,17 +67,18 @@ def boundary_loop_periods(m: Mescher) -> tuple[np.ndarray, np.ndarray]:
 
 
 def figure_period(m: Mescher) -> float:
-    """``|period|`` around the figure's outline: the depth gained going once around it all.
+    """``|period|`` around the figure's largest hole (0.0 when it has none).
 
-    The outline is the counter-clockwise boundary loop enclosing the most screen area.  Cuts
-    along occlusion lines (:func:`.picture.mescher_from_picture`) end inside the figure, so the
-    outline loop sees every depth jump the figure hides: for a figure with one hole (a Penrose
-    triangle) it is the period of the impossible loop, for several holes their sum.
+    Measured on the hole's own boundary loop (:func:`boundary_loop_periods`): the largest
+    clockwise loop by screen area.  Cuts along occlusion lines that end on the outline or on
+    a hole do not change it, and slits inside the figure enclose no area, so they are never
+    taken for the hole.
     """
     periods, areas = boundary_loop_periods(m)
-    if areas.size == 0:
+    holes = np.nonzero(areas < 0)[0]
+    if holes.size == 0:
         return 0.0
-    return float(abs(periods[int(np.argmax(areas))]))
+    return float(abs(periods[holes[np.argmin(areas[holes])]]))
 
 
 def axis_aligned_share(

@@ -44,8 +44,9 @@ class BoxModel:
     up : (3,) float64
         Unit screen-up direction (orthogonal to ``view``).
     gap : float
-        True depth between the two parts that coincide on screen, model units: the period of
-        the figure.
+        The figure's true period, model units: the depth gained going once around its hole
+        along the model's own surface (tribar: along the hole's boundary, the bars' inner
+        edges), which is what a mescher of the picture must climb around that hole.
     """
 
     name: str
@@ -101,7 +102,11 @@ def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
     ``X = [0, L] x [0, w]^2``, ``Y = [L-w, L] x [w, L] x [0, w]``,
     ``Z = [L-w, L] x [L-w, L] x [w, L]``: the last cube of Z is the first cube of X moved by
     ``(L - w)(1, 1, 1)``, so the two project onto the same hexagon and the picture is the closed
-    Penrose triangle, with no T-junction.  True period ``sqrt(3) (L - w)``.
+    Penrose triangle.  The two cubes are ``sqrt(3) (L - w)`` apart in depth, but the picture's
+    hole is bounded by the bars' inner edges, ``L - 2w`` long along x, y and z, so going once
+    around the hole climbs ``sqrt(3) (L - 2w)``: the period (``gap``).  (The picture has three
+    occlusion lines where the depth jumps by amounts between these, so loops further out in
+    the 3D model climb more; a mescher has one period per hole.)
     """
     L, w = float(length), float(width)
     if not L > 2 * w > 0:
@@ -109,35 +114,40 @@ def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
     boxes = [((0, 0, 0), (L, w, w)), ((L - w, w, 0), (L, L, w)), ((L - w, L - w, w), (L, L, L))]
     V, F = boxes_mesh(boxes)
     view, up = _iso_view()
-    return BoxModel("tribar", V, F, view, up, math.sqrt(3.0) * (L - w))
+    return BoxModel("tribar", V, F, view, up, math.sqrt(3.0) * (L - 2.0 * w))
 
 
-def penrose_stairs(n_side: int = 3, step: float = 0.25, width: float = 1.0) -> BoxModel:
-    """Penrose stairs: a ring of columns climbing ``step`` each, which seems to close on itself.
+def penrose_stairs(
+    flights=(4, 4, 2, 2), rise: float = 2.0, width: float = 1.0, thickness: float = 0.6
+) -> BoxModel:
+    """Penrose stairs: steps that climb all the way round and meet their own start.
 
-    The ring's cells ``q_i`` (a square of ``4 n_side`` cells) are shifted by
-    ``h_i (1, 1, 0)`` where ``h_i = i * step`` is the height of the column's top: seen along
-    (1, 1, 1) the tops then lie on the unshifted ring, one step up each, and the last step
-    meets the first.  True period: ``sqrt(3) * 4 n_side * step`` (the climb around the ring).
+    Four flights of unit-cell steps along +x, +y, -x, -y (``flights`` cells each) climbing
+    ``rise`` in total, ``s = rise / N`` per step.  The return flights are shorter, so the real
+    path is an open spiral whose end is the start moved by ``rise (1, 1, 1)``: seen along
+    (1, 1, 1) that move is invisible and the picture is a closed ring of steps that climbs for
+    ever (each step a block ``thickness`` deep under its tread).  Going once around the ring
+    climbs ``sqrt(3) rise`` in depth: the period.  Needs ``flights[0] - flights[2] =
+    flights[1] - flights[3] = rise / width``.
     """
-    n, s, w = int(n_side), float(step), float(width)
-    if n < 2 or not s > 0 or not w > 0:
-        raise MescherError(f"n_side, step, width: expected >= 2, > 0, > 0, found {n}, {s}, {w}")
-    cells = (
-        [(i, 0) for i in range(n)]
-        + [(n, j) for j in range(n)]
-        + [(n - i, n) for i in range(n)]
-        + [(0, n - j) for j in range(n)]
-    )
-    depth = 2.0 * w  # columns long enough that their bottoms never show
-    boxes = []
-    for k, (ci, cj) in enumerate(cells):
+    a, b, c, d = (int(f) for f in flights)
+    w, T = float(width), float(thickness)
+    N = a + b + c + d
+    if min(a, b, c, d) < 1 or not (a - c == b - d) or abs((a - c) * w - rise) > 1e-9:
+        raise MescherError(
+            f"flights, rise: expected flights[0] - flights[2] = flights[1] - flights[3] = "
+            f"rise / width, found {flights}, rise {rise}, width {w}"
+        )
+    s = float(rise) / N
+    moves = [(1, 0)] * a + [(0, 1)] * b + [(-1, 0)] * c + [(0, -1)] * d
+    boxes, x, y = [], 0.0, 0.0
+    for k, (dx, dy) in enumerate(moves):
         h = k * s
-        x0, y0 = ci * w + h, cj * w + h
-        boxes.append(((x0, y0, h - depth), (x0 + w, y0 + w, h)))
+        boxes.append(((x, y, h - T), (x + w, y + w, h)))
+        x, y = x + dx * w, y + dy * w
     V, F = boxes_mesh(boxes)
     view, up = _iso_view()
-    return BoxModel("stairs", V, F, view, up, math.sqrt(3.0) * len(cells) * s)
+    return BoxModel("stairs", V, F, view, up, math.sqrt(3.0) * float(rise))
 
 
 def impossible_cube(size: float = 4.0, width: float = 0.7, view=(1.0, 0.75, 0.55)) -> BoxModel:

@@ -456,8 +456,9 @@ def test_tribar_model_ends_coincide_on_screen():
     Vz, _ = mdl.boxes_mesh([((4, 4, 4), (5, 5, 5))])
     # the Z bar's last cube is X's first cube moved by (L - w)(1, 1, 1): same screen points
     np.testing.assert_allclose((Vx @ R.T)[:, :2], (Vz @ R.T)[:, :2], atol=1e-12)
-    np.testing.assert_allclose((Vz @ R.T)[:, 2] - (Vx @ R.T)[:, 2], model.gap, atol=1e-12)
-    assert model.gap == pytest.approx(math.sqrt(3) * 4)
+    np.testing.assert_allclose((Vz @ R.T)[:, 2] - (Vx @ R.T)[:, 2], math.sqrt(3) * 4, atol=1e-12)
+    # around the hole: the inner edges, L - 2w = 3 along each axis
+    assert model.gap == pytest.approx(math.sqrt(3) * 3)
     assert x_first.shape == (8, 3) and model.F.shape == (36, 3)
 
 
