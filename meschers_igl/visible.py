@@ -198,10 +198,22 @@ def drop_contact_faces(F: np.ndarray) -> tuple[np.ndarray, int]:
     -------
     F : (#F', 3) int64, n_pairs : int
     """
-    key = np.sort(F, axis=1)
-    _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    S = np.sort(F, axis=1)
+    n = np.int64(F.max(initial=0) + 1)
+    key = (S[:, 0] * n + S[:, 1]) * n + S[:, 2]  # one int64 per vertex set (n < 2e6)
+    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
     dup = cnt[inv.reshape(-1)] > 1
     return F[~dup], int(np.count_nonzero(dup)) // 2
+
+
+def _open_faces(F: np.ndarray) -> np.ndarray:
+    """(#F,) bool: faces with an edge no other face shares (one int64 key per edge)."""
+    a = np.concatenate([F[:, 0], F[:, 1], F[:, 2]])
+    b = np.concatenate([F[:, 1], F[:, 2], F[:, 0]])
+    n = np.int64(F.max(initial=0) + 1)
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
+    return (cnt[inv] == 1).reshape(3, -1).any(axis=0)
 
 
 def orient_outward(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, int, np.ndarray]:
@@ -227,9 +239,7 @@ def orient_outward(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, int, np.nd
     k = int(comp.max()) + 1
     vol = np.bincount(comp, weights=vol6, minlength=k)
     # a part is closed when every edge has two faces
-    he = np.sort(np.concatenate([Fo[:, [0, 1]], Fo[:, [1, 2]], Fo[:, [2, 0]]]), axis=1)
-    _, inv, cnt = np.unique(he, axis=0, return_inverse=True, return_counts=True)
-    open_face = (cnt[inv.reshape(-1)] == 1).reshape(3, -1).any(axis=0)
+    open_face = _open_faces(Fo)
     is_open = np.bincount(comp, weights=open_face, minlength=k) > 0
     flip = (vol[comp] < 0) & ~is_open[comp]
     Fo[flip] = Fo[flip][:, [0, 2, 1]]
@@ -250,6 +260,20 @@ def _planes(C: np.ndarray, F: np.ndarray) -> np.ndarray:
 
 def _plane_depth(P: np.ndarray, pl: np.ndarray) -> np.ndarray:
     return pl[..., 0] * P[..., 0] + pl[..., 1] * P[..., 1] + pl[..., 2]
+
+
+def _polygonal(g: np.ndarray) -> np.ndarray:
+    """Keep the polygons of overlay results (grid snapping can leave collapsed lines or points
+    in a collection, which the next overlay refuses as mixed-dimension)."""
+    import shapely
+
+    t = shapely.get_type_id(g)
+    odd = np.flatnonzero((t != 3) & (t != 6) & ~shapely.is_empty(g))
+    for k in odd.tolist():  # rare: only collections from degenerate overlaps
+        parts = shapely.get_parts(g[k])
+        parts = parts[np.isin(shapely.get_type_id(parts), (3, 6))]
+        g[k] = shapely.union_all(parts) if parts.size else shapely.Polygon()
+    return g
 
 
 def _clip_occluded(T: np.ndarray, pl: np.ndarray, tol: float, grid: float):
@@ -273,22 +297,22 @@ def _clip_occluded(T: np.ndarray, pl: np.ndarray, tol: float, grid: float):
     )  # faces crossing in 3D at the overlap: leave to the z-order of centroids
     back, front = back[keep], front[keep]
     involved[i] = involved[j] = True
-    polys = shapely.polygons(T)
-    polys = shapely.set_precision(polys, grid)
+    # only faces that overlap something go through shapely (on the fixed grid)
+    polys = np.empty(T.shape[0], dtype=object)
+    inv_ids = np.flatnonzero(involved)
+    polys[inv_ids] = shapely.set_precision(shapely.polygons(T[inv_ids]), grid)
+    # visible part = face minus each face in front of it, one vectorised GEOS pass per rank
+    # (the k-th occluder of every face at once): no Python loop over faces
     order = np.argsort(back, kind="stable")
     back, front = back[order], front[order]
     starts = np.flatnonzero(np.r_[True, back[1:] != back[:-1]])
-    ends = np.r_[starts[1:], back.size]
-    occluded = set(back[starts].tolist())
-    pieces = []
-    for s, e in zip(starts.tolist(), ends.tolist()):  # one shapely difference per occluded face
-        f = int(back[s])
-        occ = shapely.union_all(polys[front[s:e]], grid_size=grid)
-        vis = shapely.difference(polys[f], occ, grid_size=grid)
-        pieces.append((f, vis))
-    for f in np.flatnonzero(involved).tolist():
-        if f not in occluded:
-            pieces.append((f, polys[f]))
+    rank = np.arange(back.size) - np.repeat(starts, np.diff(np.r_[starts, back.size]))
+    vis = polys.copy()
+    for r in range(int(rank.max(initial=-1)) + 1):  # as many passes as the most occluders
+        sel = rank == r
+        b = back[sel]
+        vis[b] = _polygonal(shapely.difference(vis[b], polys[front[sel]], grid_size=grid))
+    pieces = [(int(f), vis[f]) for f in inv_ids.tolist()]
     return pieces, involved
 
 
@@ -499,9 +523,7 @@ def see_model(
     C = V @ R.T
     N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
     # an open part (a relief, a sheet) has no outside: it is seen from the side facing the view
-    he = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    _, inv, cnt = np.unique(he, axis=0, return_inverse=True, return_counts=True)
-    open_face = (cnt[inv.reshape(-1)] == 1).reshape(3, -1).any(axis=0)
+    open_face = _open_faces(F)
     k = int(part.max()) + 1
     is_open = np.bincount(part, weights=open_face, minlength=k) > 0
     away = is_open & (np.bincount(part, weights=N[:, 2], minlength=k) < 0)

@@ -1,0 +1,68 @@
+"""Speed of converting a closed 3D model seen from its view (issue 18: <= 10 s at 100k faces).
+
+The model is the gallery's Penrose tribar cut model at high resolution, capped at its two open
+ends (a closed U-shaped solid whose ends line up on screen).  Prints the conversion time
+(``meschers_igl.models.model_to_mescher``: hidden-surface removal, visible map, gluing, mescher)
+and, as a yardstick measured in the same run on the same mesh, ``igl.cotmatrix``.
+
+    python benchmarks/bench_visible.py [--resolution 128] [--repeat 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "2")
+os.environ.setdefault("OMP_NUM_THREADS", "2")
+
+import igl  # noqa: E402
+import numpy as np  # noqa: E402
+
+from meschers_igl.gallery import get_model  # noqa: E402
+from meschers_igl.models import model_to_mescher  # noqa: E402
+from meschers_igl.topology import boundary_loops  # noqa: E402
+
+
+def capped_tribar(resolution: int):
+    g = get_model("penrose_triangle", resolution=resolution)
+    V, F = g.V, g.F
+    caps = []
+    for loop in boundary_loops(F):  # fan each open end from its centre (a closed solid)
+        c = V.shape[0]
+        V = np.vstack([V, V[loop].mean(axis=0)])
+        caps.append(np.stack([np.full(loop.size, c), np.roll(loop, -1), loop], axis=1))
+    return V, np.vstack([F, *caps]), g.view, g.up, g.expected_period
+
+
+def best(fn, repeat):
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return min(times), out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--resolution", type=int, default=128)
+    ap.add_argument("--repeat", type=int, default=3)
+    a = ap.parse_args(argv)
+    V, F, view, up, gap = capped_tribar(a.resolution)
+    model_to_mescher(V, F, view=view, up=up)  # warm-up (JIT, imports)
+    t_conv, (m, order, report) = best(lambda: model_to_mescher(V, F, view=view, up=up), a.repeat)
+    t_cot, _ = best(lambda: igl.cotmatrix(V, F), a.repeat)
+    p = np.abs(m.periods())
+    print(f"closed capped tribar: {F.shape[0]} faces, {V.shape[0]} vertices")
+    print(f"  model_to_mescher : {t_conv:8.3f} s  -> {m.n_faces} visible faces, "
+          f"period {p.max():.6f} (built with {gap:.6f}), {order.n_arcs} arcs")  # fmt: skip
+    print(f"  igl.cotmatrix    : {t_cot:8.3f} s  (yardstick, same mesh)")
+    print(f"  ratio            : {t_conv / t_cot:8.1f} x cotmatrix")
+    print(f"  bar (issue 18)   : <= 10 s at 100k faces on 2 cores -> "
+          f"{'OK' if t_conv <= 10.0 else 'TOO SLOW'}")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
