@@ -409,65 +409,6 @@ def test_degenerate_face_gives_finite_distances():
         assert mean_rel(d, exact(V, F, 100)) < 0.12  # the 24 x 8 torus alone: 0.08-0.09
 
 
-# ----------------------------------------------------------------------------------------------
-# shortest paths
-# ----------------------------------------------------------------------------------------------
-def _check_path_geometry(m, p):
-    F, xy = np.asarray(m.F), np.asarray(m.xy)
-    assert np.all(p.bary >= -1e-12) and np.allclose(p.bary.sum(axis=1), 1.0)
-    np.testing.assert_allclose(p.xy, np.einsum("ki,kij->kj", p.bary, xy[F[p.faces]]), atol=1e-12)
-    np.testing.assert_allclose(p.xy[0], xy[p.source], atol=1e-12)
-    np.testing.assert_allclose(p.xy[-1], xy[p.target], atol=1e-12)
-    assert np.isclose(p.segment_lengths.sum(), p.length)
-
-
-def test_shortest_path_on_ordinary_meshes():
-    V, F = ordinary_torus()
-    m = Mescher.from_mesh(V, F)
-    S = HeatGeodesicSolver(m, intrinsic_delaunay=True)
-    zc = V[:, 2]  # from_mesh with the default view: camera z is world z
-    for s, t in ((0, 300), (5, 555), (200, 700), (411, 100)):
-        de = exact(V, F, s)[t]
-        p = shortest_path(m, s, t, solver=S)
-        _check_path_geometry(m, p)
-        assert de * (1 - 1e-9) <= p.length <= 1.02 * de  # a surface path is never shorter
-        # local depth integrates zeta: on an embeddable mesh it is the z difference
-        zk = np.einsum("ki,ki->k", p.bary, zc[F[p.faces]])
-        np.testing.assert_allclose(p.depth, zk - zc[s], atol=1e-9)
-    Vo, Fo = obtuse_sheet()
-    mo = Mescher.from_mesh(Vo, Fo)
-    for s, t in ((820, 400), (0, 1230), (1599, 39)):
-        p = shortest_path(mo, s, t)
-        de = exact(Vo, Fo, s)[t]
-        assert de * (1 - 1e-9) <= p.length <= 1.02 * de
-
-
-def test_shortest_path_on_impossible_torus(itorus):
-    m, srcs, dex = itorus
-    S = HeatGeodesicSolver(m, intrinsic_delaunay=True)
-    rel = []
-    for s, de in zip(srcs, dex):
-        for t in (100, 300, 555, 700):
-            p = shortest_path(m, s, t, solver=S)
-            _check_path_geometry(m, p)
-            rel.append(p.length / de[t] - 1)
-    print(f"impossible torus path length / exact - 1: max {max(rel):.4f}, min {min(rel):.2e}")
-    assert min(rel) > -1e-9 and max(rel) < 0.02
-    # the path's local depth at the target is the depth difference of some pair of lifts
-    cov = covering_from_cut(m, 3)
-    zs = cov.V[(cov.vmap == p.source) & (cov.sheet == 1), 2]
-    zt = cov.V[cov.vmap == p.target, 2]
-    assert np.abs(zt - zs - p.depth[-1]).min() < 1e-9
-
-
-def test_shortest_path_trivial_and_solver_mismatch():
-    m = impossible_tube(12, 6)
-    p = shortest_path(m, 4, 4)
-    assert p.length == 0.0 and p.n_points == 1
-    with pytest.raises(MescherError, match="solver"):
-        shortest_path(m, 0, 5, solver=HeatGeodesicSolver(impossible_tube(12, 6)))
-
-
 def test_regression_tiny_heat_does_not_underflow_the_normalization():
     """Regression (1.3M-face sphere, 5.5% error): far from the source the heat is ~1e-280 and
     |grad u|^2 underflowed to 0; the normalized field must not depend on the heat's scale."""

@@ -1,0 +1,189 @@
+"""Shortest paths and exact distances (meschers_igl.paths) against exact geodesics.
+
+Oracles: ``igl.exact_geodesic`` (MMP) on ordinary meshes -- a torus, an obtuse sheet, CAD-like
+boxes tessellated with 0.003-degree slivers, a bumpy "cow-like" sphere -- and on real 3D
+coverings of impossible meschers (``meschers_igl.covering``).  A path on the surface is never
+shorter than the exact distance; a geodesic found by the shortening is within 0.1% of it
+(issue 13 item 4; before, a path on the sliver box came back +26% long, +186% on a CAD part).
+"""
+
+from __future__ import annotations
+
+import igl
+import numpy as np
+import pytest
+from test_heat import (
+    _square,
+    exact,
+    impossible_tube,
+    obtuse_sheet,
+    ordinary_torus,
+    sliver_box,
+)
+
+from meschers_igl import Mescher, MescherError, shapes
+from meschers_igl.covering import covering_distance, covering_from_cut
+from meschers_igl.heat import HeatGeodesicSolver
+from meschers_igl.paths import exact_geodesic_distance, geodesic_distance, shortest_path
+
+REL = 1e-3  # acceptance: within 0.1% of the exact distance
+
+
+def bumpy_sphere(level=3, seed=0):
+    """A "cow-like" closed mesh: an icosphere with smooth bumps and some random relief."""
+    V, F = shapes.icosphere(level)
+    rng = np.random.default_rng(seed)
+    r = 1.0 + 0.15 * np.sin(3 * V[:, 0]) * np.cos(2 * V[:, 1]) + 0.2 * V[:, 2] ** 2
+    r = r + 0.03 * rng.standard_normal(len(V))
+    return V * r[:, None] * np.array([1.6, 1.0, 0.8]), F
+
+
+@pytest.fixture(scope="module")
+def itorus():
+    return impossible_tube()
+
+
+def _check_path_geometry(m, p):
+    F, xy = np.asarray(m.F), np.asarray(m.xy)
+    assert np.all(p.bary >= -1e-12) and np.allclose(p.bary.sum(axis=1), 1.0)
+    np.testing.assert_allclose(p.xy, np.einsum("ki,kij->kj", p.bary, xy[F[p.faces]]), atol=1e-12)
+    np.testing.assert_allclose(p.xy[0], xy[p.source], atol=1e-12)
+    np.testing.assert_allclose(p.xy[-1], xy[p.target], atol=1e-12)
+    assert np.isclose(p.segment_lengths.sum(), p.length)
+    # each inner point lies on an edge (or vertex) of both faces it joins: its weight sits on
+    # vertices of the previous segment's face
+    Fp = F[p.faces]
+    for k in range(1, p.n_points - 1):  # a check over the path's points, not a hot path
+        off = ~np.isin(Fp[k], F[p.faces[k - 1]])
+        assert np.all(p.bary[k][off] < 1e-9)
+
+
+def _rel_errors(m, pairs, dist):
+    rel, cache = [], {}
+    for s, t in pairs:
+        p = shortest_path(m, int(s), int(t))
+        if s not in cache:
+            cache[s] = dist(int(s))
+        rel.append(p.length / cache[s][int(t)] - 1.0)
+    return np.array(rel)
+
+
+def _pairs(n, k, seed=0):
+    rng = np.random.default_rng(seed)
+    return [tuple(rng.choice(n, 2, replace=False)) for _ in range(k)]
+
+
+# ----------------------------------------------------------------------------------------------
+# shortest paths
+# ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("name", ["sliver_box", "sliver_box_fine", "obtuse_sheet", "bumpy"])
+def test_shortest_paths_are_exact_geodesics_on_ordinary_meshes(name):
+    V, F = {
+        "sliver_box": sliver_box,
+        "sliver_box_fine": lambda: sliver_box(k=60, cluster=200),
+        "obtuse_sheet": obtuse_sheet,
+        "bumpy": bumpy_sphere,
+    }[name]()
+    m = Mescher.from_mesh(V, F)
+    rel = _rel_errors(m, _pairs(len(V), 8), lambda s: exact(V, F, s))
+    print(f"{name}: path / exact - 1 in [{rel.min():.2e}, {rel.max():.2e}]")
+    assert rel.min() > -1e-9  # never shorter than the exact distance
+    assert rel.max() < REL
+
+
+def test_shortest_path_on_a_torus_with_depth():
+    V, F = ordinary_torus()
+    m = Mescher.from_mesh(V, F)
+    zc = V[:, 2]  # from_mesh with the default view: camera z is world z
+    S = HeatGeodesicSolver(m)
+    for s, t in ((0, 300), (5, 555), (200, 700), (411, 100)):
+        de = exact(V, F, s)[t]
+        p = shortest_path(m, s, t, solver=S)
+        _check_path_geometry(m, p)
+        assert de * (1 - 1e-9) <= p.length <= (1 + REL) * de
+        # local depth integrates zeta: on an embeddable mesh it is the z difference
+        zk = np.einsum("ki,ki->k", p.bary, zc[F[p.faces]])
+        np.testing.assert_allclose(p.depth, zk - zc[s], atol=1e-9)
+
+
+def test_shortest_paths_on_impossible_meschers(itorus):
+    """Exact distances on the impossible torus and a square ring come from their coverings."""
+    ring = impossible_tube(40, 16, R=2.0, profile=_square(0.5), c=-2.2)
+    for m in (itorus, ring):
+        pairs = [(0, 100), (0, 555), (5, 300), (200, 300), (411, 100), (411, 555)]
+        rel = _rel_errors(m, pairs, lambda s, m=m: exact_geodesic_distance(m, s))
+        print(f"impossible: path / exact - 1 in [{rel.min():.2e}, {rel.max():.2e}]")
+        assert rel.min() > -1e-9 and rel.max() < REL
+    p = shortest_path(itorus, 411, 555)
+    _check_path_geometry(itorus, p)
+    # the path's local depth at the target is the depth difference of some pair of lifts
+    cov = covering_from_cut(itorus, 3)
+    zs = cov.V[(cov.vmap == p.source) & (cov.sheet == 1), 2]
+    zt = cov.V[cov.vmap == p.target, 2]
+    assert np.abs(zt - zs - p.depth[-1]).min() < 1e-9
+
+
+def test_shortest_path_trivial_and_errors():
+    m = impossible_tube(12, 6)
+    p = shortest_path(m, 4, 4)
+    assert p.length == 0.0 and p.n_points == 1
+    with pytest.raises(MescherError, match="solver"):
+        shortest_path(m, 0, 5, solver=HeatGeodesicSolver(impossible_tube(12, 6)))
+    with pytest.raises(MescherError, match="target"):
+        shortest_path(m, 0, m.n_vertices)
+    # a path between neighbours is their edge
+    e = m.edges[3]
+    p = shortest_path(m, int(e[0]), int(e[1]))
+    assert p.length == pytest.approx(m.edge_lengths()[3], rel=1e-12)
+
+
+# ----------------------------------------------------------------------------------------------
+# exact distances (issue 13 item 5)
+# ----------------------------------------------------------------------------------------------
+def test_exact_distance_equals_libigl_on_ordinary_meshes():
+    for V, F in (ordinary_torus(24, 8), obtuse_sheet(20, 20), sliver_box()):
+        R = shapes.random_rotation(5)
+        m = Mescher.from_mesh(V @ R.T, F, view=(0.3, -0.2, 1.0))
+        for src in (3, [0, 17]):
+            d = geodesic_distance(m, src, method="exact")
+            de = igl.exact_geodesic(V, F, VS=np.atleast_1d(src), VT=np.arange(len(V)))
+            assert np.abs(d - de).max() < 1e-9
+
+
+def test_exact_distance_on_impossible_meschers(itorus):
+    m = itorus
+    d = exact_geodesic_distance(m, 200)
+    # the covering with many sheets agrees (no shorter path winds further)
+    np.testing.assert_allclose(d, covering_distance(m, 200, K=7), atol=1e-12)
+    # a metric: |d(a) - d(b)| <= |ab| on every edge, 0 only at the source
+    a, b = m.edges.T
+    assert np.all(np.abs(d[a] - d[b]) <= m.edge_lengths() * (1 + 1e-12))
+    assert d[200] == 0 and (d[np.arange(m.n_vertices) != 200] > 0).all()
+    # the heat method is close, and every path is at least as long
+    assert np.mean(np.abs(HeatGeodesicSolver(m).distance(200) - d)[d > 0] / d[d > 0]) < 0.06
+
+
+def test_exact_distance_unrolls_more_sheets_when_needed():
+    """A thin impossible ring whose paths cross the cut several times: three sheets are not
+    enough for every vertex, so the covering grows; the result equals a much larger one."""
+    m = impossible_tube(
+        24,
+        6,
+        R=0.6,
+        profile=lambda s: (0.5 * np.cos(2 * np.pi * s), 0.5 * np.sin(2 * np.pi * s)),
+        c=0.2,
+    )
+    d = exact_geodesic_distance(m, 0)
+    np.testing.assert_allclose(d, covering_distance(m, 0, K=15), atol=1e-12)
+    with pytest.raises(MescherError, match="max_sheets"):
+        exact_geodesic_distance(m, 0, max_sheets=3)
+
+
+def test_exact_distance_disconnected_and_bad_input():
+    V, F = ordinary_torus(12, 6)
+    n = len(V)
+    m = Mescher.from_mesh(np.r_[V, V + [10, 0, 0]], np.r_[F, F + n])
+    d = exact_geodesic_distance(m, 3)
+    assert np.isinf(d[n:]).all() and np.isfinite(d[:n]).all()
+    with pytest.raises(MescherError, match="sources"):
+        exact_geodesic_distance(m, 2 * n)
