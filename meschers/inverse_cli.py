@@ -43,7 +43,8 @@ def zbuffer_picture(
     ambient: float = 0.2,
     extent: float = 0.8,
     background=(1.0, 1.0, 1.0),
-) -> tuple[np.ndarray, float]:
+    return_depth: bool = False,
+):
     """A picture of a real 3D model by PyVista's z-buffer (not by the code under test).
 
     Orthographic camera along ``model.view`` with ``model.up`` up; the model's screen box is
@@ -67,6 +68,8 @@ def zbuffer_picture(
     image : (resolution, resolution, 3) float64 in [0, 1]
     scale : float
         Screen units per model unit (depths scale the same way).
+    depth : (resolution, resolution) float64, only with ``return_depth``
+        The z-buffer in screen units, larger nearer the viewer (NaN on the background).
     """
     import pyvista as pv
 
@@ -97,9 +100,17 @@ def zbuffer_picture(
         pl.camera.parallel_scale = 1.0 / scale  # half the screen height, model units
         pl.camera.clipping_range = (span, span * 8.0)
         img = pl.screenshot(return_img=True)
+        # PyVista's depth is the (negative) distance from the camera: toward the viewer is up
+        depth = (
+            np.asarray(pl.get_image_depth(reset_camera_clipping_range=False), dtype=np.float64)
+            * scale
+            if return_depth
+            else None
+        )
     finally:
         pl.close()
-    return np.asarray(img[..., :3], dtype=np.float64) / 255.0, scale
+    image = np.asarray(img[..., :3], dtype=np.float64) / 255.0
+    return (image, scale, depth) if return_depth else (image, scale)
 
 
 def _triple(text: str, name: str) -> tuple[float, float, float]:

@@ -44,9 +44,11 @@ class BoxModel:
     up : (3,) float64
         Unit screen-up direction (orthogonal to ``view``).
     gap : float
-        The figure's true period, model units: the depth gained going once around its hole
-        along the model's own surface (tribar: along the hole's boundary, the bars' inner
-        edges), which is what a mescher of the picture must climb around that hole.
+        Depth between the two parts that coincide on screen where the figure closes, model
+        units: the depth gap the illusion hides (tribar: the two corner cubes).  A picture has
+        occlusion lines along which the real depth jump varies (tribar: from
+        ``sqrt(3) (L - 2w)`` where the cut meets the hole to ``gap`` at the outline); a mescher
+        has one period per hole, so it can match ``gap`` only up to that spread.
     """
 
     name: str
@@ -102,11 +104,9 @@ def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
     ``X = [0, L] x [0, w]^2``, ``Y = [L-w, L] x [w, L] x [0, w]``,
     ``Z = [L-w, L] x [L-w, L] x [w, L]``: the last cube of Z is the first cube of X moved by
     ``(L - w)(1, 1, 1)``, so the two project onto the same hexagon and the picture is the closed
-    Penrose triangle.  The two cubes are ``sqrt(3) (L - w)`` apart in depth, but the picture's
-    hole is bounded by the bars' inner edges, ``L - 2w`` long along x, y and z, so going once
-    around the hole climbs ``sqrt(3) (L - 2w)``: the period (``gap``).  (The picture has three
-    occlusion lines where the depth jumps by amounts between these, so loops further out in
-    the 3D model climb more; a mescher has one period per hole.)
+    Penrose triangle.  The two cubes are ``sqrt(3) (L - w)`` apart in depth (``gap``); the
+    line where the picture hides that step runs from the outline (jump ``sqrt(3) (L - w)``)
+    to the hole (jump ``sqrt(3) (L - 2w)``).
     """
     L, w = float(length), float(width)
     if not L > 2 * w > 0:
@@ -114,7 +114,7 @@ def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
     boxes = [((0, 0, 0), (L, w, w)), ((L - w, w, 0), (L, L, w)), ((L - w, L - w, w), (L, L, L))]
     V, F = boxes_mesh(boxes)
     view, up = _iso_view()
-    return BoxModel("tribar", V, F, view, up, math.sqrt(3.0) * (L - 2.0 * w))
+    return BoxModel("tribar", V, F, view, up, math.sqrt(3.0) * (L - w))
 
 
 def penrose_stairs(
