@@ -23,13 +23,14 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
+from . import overlap
 from .errors import MescherError, MescherWarning
 from .geometry2d import (
     TOL_FACTOR,
-    barycentric,
     default_tol,
     model_scale,
     overlapping_pairs,
+    triangle_heights,
 )
 from .order_graph import (
     canonical_arcs,
@@ -60,6 +61,10 @@ _EXACT_RTOL = 1e-9
 # from_local_depth on impossible meschers: exact shortest paths (one Dijkstra per source vertex)
 # while #sources * #V stays below this; shared patch seeds beyond.
 _EXACT_PATH_WORK = 30_000_000
+# refine: child pairs tested per parent arc directly while their number stays below this many
+# per child face (plus a constant); beyond it (parents with very many children) the grid.
+_REFINE_WORK_PER_CHILD = 64
+_REFINE_WORK_MIN = 1_000_000
 
 
 # ---------------------------------------------------------------------------------- helpers
@@ -80,14 +85,17 @@ def _tol(tol: Any, T: np.ndarray) -> float:
 
 def _arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarray:
     """Arc ``i -> j`` where ``dz = depth_j - depth_i > tol``, ``j -> i`` where ``dz < -tol``."""
-    fwd = dz > tol
-    bwd = dz < -tol
-    return np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
+    return overlap.arcs_from_depths(np.ascontiguousarray(pairs), np.ascontiguousarray(dz), tol)
 
 
-def _depth_at(P: np.ndarray, T: np.ndarray, Z: np.ndarray) -> np.ndarray:
-    """Corner depths ``Z (k, 3)`` interpolated at points ``P (k, 2)`` of triangles ``T``."""
-    return np.einsum("kc,kc->k", barycentric(P, T), Z)
+def _depth_change(cen: np.ndarray, pairs: np.ndarray, T: np.ndarray, Z: np.ndarray) -> np.ndarray:
+    """``z_j(c) - z_i(c)`` for pairs ``(i, j)``: corner depths ``Z (n, 3)`` of faces ``T (n, 3, 2)``
+    interpolated (barycentric) at the points ``cen (k, 2)``."""
+    T = np.ascontiguousarray(T, dtype=np.float64)
+    Z = np.ascontiguousarray(Z, dtype=np.float64)
+    cen = np.ascontiguousarray(cen)
+    zj = overlap.barycentric_depths(cen, T, Z, np.ascontiguousarray(pairs[:, 1]))
+    return zj - overlap.barycentric_depths(cen, T, Z, np.ascontiguousarray(pairs[:, 0]))
 
 
 # ---------------------------------------------------------------------------------- class
@@ -217,8 +225,7 @@ class DepthOrder:
         T = xy[F]
         tol = _tol(tol, T)
         pairs, cen = overlapping_pairs(T, tol, centroids=True)
-        i, j = pairs[:, 0], pairs[:, 1]
-        dz = _depth_at(cen, T[j], Zc[j]) - _depth_at(cen, T[i], Zc[i])
+        dz = _depth_change(cen, pairs, T, Zc)
         ztol = max(tol, TOL_FACTOR * float(np.abs(Zc).max(initial=0.0)))
         return cls(F.shape[0], _arcs_from_depths(pairs, dz, ztol), m=m)
 
@@ -301,12 +308,12 @@ class DepthOrder:
             ),
             shape=(nv, nv),
         )
-        _, comp = csgraph.connected_components(G, directed=False)
+        ncomp, comp = csgraph.connected_components(G, directed=False)
         vi, vj = F[pairs[:, 0], 0], F[pairs[:, 1], 0]
-        keep = comp[vi] == comp[vj]
-        pairs, cen, vi, vj = pairs[keep], cen[keep], vi[keep], vj[keep]
-        i, j = pairs[:, 0], pairs[:, 1]
-        local = _depth_at(cen, T[j], Zl[j]) - _depth_at(cen, T[i], Zl[i])
+        if ncomp > 1:
+            keep = comp[vi] == comp[vj]
+            pairs, cen, vi, vj = pairs[keep], cen[keep], vi[keep], vj[keep]
+        local = _depth_change(cen, pairs, T, Zl)
         # One spanning forest (a tree per component): exact when zeta is exact.
         roots = np.unique(comp, return_index=True)[1]
         phi = integrate_one_form(edges, zeta, nv, spanning_forest(G, roots))
@@ -374,7 +381,7 @@ class DepthOrder:
             T,
             _tol(tol, T),
             faces=np.concatenate((front, back)),
-            pair_filter=lambda i, j: is_f[i] != is_f[j],  # one face from each group
+            groups=is_f,  # one face from each group
         )
         i, j = pairs[:, 0], pairs[:, 1]
         new = np.concatenate((pairs[is_b[i] & is_f[j]], pairs[is_f[i] & is_b[j]][:, ::-1]))
@@ -421,22 +428,26 @@ class DepthOrder:
             )
         if self.n_arcs == 0:
             return DepthOrder(nc, None, m=m_child)
-        T = xy[F]
-        n = np.int64(self._n)
-        keys = self._arcs[:, 0] * n + self._arcs[:, 1]  # sorted (canonical arcs)
-
-        def parents_ordered(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-            pa, pb = parent[a], parent[b]
-            return in_sorted(keys, pa * n + pb) | in_sorted(keys, pb * n + pa)
-
-        related = np.isin(parent, self._arcs)  # only children of faces with arcs can get one
-        pairs, _ = overlapping_pairs(
-            T, _tol(tol, T), faces=np.flatnonzero(related), pair_filter=parents_ordered
-        )
-        pa, pb = parent[pairs[:, 0]], parent[pairs[:, 1]]
-        fwd = in_sorted(keys, pa * n + pb)
-        bwd = in_sorted(keys, pb * n + pa)
-        arcs = np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
+        T = np.ascontiguousarray(xy[F], dtype=np.float64)
+        tol = _tol(tol, T)
+        cnt = np.bincount(parent, minlength=self._n)
+        work = int((cnt[self._arcs[:, 0]] * cnt[self._arcs[:, 1]]).sum())
+        if work <= _REFINE_WORK_PER_CHILD * nc + _REFINE_WORK_MIN:
+            # Children of the two ends of each parent arc, tested directly (compiled): no broad
+            # phase needed, and exactly the pairs the grid would find and keep.
+            start = np.concatenate(([0], np.cumsum(cnt)))
+            children = np.argsort(parent, kind="stable")
+            ok = triangle_heights(T) > tol
+            arcs = overlap.child_pairs(T, ok, self._arcs, start, children, tol)
+        else:  # a few parents with very many children: the grid, then keep ordered parents
+            n = np.int64(self._n)
+            keys = self._arcs[:, 0] * n + self._arcs[:, 1]  # sorted (canonical arcs)
+            related = np.isin(parent, self._arcs)  # only children of faces with arcs
+            pairs, _ = overlapping_pairs(T, tol, faces=np.flatnonzero(related))
+            pa, pb = parent[pairs[:, 0]], parent[pairs[:, 1]]
+            fwd = in_sorted(keys, pa * n + pb)
+            bwd = in_sorted(keys, pb * n + pa)
+            arcs = np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
         return DepthOrder(nc, arcs, m=m_child)
 
     # ------------------------------------------------------------------ analysis

@@ -19,6 +19,7 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
 from .errors import MescherError
+from .overlap import unique_sorted_pairs
 from .validate import as_int_array
 
 __all__ = [
@@ -79,9 +80,7 @@ def canonical_arcs(arcs: Any, n: int, name: str = "arcs") -> np.ndarray:
             f"{name}: expected arcs between two different faces (a face cannot be behind "
             f"itself), found {int(loops.sum())} self-loop(s), first arc {r} = {a[r].tolist()}"
         )
-    key = np.sort(a[:, 0] * np.int64(n) + a[:, 1])  # sort + diff: faster than np.unique's hash
-    key = key[np.r_[True, key[1:] != key[:-1]]]
-    return np.stack((key // n, key % n), axis=1)
+    return unique_sorted_pairs(np.ascontiguousarray(a), int(n))  # compiled counting sort
 
 
 def adjacency(n: int, arcs: np.ndarray) -> sp.csr_matrix:
