@@ -28,7 +28,7 @@ import numpy as np
 
 from .errors import MescherError
 
-__all__ = ["perceived_frame", "perceive_manhattan", "snap_to_manhattan"]
+__all__ = ["model_face_axes", "perceived_frame", "perceive_manhattan", "snap_to_manhattan"]
 
 #: Faces farther than this from every perceived axis keep their own normal (radians).
 MAX_SNAP = np.radians(40.0)
@@ -126,13 +126,82 @@ def perceived_frame(xy: Any, F: Any, Z: Any) -> np.ndarray:
     return E
 
 
-def perceive_manhattan(xy: Any, F: Any, Z: Any) -> tuple[np.ndarray, np.ndarray]:
+def _axis_from_edges(xy, F, n, E, adjacent_only: bool = False) -> np.ndarray:
+    """(#F,) the perceived normal axis of each face, read from its plane's outline.
+
+    Faces with equal normals form a plane region; the region's outline (half-edges whose
+    partner lies in another region or nowhere -- not the diagonals inside it) runs along the
+    two families spanning the face, so its perceived normal is the family with the least
+    outline length, whatever the true (e.g. sheared) normal is."""
+    import scipy.sparse as sp
+    import scipy.sparse.csgraph as csgraph
+    from scipy.spatial import cKDTree
+
+    D = E[:, :2] / np.linalg.norm(E[:, :2], axis=1, keepdims=True)
+    # equal normals within 1e-6 (clustered, not rounded: rounding splits near-equal ones)
+    nf = n.shape[0]
+    he = np.stack([F[:, [1, 2]], F[:, [2, 0]], F[:, [0, 1]]], axis=1).reshape(-1, 2)
+    if adjacent_only:
+        # polygons: faces joined across shared edges when their normals agree
+        nv0 = np.int64(xy.shape[0])
+        k1 = np.minimum(he[:, 0], he[:, 1]) * nv0 + np.maximum(he[:, 0], he[:, 1])
+        o = np.argsort(k1, kind="stable")
+        same = np.flatnonzero(k1[o][1:] == k1[o][:-1])
+        fa, fb = o[same] // 3, o[same + 1] // 3
+        keep = np.linalg.norm(n[fa] - n[fb], axis=1) <= 1e-6
+        pairs = np.stack([fa[keep], fb[keep]], axis=1)
+    else:
+        pairs = cKDTree(n).query_pairs(1e-6, output_type="ndarray")
+    A = sp.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(nf, nf))
+    _, grp = csgraph.connected_components(A, directed=False)
+    he = np.stack([F[:, [1, 2]], F[:, [2, 0]], F[:, [0, 1]]], axis=1).reshape(-1, 2)
+    g_he = np.repeat(grp, 3)
+    nv = np.int64(xy.shape[0])
+    fwd = he[:, 0] * nv + he[:, 1]
+    rev = he[:, 1] * nv + he[:, 0]
+    srt = np.argsort(fwd)
+    pos = np.searchsorted(fwd[srt], rev)
+    pos = np.minimum(pos, fwd.size - 1)
+    twin = np.where(fwd[srt][pos] == rev, srt[pos], -1)
+    outline = (twin < 0) | (g_he[np.maximum(twin, 0)] != g_he)
+    d = xy[he[:, 1]] - xy[he[:, 0]]
+    L = np.linalg.norm(d, axis=1)
+    sin = np.abs(d[:, 0, None] * D[:, 1] - d[:, 1, None] * D[:, 0]) / np.maximum(L, 1e-300)[:, None]
+    fam = (sin < np.sin(np.radians(0.5))) & outline[:, None]
+    G = grp.max() + 1
+    length = np.stack([np.bincount(g_he, weights=L * fam[:, i], minlength=G) for i in range(3)], 1)
+    decided = np.sort(length, axis=1)[:, 1] > 0  # at least two families on the outline
+    axis = np.where(decided, np.argmin(length, axis=1), -1)
+    return axis[grp]
+
+
+def model_face_axes(C: Any, F: Any, E: Any) -> np.ndarray:
+    """(#F,) perceived normal axis of each face of a 3D model (camera frame ``C``), read from
+    the outline of the model polygon it belongs to (adjacent coplanar faces), -1 if undecided.
+
+    The model's own polygons (a sheared box face is still a parallelogram whose sides run along
+    two edge families) are free of the clipping lines of the visible map."""
+    C, F, E = np.asarray(C, float), np.asarray(F, np.int64), np.asarray(E, float)
+    T = C[F]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    return _axis_from_edges(C[:, :2], F, n, E, adjacent_only=True)
+
+
+def perceive_manhattan(
+    xy: Any, F: Any, Z: Any, axis: Any = None, E: Any = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Corner depths on the planes of snapped normals, and how far each face was snapped.
 
     Parameters
     ----------
     xy : (#V, 2), F : (#F, 3), Z : (#F, 3)
         A mescher's screen positions, faces and per-face corner depths.
+    axis : (#F,) int, optional
+        Perceived normal axis per face (e.g. from :func:`model_face_axes` of the source
+        model), -1 where unknown; default: read from the mescher's own plane outlines.
+    E : (3, 3), optional
+        The perceived frame (default :func:`perceived_frame`).
 
     Returns
     -------
@@ -142,14 +211,30 @@ def perceive_manhattan(xy: Any, F: Any, Z: Any) -> tuple[np.ndarray, np.ndarray]
         Angle (radians) between each face's normal and its snapped normal (0 where left).
     """
     xy, F, Z = np.asarray(xy, float), np.asarray(F, np.int64), np.asarray(Z, float)
-    E = perceived_frame(xy, F, Z)
+    E = perceived_frame(xy, F, Z) if E is None else np.asarray(E, float)
     n = _normals(xy, F, Z)
+    k = _axis_from_edges(xy, F, n, E) if axis is None else np.asarray(axis, np.int64)
+    # the drawing fixes the frame up to a Necker reversal (all w_i negated, the mirror image
+    # through the screen): take the reading nearer the model's own normals (area-weighted)
+    P = xy[F]
+    u, w = P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]
+    area = 0.5 * np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
+    kk = np.where(k >= 0, k, 0)
+
+    def cost(Ec):
+        e = Ec[kk] * np.where(Ec[kk, 2] < 0, -1.0, 1.0)[:, None]
+        return float(area @ np.arccos(np.clip(np.einsum("ij,ij->i", n, e), -1, 1)))
+
+    Er = E * np.array([1.0, 1.0, -1.0])
+    if cost(Er) < cost(E):
+        E = Er
     c = n @ E.T  # (#F, 3) cosines to the three axes
-    k = np.argmax(np.abs(c), axis=1)
+    k = np.where(k >= 0, k, np.argmax(np.abs(c), axis=1))
     ck = c[np.arange(F.shape[0]), k]
-    e = E[k] * np.sign(ck)[:, None]
+    e = E[k] * np.where(E[k, 2] < 0, -1.0, 1.0)[:, None]  # the side facing the viewer
     ang = np.arccos(np.clip(np.abs(ck), -1.0, 1.0))
-    ok = (ang <= MAX_SNAP) & (e[:, 2] > 1e-6)
+    by_edges = k >= 0
+    ok = (by_edges | (ang <= MAX_SNAP)) & (e[:, 2] > 1e-6)
     a = -e[:, 0] / np.where(ok, e[:, 2], 1.0)
     b = -e[:, 1] / np.where(ok, e[:, 2], 1.0)
     P = xy[F]

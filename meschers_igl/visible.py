@@ -569,6 +569,7 @@ def see_model(
     Fa, src = Fa[ok], src[ok]
     Fa, src = _split_t_junctions(xy, Fa, src, tol_abs)
 
+    E = axes_model = None
     for _ in range(4):  # occlusion edges that stay glued through their end fans get split
         Z = _plane_depth(xy[Fa], pl_all[src][:, None, :])
         glue, arcs, fe = _classify(xy, Fa, src, Z, C, F, front, tol_abs)
@@ -579,6 +580,14 @@ def see_model(
             Fb, sb, Zb, is_bridge, glue, arcs, bridges = _bridge(
                 xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs
             )
+        if perceive == "manhattan":
+            from .manhattan import model_face_axes, perceive_manhattan, perceived_frame
+
+            if E is None:
+                E = perceived_frame(xy, Fb, Zb)
+                axes_model = model_face_axes(C, F, E)  # read from the model's own polygons
+            Zb, report.snapped = perceive_manhattan(xy, Fb, Zb, axis=axes_model[sb], E=E)
+            glue, arcs = _reglue(glue, Zb, arcs, tol_abs)
         Fm, corner_vertex = _cut_and_glue(Fb, glue)
         h1, h2 = glue["h1"][~glue["glue"]], glue["h2"][~glue["glue"]]
         stuck = _stuck_cuts(Fm, h1, h2)
@@ -591,13 +600,26 @@ def see_model(
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
     first[Fm.reshape(-1)] = corner_vertex
     xym = xy[first]
-    if perceive == "manhattan":
-        from .manhattan import perceive_manhattan
-
-        Zb, report.snapped = perceive_manhattan(xym, Fm, Zb)
     report.arcs = arcs
     _expectation_warning(report, V, F, C, front)
     return VisibleModel(F=Fm, xy=xym, Z=Zb, arcs=arcs, report=report)
+
+
+def _reglue(glue: dict, Z: np.ndarray, arcs: np.ndarray, tol: float):
+    """Glued edges whose (perceived) depths on the two sides are no longer parallel become
+    occlusions (cut, far -> near arc); parallel jumps stay glued (perceived false edges)."""
+    h1, h2, ok = glue["h1"], glue["h2"], glue["glue"].copy()
+    a = _he_depth(Z, h1)
+    b = _he_depth(Z, h2)[:, ::-1]  # the partner runs the other way
+    d = b - a  # (k, 2): depth jump at tail and head
+    bad = ok & (np.abs(d[:, 0] - d[:, 1]) > tol)
+    if bad.any():
+        ok[bad] = False
+        far1 = d[bad].sum(axis=1) > 0
+        f1, f2 = h1[bad] // 3, h2[bad] // 3
+        new = np.stack([np.where(far1, f1, f2), np.where(far1, f2, f1)], axis=1)
+        arcs = np.vstack([arcs, new]).astype(np.int64)
+    return {"h1": h1, "h2": h2, "glue": ok}, arcs
 
 
 def _stuck_cuts(Fm: np.ndarray, h1: np.ndarray, h2: np.ndarray) -> np.ndarray:
@@ -634,6 +656,8 @@ def _expectation_warning(report, V, F, C, front) -> None:
     """
     if any(j.depth_gap > 0 for j in report.junctions if j.kind != "occluded continuation"):
         return
+    if report.snapped is not None and report.snapped.max(initial=0.0) > 1e-6:
+        return  # the perceived (snapped) depths decide; the caller sees the periods
     diag = float(np.linalg.norm(np.ptp(V, axis=0)))
     vs = np.unique(F[front])
     P = C[vs]

@@ -17,6 +17,7 @@ from visible_models import (
     ISO_VIEW,
     block_stairs,
     hidden_gap_frame,
+    sheared_tribar_torus,
     soup,
     triangulate,
     u_tribar,
@@ -229,3 +230,41 @@ def test_pinch_vertex_warns():
     with pytest.warns(MescherWarning, match="pinch vertex"):
         m, _, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP)
     assert any("pinch" in w for w in report.warnings)
+
+
+def test_sheared_torus_is_possible_until_right_angles_are_perceived():
+    V, P, gap = sheared_tribar_torus()
+    F = triangulate(P)
+    # the model is a real closed torus (chi 0, every edge in two faces)
+    E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    _, cnt = np.unique(E, axis=0, return_counts=True)
+    assert np.all(cnt == 2) and V.shape[0] - cnt.size + F.shape[0] == 0
+    with pytest.warns(MescherWarning, match="perceive='manhattan'"):
+        m, _, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP)
+    assert not m.is_impossible() and report.snapped is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m, order, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, perceive="manhattan")
+    p = _nonzero_periods(m, gap)
+    assert p.size == 1 and abs(p[0] - gap) <= 1e-6 * gap  # the tribar a person sees
+    # the report says how far faces were snapped: the unsheared x piece not at all, the
+    # sheared bars by up to 90 degrees; every snapped normal is one of three orthogonal axes
+    assert report.snapped.min() < 1e-6 and np.degrees(report.snapped.max()) > 45
+    n = np.asarray(m.face_normals())
+    axes = n[[0]]
+    for v in n:  # cluster the normals (few faces)
+        if np.abs(axes @ v).max() < 1 - 1e-6:
+            axes = np.vstack([axes, v])
+    assert axes.shape == (3, 3) and np.allclose(axes @ axes.T, np.eye(3), atol=1e-6)
+    assert np.all(np.abs(n @ axes.T).max(axis=1) > 1 - 1e-6)
+    assert f"max {np.degrees(report.snapped.max()):.3g} deg" in str(report)
+
+
+@pytest.mark.parametrize("name", ["u_tribar", "block_stairs", "hidden_gap_frame"])
+def test_manhattan_leaves_right_angled_models_alone(name):
+    V, P, gap = MODELS[name]()
+    F = triangulate(P)
+    m0, _, _ = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP)
+    m, _, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, perceive="manhattan")
+    assert report.snapped.max() < 1e-6  # already right-angled: nothing to snap
+    assert np.allclose(np.abs(m.periods()), np.abs(m0.periods()), rtol=1e-9, atol=1e-9 * gap)

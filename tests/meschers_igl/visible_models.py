@@ -244,3 +244,47 @@ def read_obj(path):
             idx = [int(x.split("/")[0]) - 1 for x in t[1:]]
             F += [[idx[0], idx[i], idx[i + 1]] for i in range(1, len(idx) - 1)]
     return np.asarray(V), np.asarray(F, dtype=np.int64)
+
+
+def sheared_tribar_torus(L=4.0, t=1.0):
+    """A real closed torus that looks like a Penrose tribar (a sheared trick).
+
+    The tribar ring (x, y, z bars seen along (1,1,1), opened in the x bar) is cut into blocks at
+    its mitres and across the z bar's middle; each block is moved along the view by
+    ``-gap * s(p)`` with ``s`` affine per block: 0 on the first x piece, 1 on the last one, and
+    continuous across every interface plane (``s`` changes by multiples of the interface's own
+    affine function).  Screen positions do not change, every face stays planar, and the last
+    piece lands exactly on the first: the ring closes into a torus.  Returns (V, polygons,
+    gap): a person assuming right angles perceives the tribar and its period ``gap``."""
+    x, y, z = AXES
+    v = ISO_VIEW
+    m = x - (x @ v) * v
+    R0 = np.zeros(3)
+    R1, R2, R3 = R0 + L * x, R0 + L * x + L * y, R0 + L * (x + y + z)
+    gap = float((R3 - R0) @ v)
+    Rm = 0.5 * (R2 + R3)
+    S0, E = R0 + 0.5 * L * x, R3 + 0.5 * L * x
+    blocks = [
+        _bar(S0, R1, x, y, t, ("plane", m), None),
+        _bar(R1, R2, y, z, t, None, x),
+        _bar(R2, Rm, z, None, t, None, y, end=("cap",)),
+        _bar(Rm, R3, z, x, t, ("cap",), None),
+        _bar(R3, E, x, None, t, None, z, end=("plane", m)),
+    ]
+    lam_a = lambda p: (p - R1) @ (x + y)  # noqa: E731  (the mitre at R1)
+    lam_m = lambda p: (p - R2) @ (y + z)  # noqa: E731  (the mitre at R2)
+    lam_c = lambda p: (p - Rm) @ z  # noqa: E731  (across the z bar)
+    # alpha lam_a + beta lam_m + gamma lam_c == 1 on the mitre plane at R3 (normal z + x)
+    P = np.array([R3, R3 + (x - z), R3 + y])
+    A = np.stack([np.array([lam_a(p), lam_m(p), lam_c(p)]) for p in P])
+    al, be, ga = np.linalg.solve(A, np.ones(3))
+    s_of = [
+        lambda p: 0.0 * p[:, 0],
+        lambda p: al * lam_a(p),
+        lambda p: al * lam_a(p) + be * lam_m(p),
+        lambda p: al * lam_a(p) + be * lam_m(p) + ga * lam_c(p),
+        lambda p: 1.0 + 0.0 * p[:, 0],
+    ]
+    moved = [(Vb - gap * s(Vb)[:, None] * v, Pb) for (Vb, Pb), s in zip(blocks, s_of)]
+    V, polys = weld_blocks(moved)
+    return V, polys, gap
