@@ -152,6 +152,8 @@ def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75):
     merged = shapely.line_merge(edges)
     lines = [g for g in getattr(merged, "geoms", [merged])]
     lines = [_straighten(g, px, tolerance_px) for g in lines]
+    # straightened neighbours may cross: node them again so that every piece closes
+    lines = list(shapely.get_parts(shapely.union_all(lines)))
     pieces = list(shapely.get_parts(shapely.polygonize(lines)))
     # the label of each piece: majority of the pixel centres inside it
     c = -1.0 + (2.0 * np.arange(W) + 1.0) / W
