@@ -28,6 +28,7 @@ from largesteps.optimize import AdamUniform  # noqa: E402
 
 from ..errors import MescherError  # noqa: E402
 from ..mescher import Mescher  # noqa: E402
+from ..validate import check_budget  # noqa: E402
 from .metrics import image_psnr  # noqa: E402
 from .rasterizer import lambertian, soft_rasterize  # noqa: E402
 from .sobolev import MescherParametrization  # noqa: E402
@@ -150,6 +151,7 @@ def fit_mescher(
     callback: Callable[[int, dict], None] | None = None,
     progress: bool | None = False,
     device=None,
+    force: bool = False,
 ) -> InverseResult:
     """Optimize a mescher so that its soft rendering matches ``target`` (paper Section 4.5).
 
@@ -176,6 +178,8 @@ def fit_mescher(
     device : str or torch.device, optional
         Where to compute, e.g. ``"cuda"`` when ``torch.cuda.is_available()``; default CPU (the
         tested path).
+    force : bool, default: False
+        Skip the memory guard (:func:`meschers_igl.validate.check_budget`) on the resolution.
 
     Returns
     -------
@@ -187,11 +191,14 @@ def fit_mescher(
     target = np.asarray(target, dtype=np.float64)
     if target.ndim != 3 or target.shape[2] != 3 or target.shape[0] != target.shape[1]:
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {target.shape}")
+    res = target.shape[0]
+    # the soft rasterizer holds a few (face, pixel) pairs per pixel: ~2 kB per pixel
+    check_budget(float(res) * res, bytes_per_face=2048.0, what=f"fit_mescher at {res}^2",
+                 force=force)  # fmt: skip
     if not np.all(np.isfinite(target)):
         raise MescherError("target: expected finite values in [0, 1], found non-finite values")
     if device is not None and torch.device(device).type == "cuda" and not torch.cuda.is_available():
         raise MescherError(f"device: expected a device torch can use, found {device!r} (no CUDA)")
-    res = target.shape[0]
     if progress is None:
         progress = sys.stderr.isatty()
     old_threads = torch.get_num_threads()
@@ -202,6 +209,7 @@ def fit_mescher(
         if not progress:
             return _fit(target, res, init, offsets, lights, light_colors, ambient, background,
                         opt, callback, device)  # fmt: skip
+        from rich.console import Console
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
         with Progress(
@@ -209,6 +217,7 @@ def fit_mescher(
             BarColumn(),
             TextColumn("{task.completed}/{task.total}"),
             TimeElapsedColumn(),
+            console=Console(stderr=True),  # stdout stays for results
             transient=False,
         ) as bar:
             task = bar.add_task("loss -", total=opt.iters)

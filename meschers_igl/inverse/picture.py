@@ -436,7 +436,6 @@ def lift(
     F: np.ndarray,
     face_normals: np.ndarray,
     weights: np.ndarray | None = None,
-    robust_iters: int = 0,
 ) -> Mescher:
     """The mescher on ``(F, xy)`` whose faces best take the planes of ``face_normals``.
 
@@ -452,8 +451,6 @@ def lift(
     face_normals : (#F, 3) float
         Unit normals with ``n_z > 0``.
     weights : (#F,) float, optional
-    robust_iters : int, default: 0
-        Reweighting rounds toward a least-absolute misfit per face (0: plain least squares).
 
     Returns
     -------
@@ -479,20 +476,12 @@ def lift(
     A = sp.hstack([B @ m0.d01, sp.csr_matrix(B @ H)]).tocsr()
     from scipy.sparse.linalg import spsolve
 
-    w0 = np.ones(len(F)) if weights is None else np.asarray(weights, dtype=np.float64)
-    wv = w0.copy()
-    b = wish.reshape(-1)
-    scale = float(np.abs(b).mean()) or 1.0
-    for _ in range(1 + robust_iters):
-        W = sp.diags(np.repeat(wv, 3))
-        # normal equations; z is defined up to a constant per piece: pin it with a tiny ridge
-        N = (A.T @ W @ A).tocsc()
-        N = N + 1e-12 * float(np.abs(N.diagonal()).max()) * sp.identity(A.shape[1])
-        sol = spsolve(N, A.T @ (W @ b))
-        # iteratively reweighted least squares toward the L1 misfit: a face that cannot have
-        # its plane (it straddles a depth jump nobody can see) gives way, its neighbours don't
-        r = np.sqrt(((A @ sol - b) ** 2).reshape(-1, 3).mean(axis=1))
-        wv = w0 / np.maximum(r, 1e-3 * scale)
+    wv = np.ones(len(F)) if weights is None else np.asarray(weights, dtype=np.float64)
+    W = sp.diags(np.repeat(wv, 3))
+    # normal equations; z is defined up to a constant per piece: pin it with a tiny ridge
+    N = (A.T @ W @ A).tocsc()
+    N = N + 1e-12 * float(np.abs(N.diagonal()).max()) * sp.identity(A.shape[1])
+    sol = spsolve(N, A.T @ (W @ wish.reshape(-1)))
     nv = m0.n_vertices
     zeta = m0.d01 @ sol[:nv] + H @ sol[nv:]
     return m0.with_zeta(zeta)

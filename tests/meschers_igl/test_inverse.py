@@ -362,6 +362,14 @@ def test_fit_rejects_bad_target():
         opt.fit_mescher(np.ones((8, 8, 3)), m, np.zeros(3), options=opt.InverseOptions(iters=1))
     with pytest.raises(MescherError, match="init"):
         opt.fit_mescher(np.ones((8, 8, 3)), (m.F, m.xy), off)
+    # a picture whose soft rasterization would not fit in memory is refused before any work
+    huge = np.lib.stride_tricks.as_strided(np.ones(3), (200_000, 200_000, 3), (0, 0, 8))
+    with pytest.raises(MescherError, match="fit_mescher at 200000"):
+        opt.fit_mescher(huge, m, off)
+    with pytest.raises(MescherError, match="device"):
+        if torch.cuda.is_available():
+            pytest.skip("CUDA present: the refusal of a missing device cannot be shown")
+        opt.fit_mescher(np.ones((8, 8, 3)), m, off, device="cuda")
 
 
 def test_metrics_hand_values():
@@ -536,3 +544,18 @@ def test_mescher_from_a_zbuffered_tribar_picture(tribar_128):
     assert res.max_residual < 1e-10
     assert max(p for _, p in res.psnr) >= met.image_psnr(before, image)
     assert met.silhouette_iou(res.alpha > 0.5, tg.target_mask(image)) > 0.95
+
+
+def test_progress_bar_and_callback_see_every_step_and_the_psnr_checks(capsys):
+    m, off = tg.torus_mescher(0.5, 0.2, 12, 6)
+    target = ras.render_mescher(m.with_periods([0.3, 0.0]), off, lights=LIGHT, resolution=16)
+    states = []
+    o = opt.InverseOptions(iters=4, eval_every=2, keep_best=True)
+    res = opt.fit_mescher(target, m, off, lights=LIGHT, options=o, progress=True,
+                          callback=lambda it, st: states.append((it, st.get("psnr"))))  # fmt: skip
+    assert [it for it, _ in states] == [0, 1, 2, 3]
+    assert [p is not None for _, p in states] == [False, True, False, True]
+    # the PSNR checks are what the result reports, and the best one is what is returned
+    assert [s for s, _ in res.psnr] == [2, 4] and len(res.snapshots) == 2
+    assert met.image_psnr(res.image, target) == pytest.approx(max(p for _, p in res.psnr))
+    assert "inverse" in capsys.readouterr().err
