@@ -27,7 +27,14 @@ from .errors import MescherError
 from .heat import HeatGeodesicSolver
 from .validate import as_index_array
 
-__all__ = ["SurfacePath", "exact_geodesic_distance", "geodesic_distance", "shortest_path"]
+__all__ = [
+    "SurfacePath",
+    "exact_geodesic_distance",
+    "geodesic_distance",
+    "shortest_loops",
+    "shortest_path",
+    "shortest_path_through",
+]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -78,6 +85,7 @@ class _MeshData:
         nf, n = self.F.shape[0], int(m.n_vertices)
         self.l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
         self.K, self.area = intrinsic.hat_gradient_gram(self.l)
+        self.tiny = 1e-12 * float(self.l.mean()) if self.l.size else 0.0
         fe = np.asarray(m.face_edges)  # the mescher's edge topology
         ef = topology.edge_faces(fe, int(m.n_edges))
         # neighbour across the edge opposite each corner (-1 on the boundary)
@@ -439,7 +447,7 @@ def shortest_path(
         Vertex indices.
     solver : HeatGeodesicSolver, optional
         A solver for ``m`` to reuse; otherwise one is built with ``**kwargs``
-        (default ``intrinsic_delaunay=True``).
+        (default ``method="auto"``).
 
     Returns
     -------
@@ -459,9 +467,6 @@ def shortest_path(
     if t is None:
         raise MescherError(f"target: expected one vertex index, found {np.shape(target)}")
     if solver is None:
-        # the trace only needs a descent direction: the standard t on the intrinsic Delaunay
-        # triangulation is cheap and robust on obtuse meshes
-        kwargs.setdefault("intrinsic_delaunay", True)
         solver = HeatGeodesicSolver(m, **kwargs)
     elif solver.m is not m:
         raise MescherError(
@@ -497,17 +502,26 @@ def shortest_path(
         length = sum(p[3] for p in pieces)
         if best is None or length < best[0]:
             best = (length, pieces)
+    return _surface_path(m, md, best[1][::-1], s, t, reverse=True)
+
+
+def _surface_path(
+    m: Any, md: _MeshData, pieces: list[tuple], s: int, t: int, reverse: bool = False
+) -> SurfacePath:
+    """The :class:`SurfacePath` of taut pieces (listed from ``s`` to ``t``; each piece runs
+    the other way when ``reverse``)."""
     segs = []
-    for va, faces, vb, _ in best[1]:
+    for va, faces, vb, _ in pieces:
         _, _, _, tpar, il, ir = _funnel(md, va, faces, vb)
         ff, b0, b1 = _segments(md, faces, tpar, il, ir)
-        segs.extend(zip(ff.tolist(), b0, b1))
-    # reverse: source -> target; drop zero-length segments
-    segs = [(f, b1, b0) for f, b0, b1 in reversed(segs)]
+        piece = list(zip(ff.tolist(), b0, b1))
+        segs.extend([(f, e, a) for f, a, e in reversed(piece)] if reverse else piece)
+    # drop zero-length segments
     lens = np.array([np.sqrt(max(_seg_len2(md.l[f], b1 - b0), 0.0)) for f, b0, b1 in segs])
     keep = lens > 1e-12 * max(float(lens.max(initial=0.0)), 1e-300)
     segs = [sg for sg, k in zip(segs, keep) if k]
     lens = lens[keep]
+    Fm = md.F
     faces = np.array([sg[0] for sg in segs] + [segs[-1][0]], dtype=np.int64)
     bary = np.array([sg[1] for sg in segs] + [segs[-1][2]])
     xy = np.asarray(m.xy, dtype=np.float64)
@@ -515,7 +529,99 @@ def shortest_path(
     Z = np.asarray(m.corner_depths(), dtype=np.float64)
     dz = np.array([(b1 - b0) @ Z[f] for f, b0, b1 in segs])
     depth = np.concatenate([[0.0], np.cumsum(dz)])
-    return SurfacePath(faces, bary, pts_xy, depth, float(lens.sum()), s, t, lens)
+    return SurfacePath(faces, bary, pts_xy, depth, float(lens.sum()), int(s), int(t), lens)
+
+
+def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
+    """The shortest path through the given vertices in order: geodesics between neighbours.
+
+    Parameters
+    ----------
+    m : Mescher
+    points : (k,) array_like of int
+        Vertices to visit, ``k >= 2`` (repeats allowed; a closed tour ends where it began).
+    **kwargs
+        Passed to :class:`meschers_igl.heat.HeatGeodesicSolver` (built once, shared).
+
+    Returns
+    -------
+    SurfacePath
+        From ``points[0]`` to ``points[-1]``; ``depth`` integrates zeta along the whole path.
+    """
+    pts = as_index_array(points, "points", int(m.n_vertices))
+    if pts.ndim != 1 or pts.size < 2:
+        raise MescherError(f"points: expected at least two vertex indices, found {pts.size}")
+    solver = HeatGeodesicSolver(m, **kwargs)
+    legs = [shortest_path(m, int(a), int(b), solver=solver) for a, b in zip(pts[:-1], pts[1:])]
+    legs = [p for p in legs if p.n_points > 1] or legs[:1]
+    faces = [legs[0].faces[:-1]] + [p.faces[:-1] for p in legs[1:]] + [legs[-1].faces[-1:]]
+    bary = [p.bary[:-1] for p in legs] + [legs[-1].bary[-1:]]
+    xy = [p.xy[:-1] for p in legs] + [legs[-1].xy[-1:]]
+    off = np.cumsum([0.0] + [p.depth[-1] for p in legs])
+    depth = [p.depth[:-1] + o for p, o in zip(legs, off)] + [legs[-1].depth[-1:] + off[-2]]
+    seg = np.concatenate([p.segment_lengths for p in legs])
+    return SurfacePath(
+        np.concatenate(faces), np.concatenate(bary), np.concatenate(xy), np.concatenate(depth),
+        float(seg.sum()), int(pts[0]), int(pts[-1]), seg,
+    )  # fmt: skip
+
+
+def shortest_loops(m: Any, rounds: int = 50) -> list[SurfacePath]:
+    """A closed geodesic around each homology generator (``m.homology_generators()``).
+
+    Each generator's edge loop is pulled taut and shortened around its bending vertices like a
+    path (:func:`shortest_path`), with the loop re-rooted at one of its corners after each
+    round so that every vertex it passes gets its turn; swings are homotopies, so the loop
+    stays in its generator's class.  On an impossible mescher the loop around the impossible
+    generator is a shortest way around the impossible loop: its ``depth[-1]`` is the period
+    (the depth gained going once around).
+
+    The result is *locally* shortest (no swing shortens it) and never longer than the
+    generator's edge loop; it is the shortest in its class only when the shortening from the
+    generator reaches that one.  A polyhedral surface can hold several closed geodesics in one
+    class (on a torus, loops through rows of saddle vertices as well as the inner equator), and
+    the one found depends on where the generator starts -- a known limitation.
+
+    Parameters
+    ----------
+    m : Mescher
+    rounds : int, default: 50
+        At most this many re-rootings per loop.
+
+    Returns
+    -------
+    list of SurfacePath
+        Closed (``source == target``), one per generator, in the generators' order.
+    """
+    md = _MeshData(m)
+    edges = np.asarray(m.edges)
+    out = []
+    for eidx, sg in m.homology_generators():  # one loop per generator (few)
+        tail = np.where(sg > 0, edges[eidx, 0], edges[eidx, 1])
+        head = np.where(sg > 0, edges[eidx, 1], edges[eidx, 0])
+        strips = []
+        for a, b in zip(tail.tolist(), head.tolist()):  # the generator's edges
+            fan = md.faces_of(a)
+            strips.append((a, [int(fan[(md.F[fan] == b).any(axis=1)][0])], b))
+        pieces = _pieces(md, strips)
+        prev = np.inf
+        for _ in range(rounds):
+            pieces = _shorten(md, pieces)
+            length = sum(p[3] for p in pieces)
+            if length > prev * (1.0 - 1e-12) and len(pieces) > 1:
+                break
+            prev = length
+            if len(pieces) > 1:  # re-root at the corner in the middle: the old root is free
+                k = len(pieces) // 2
+                pieces = pieces[k:] + pieces[:k]
+            else:  # one straight piece from the root back to it: force a corner mid-strip
+                va, faces, _, _ = pieces[0]
+                k = len(faces) // 2
+                w = int(next(x for x in md.F[faces[k]] if x != va))
+                pieces = _taut(md, w, faces[k:], va) + _taut(md, va, faces[: k + 1], w)
+        root = pieces[0][0]
+        out.append(_surface_path(m, md, pieces, root, root))
+    return out
 
 
 # ----------------------------------------------------------------------------------------------
@@ -531,7 +637,9 @@ def _taut(md: _MeshData, v0: int, faces: list[int], v1: int) -> list[tuple]:
     seg = np.hypot(*(cx[1:] - cx[:-1]).T)
     out = []
     for k in range(ci.size - 1):  # corners of one taut path: few
-        if cv[k] != cv[k + 1]:  # a piece from a vertex to itself has no length, pins a corner
+        # a piece from a vertex to itself without length would pin its corner: dropped (one
+        # with a length is a closed loop, kept)
+        if cv[k] != cv[k + 1] or seg[k] > md.tiny:
             out.append((int(cv[k]), faces[ci[k] : ci[k + 1]], int(cv[k + 1]), float(seg[k])))
     return out
 

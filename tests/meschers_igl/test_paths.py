@@ -187,3 +187,46 @@ def test_exact_distance_disconnected_and_bad_input():
     assert np.isinf(d[n:]).all() and np.isfinite(d[:n]).all()
     with pytest.raises(MescherError, match="sources"):
         exact_geodesic_distance(m, 2 * n)
+
+
+# ----------------------------------------------------------------------------------------------
+# beyond: paths through points, closed geodesics around the generators
+# ----------------------------------------------------------------------------------------------
+def test_shortest_path_through_points_concatenates_geodesics():
+    from meschers_igl.paths import shortest_path_through
+
+    V, F = ordinary_torus()
+    m = Mescher.from_mesh(V, F)
+    pts = [0, 300, 555, 0]
+    p = shortest_path_through(m, pts)
+    legs = [shortest_path(m, a, b).length for a, b in zip(pts[:-1], pts[1:])]
+    assert p.length == pytest.approx(sum(legs), rel=1e-12)
+    ex = sum(exact(V, F, a)[b] for a, b in zip(pts[:-1], pts[1:]))
+    assert ex * (1 - 1e-9) <= p.length <= ex * (1 + REL)
+    # the path visits the points, and depth integrates zeta across the joints (closed tour: 0)
+    hits = np.flatnonzero(np.isclose(p.bary, 1.0).any(axis=1))
+    verts = {int(m.F[p.faces[k]][np.argmax(p.bary[k])]) for k in hits}
+    assert set(pts) <= verts
+    assert abs(p.depth[-1]) < 1e-9
+    with pytest.raises(MescherError, match="points"):
+        shortest_path_through(m, [3])
+
+
+def test_closed_geodesics_keep_their_class_and_the_period(itorus):
+    from meschers_igl.paths import shortest_loops
+
+    V, F = ordinary_torus(24, 8)
+    for m in (Mescher.from_mesh(V, F), itorus):
+        loops = shortest_loops(m)
+        gens = m.homology_generators()
+        assert len(loops) == len(gens) == 2
+        for p, (e, sg), per in zip(loops, gens, m.periods()):
+            assert p.source == p.target
+            np.testing.assert_allclose(p.xy[0], p.xy[-1], atol=1e-12)
+            # the depth gained once around is the generator's period: same homology class
+            assert p.depth[-1] == pytest.approx(per, abs=1e-9)
+            assert p.length <= m.edge_lengths()[e].sum() * (1 + 1e-12)
+            assert p.length >= abs(per)
+    # the meridian: no longer than the 8-gon of the tube's cross-section (2 r sin(pi/8) * 8)
+    meridian = min(p.length for p in shortest_loops(Mescher.from_mesh(V, F)))
+    assert meridian <= 16 * 0.7 * np.sin(np.pi / 8) * (1 + 1e-12)

@@ -1,0 +1,76 @@
+"""Exact geodesic distance (``method="exact"``) against the heat method, same mesh, same run.
+
+Run: ``python benchmarks/bench_exact_geodesic.py [--sizes 20000 100000] [--queries 2]``.
+
+On an ordinary torus per size (``_meshes.torus_with_faces``) and on an impossible torus of about
+the same size (climb 0.4 per turn; its exact distances need a covering of 3+ sheets), times
+
+* exact: ``meschers_igl.paths.exact_geodesic_distance(m, s)`` (MMP: ``igl.exact_geodesic``
+  on the mescher's covering; one sheet for an ordinary mesh);
+* heat: ``HeatGeodesicSolver(m)`` once (precompute) and ``.distance(s)`` (per query);
+
+and prints the ratios exact / heat per query and exact / (heat precompute + one query), the
+latter being the one-off ``m.geodesic_distance(s)``.  Target (issue 13 item 5): exact query
+<= 10x the heat method's at 100k faces.  The machine is shared: ratios, not seconds, matter.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _meshes import torus_with_faces  # noqa: E402
+
+from meschers_igl import Mescher, shapes  # noqa: E402
+from meschers_igl.heat import HeatGeodesicSolver  # noqa: E402
+from meschers_igl.paths import exact_geodesic_distance  # noqa: E402
+
+
+def _cpu(fn):
+    t0 = time.process_time()
+    out = fn()
+    return time.process_time() - t0, out
+
+
+def impossible_torus(n_faces: int) -> Mescher:
+    """A torus of about ``n_faces`` faces whose depth climbs 0.4 per turn (impossible)."""
+    nv = max(3, int(round(np.sqrt(n_faces / 4))))
+    nu = max(3, int(round(n_faces / (2 * nv))))
+    V, F = shapes.torus(nu, nv)
+    return Mescher.from_mesh(V, F).with_periods([0.4, 0.0])
+
+
+def bench(name: str, m: Mescher, n_queries: int) -> None:
+    srcs = np.random.default_rng(0).choice(m.n_vertices, n_queries, replace=False)
+    t_pre, S = _cpu(lambda: HeatGeodesicSolver(m))
+    t_q, _ = _cpu(lambda: [S.distance(int(s)) for s in srcs])
+    t_q /= n_queries
+    t_ex, d = _cpu(lambda: [exact_geodesic_distance(m, int(s)) for s in srcs])
+    t_ex /= n_queries
+    h = S.distance(int(srcs[0]))
+    err = float(np.mean(np.abs(h - d[0])[d[0] > 0] / d[0][d[0] > 0]))
+    print(f"\n== {name}: {m.n_faces} faces, {m.n_vertices} vertices, {n_queries} queries (CPU s)")
+    print(f"heat   precompute {t_pre:8.3f} s   per query {t_q * 1e3:8.1f} ms  ({S.method})")
+    print(f"exact  per query  {t_ex:8.3f} s   (heat's mean relative error vs exact: {err:.4f})")
+    print(f"ratio exact / heat query               {t_ex / t_q:9.1f}x  (target <= 10)")
+    print(f"ratio exact / heat one-off (pre+query) {t_ex / (t_pre + t_q):9.1f}x")
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[100_000])
+    ap.add_argument("--queries", type=int, default=2)
+    args = ap.parse_args(argv)
+    for n in args.sizes:
+        V, F = torus_with_faces(n)
+        bench("ordinary torus", Mescher.from_mesh(V, F), args.queries)
+        bench("impossible torus", impossible_torus(n), args.queries)
+
+
+if __name__ == "__main__":
+    main()
