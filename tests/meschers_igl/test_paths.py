@@ -220,7 +220,7 @@ def test_closed_geodesics_keep_their_class_and_the_period(itorus):
         loops = shortest_loops(m)
         gens = m.homology_generators()
         assert len(loops) == len(gens) == 2
-        for p, (e, sg), per in zip(loops, gens, m.periods()):
+        for p, (e, _sg), per in zip(loops, gens, m.periods()):
             assert p.source == p.target
             np.testing.assert_allclose(p.xy[0], p.xy[-1], atol=1e-12)
             # the depth gained once around is the generator's period: same homology class
