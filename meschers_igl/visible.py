@@ -519,6 +519,7 @@ def see_model(
     R = view_frame(view, up)
     report.view, report.up = R[2].copy(), R[1].copy()
     _pinch_warning(F, report)
+    _manifold_notes(F, report)
 
     C = V @ R.T
     N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
@@ -671,6 +672,29 @@ def _expectation_warning(report, V, F, C, front) -> None:
     msg = "the result is possible (no junction glued, no period); try " + " or ".join(hints)
     report.warnings.append(msg)
     warnings.warn(f"see_model: {msg}", MescherWarning, stacklevel=4)
+
+
+def _manifold_notes(F: np.ndarray, report: ConversionReport) -> None:
+    """Report non-manifold edges (more than two faces) and edges two faces traverse the same
+    way after orientation (a non-orientable part, e.g. a Moebius strip): the visible map does
+    not need the model to be a manifold, so these are noted, not refused."""
+    a = np.concatenate([F[:, 0], F[:, 1], F[:, 2]])
+    b = np.concatenate([F[:, 1], F[:, 2], F[:, 0]])
+    n = np.int64(F.max(initial=0) + 1)
+    _, cnt = np.unique(np.minimum(a, b) * n + np.maximum(a, b), return_counts=True)
+    _, dcnt = np.unique(a * n + b, return_counts=True)
+    msgs = []
+    if np.any(cnt > 2):
+        msgs.append(f"{int(np.count_nonzero(cnt > 2))} non-manifold edge(s) (in 3+ faces)")
+    if np.any(dcnt > 1):
+        msgs.append(
+            f"{int(np.count_nonzero(dcnt > 1))} edge(s) traversed the same way by two faces "
+            "(a non-orientable part)"
+        )
+    for msg in msgs:
+        full = f"{msg}: each face is seen on its own side; repair the file to glue them"
+        report.warnings.append(full)
+        warnings.warn(f"see_model: {full}", MescherWarning, stacklevel=3)
 
 
 def _pinch_warning(F: np.ndarray, report: ConversionReport) -> None:

@@ -268,3 +268,48 @@ def test_manhattan_leaves_right_angled_models_alone(name):
     m, _, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, perceive="manhattan")
     assert report.snapped.max() < 1e-6  # already right-angled: nothing to snap
     assert np.allclose(np.abs(m.periods()), np.abs(m0.periods()), rtol=1e-9, atol=1e-9 * gap)
+
+
+def _moebius(n=12, w=0.3):
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    V = np.concatenate(
+        [np.c_[np.cos(t) * (1 + s * w * np.cos(t / 2)), np.sin(t) * (1 + s * w * np.cos(t / 2)),
+               s * w * np.sin(t / 2)] for s in (-1, 1)]
+    )  # fmt: skip
+    F = []
+    for i in range(n):
+        j = (i + 1) % n
+        # the last quad closes the strip with a half twist: bottom row joins top row
+        F += [[i, j, n + i], [j, n + j, n + i]] if j else [[i, n, n + i], [n, 0, n + i]]
+    return V, np.array(F)
+
+
+def test_bad_files_are_repaired_and_reported_or_refused(tmp_path):
+    from visible_models import write_obj as w
+
+    from meshlab_filters import model_to_mescher as from_file
+
+    # a non-manifold edge (three faces on it): PyMeshLab removes a face and the report says so
+    V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1.0]])
+    F = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+    with pytest.warns(MescherWarning):
+        m, _, report = from_file(w(tmp_path / "nm.obj", V, F.tolist()), view=(0.3, 0.2, 1))
+    assert any("non manifold faces removed" in r for r in report.repairs)
+    assert report.cleanup.non_manifold_faces_removed >= 1
+    # the same arrays straight into the library: noted as a warning, nothing crashes
+    with pytest.warns(MescherWarning, match="non-manifold edge"):
+        model_to_mescher(V, F, view=(0.3, 0.2, 1))
+    # a Moebius strip (non-orientable): warned, converted
+    Vm, Fm = _moebius()
+    with pytest.warns(MescherWarning, match="non-orientable"):
+        m, _, report = from_file(w(tmp_path / "mb.obj", Vm, Fm.tolist()), view=(0.3, 0.2, 1))
+    assert m.n_faces > 0 and any("non-orientable" in x for x in report.warnings)
+    # files nothing can be made of: refused, naming the path and what was found
+    (tmp_path / "empty.obj").write_text("")
+    with pytest.raises(MescherError, match="empty file"):
+        from_file(tmp_path / "empty.obj")
+    (tmp_path / "junk.stl").write_text("solid x\n facet normal 0 0 1\n garbage\n")
+    with pytest.raises(MescherError, match="junk.stl"):
+        from_file(tmp_path / "junk.stl")
+    with pytest.raises(MescherError, match="path_or_V_F"):
+        from_file(42)
