@@ -19,7 +19,6 @@ import numpy as np
 import pytest
 
 from meschers.describe import describe
-from meschers.figures import compose, screen_to_pixel
 from meschers.metrics import distance_error, loop_periods, one_source_per_component, seam_gap
 from meschers.report import embedded_images, referenced_images
 from meschers.study import run_study
@@ -53,14 +52,6 @@ def test_seam_gap_hand_values():
         seam_gap(xy, vmap[:3])
 
 
-def test_screen_to_pixel_maps_bounds_to_image_corners():
-    bounds = (-1.0, 3.0, 0.0, 2.0)
-    P = np.array([[-1.0, 2.0], [3.0, 0.0], [1.0, 1.0]])
-    np.testing.assert_allclose(
-        screen_to_pixel(P, bounds, (200, 100)), [[0, 0], [200, 100], [100, 50]]
-    )
-
-
 def test_one_source_per_component():
     V1, F1 = shapes.icosphere(1)
     V = np.vstack([V1, V1 + [5.0, 0, 0]])
@@ -81,13 +72,6 @@ def test_loop_periods_match_periods_and_survive_smoothing():
     assert not np.allclose(ms.zeta, m.zeta)  # smoothing did something ...
     np.testing.assert_allclose(loop_periods(m, ms.zeta), m.periods(), atol=1e-10)  # ... not this
     assert np.abs(m.periods()).max() == pytest.approx(g.expected_period, rel=1e-9)
-
-
-def test_compose_layout():
-    cells = [[np.zeros((10, 12, 3), np.uint8)] * 3] * 2
-    img = compose(cells, ["a", "b", "c"], ["r1", "r2"], [["x"] * 3] * 2)
-    assert img.size == (92 + 3 * 12, 20 + 2 * (10 + 18))
-    assert compose(cells).size == (36, 20)
 
 
 @pytest.mark.parametrize(

@@ -1,0 +1,32 @@
+"""The study's measurements on fields and meshes, on hand-made cases."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from meschers.metrics import exact_distance, vertices_after_midpoint
+from meschers_igl.gallery import get_model
+
+
+def test_vertices_after_midpoint_counts_like_subdivision():
+    m = get_model("penrose_triangle").mescher
+    for levels in (0, 1, 2):
+        fine = m.subdivide(levels) if levels else m
+        assert (
+            vertices_after_midpoint(m.n_vertices, m.n_edges, m.n_faces, levels) == fine.n_vertices
+        )
+
+
+def test_exact_distance_at_some_vertices_equals_the_full_field():
+    g = get_model("penrose_triangle")
+    m = g.mescher.subdivide(1)
+    full, how = exact_distance(m, [3])
+    coarse = g.mescher.n_vertices  # midpoint subdivision keeps the old vertices first
+    part, how_part = exact_distance(m, [3], at=np.arange(coarse))
+    np.testing.assert_allclose(part[:coarse], full[:coarse], rtol=1e-12)
+    assert np.isinf(part[coarse:]).all() and f"at {coarse} of {m.n_vertices}" in how_part
+    # midpoint subdivision keeps the surface: exact distances at the old vertices do not move
+    coarse_d, _ = exact_distance(g.mescher, [3])
+    np.testing.assert_allclose(part[:coarse], coarse_d, rtol=1e-9, atol=1e-9)
+    assert np.isfinite(full).all() and full[3] == pytest.approx(0.0, abs=1e-12)
