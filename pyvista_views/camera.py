@@ -73,7 +73,10 @@ def xy_box(xy: Any) -> tuple[float, float, float, float]:
 
 
 def default_bounds(
-    box: Sequence[float], window_size: Sequence[int], margin: float = DEFAULT_MARGIN
+    box: Sequence[float],
+    window_size: Sequence[int],
+    margin: float = DEFAULT_MARGIN,
+    reserve: float = 0.0,
 ) -> tuple[float, float, float, float]:
     """``box`` (xmin, xmax, ymin, ymax) grown by ``margin`` of its size, then widened in x or y to
     the window's aspect ratio so that pixels are square.
@@ -86,6 +89,9 @@ def default_bounds(
         (width, height) in pixels.
     margin : float
         Fraction of the box's width (height) added on the left and right (top and bottom).
+    reserve : float, default: 0
+        Share of the window's width kept free on the right (for a colour bar): the box is
+        framed in the left ``1 - reserve`` of the window.
 
     Returns
     -------
@@ -97,12 +103,16 @@ def default_bounds(
     w, h = max(w, 1e-9 * size), max(h, 1e-9 * size)  # a segment or a point still gets a frame
     cx, cy = 0.5 * (xmin + xmax), 0.5 * (ymin + ymax)
     w, h = w * (1 + 2 * margin), h * (1 + 2 * margin)
-    aspect = window_size[0] / window_size[1]
+    reserve = float(reserve)
+    if not 0.0 <= reserve < 1.0:
+        raise MescherError(f"reserve: expected a share of the width in [0, 1), found {reserve}")
+    aspect = (1.0 - reserve) * window_size[0] / window_size[1]
     if w / h < aspect:
         w = h * aspect
     else:
         h = w / aspect
-    return (cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2)
+    left, right = cx - w / 2, cx + w / 2
+    return (left, right + w * reserve / (1.0 - reserve), cy - h / 2, cy + h / 2)
 
 
 def as_bounds(bounds: object) -> tuple[float, float, float, float]:

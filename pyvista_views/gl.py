@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 import pyvista as pv
 
+from meschers_igl.errors import MescherError
+
 from . import headless
 from .camera import set_view
 from .lights import DirectionalLight, set_vtk_lights
@@ -107,3 +109,91 @@ def flat_varyings_work() -> bool:
         return False
     lit = image[2:7, 9:14].reshape(-1, 3)  # inside the second triangle, away from its edges
     return bool(lit.size) and bool((np.abs(lit - 255) <= 1).all())
+
+
+#: Cell array that carries the face-id colours of :func:`face_id_image`.
+_ID_RGB = "_face_id_rgb"
+
+
+def face_id_image(
+    mesh: pv.PolyData,
+    window_size: tuple[int, int],
+    bounds: tuple[float, float, float, float],
+    early_z: bool,
+) -> np.ndarray:
+    """Which cell's ``face_id`` is drawn at each pixel: the renderer's own visibility.
+
+    ``mesh`` (a layer's PolyData, with ``cell_data["face_id"]``) is drawn once more, unlit and
+    without anti-aliasing, in its own offscreen plotter with the same camera, window and depth
+    test, each cell coloured by ``face_id + 1`` in 24 bits on a black background; the
+    screenshot decoded is what the picture shows face by face, exactly (same rasterizer, same
+    drawing order).
+
+    Parameters
+    ----------
+    mesh : pyvista.PolyData
+    window_size : (width, height)
+    bounds : (xmin, xmax, ymin, ymax)
+    early_z : bool
+        The mesh's cells go front to back (:func:`use_early_z`).
+
+    Returns
+    -------
+    (height, width) int64
+        Face id per pixel, -1 where no face is drawn.
+    """
+    ids = np.asarray(mesh.cell_data["face_id"], dtype=np.int64) + 1
+    if ids.size and ids.max() >= 2**24:
+        raise MescherError(
+            f"mesh: expected at most 2**24 - 1 faces (24-bit colours), found {ids.max()}"
+        )
+    rgb = np.stack([(ids >> 16) & 255, (ids >> 8) & 255, ids & 255], axis=1).astype(np.uint8)
+    shallow = mesh.copy(deep=False)
+    shallow.cell_data[_ID_RGB] = rgb
+    plotter = _id_plotter(window_size, early_z)
+    try:
+        plotter.add_mesh(
+            shallow,
+            scalars=_ID_RGB,
+            rgb=True,
+            preference="cell",
+            lighting=False,
+            interpolation="flat",
+            show_scalar_bar=False,
+            reset_camera=False,
+            name="ids",
+        )
+        set_view(plotter, bounds)
+        image = plotter.screenshot(return_img=True)[..., :3].astype(np.int64)
+    finally:
+        plotter.remove_actor("ids", render=False)
+    return ((image[..., 0] << 16) | (image[..., 1] << 8) | image[..., 2]) - 1
+
+
+_ID_PLOTTERS: list[tuple[pv.Plotter, list[bool]]] = []
+
+
+def _id_plotter(window_size: tuple[int, int], early_z: bool) -> pv.Plotter:
+    """One offscreen plotter per process for :func:`face_id_image` (a new GL context costs
+    about as much as a frame), made again if it was closed (``pyvista.close_all``); its depth
+    test is ``GL_LESS`` while it draws a front-to-back mesh (:func:`use_early_z`)."""
+    while _ID_PLOTTERS and getattr(_ID_PLOTTERS[-1][0], "render_window", None) is None:
+        _ID_PLOTTERS.pop()
+    if not _ID_PLOTTERS:
+        plotter = headless.new_plotter(window_size, off_screen=True, background="black")
+        flag = [False]
+
+        def depth_func(obj: Any, _event: str, start: bool) -> None:
+            window = obj.GetRenderWindow()
+            state = window.GetState() if hasattr(window, "GetState") else None
+            if state is not None:
+                state.vtkglDepthFunc(_GL_LESS if (start and flag[0]) else _GL_LEQUAL)
+
+        plotter.renderer.AddObserver("StartEvent", lambda o, e: depth_func(o, e, True))
+        plotter.renderer.AddObserver("EndEvent", lambda o, e: depth_func(o, e, False))
+        _ID_PLOTTERS.append((plotter, flag))
+    plotter, flag = _ID_PLOTTERS[-1]
+    flag[0] = bool(early_z)
+    if tuple(plotter.window_size) != tuple(window_size):
+        plotter.window_size = list(window_size)
+    return plotter

@@ -17,6 +17,7 @@ from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_index_array
 
 from . import headless
+from .camera import as_bounds
 from .polydata import SHADINGS, as_scalars, draw_order
 from .scene import DEFAULT_LIGHTS, MescherScene
 
@@ -51,6 +52,9 @@ class MescherViewer:
     scalars : None, array or dict name -> array
         Fields the "s" key cycles through (``None``, i.e. plain shading, is one of the states).
     off_screen : bool, optional
+    scalar_bar : bool, default: True
+        A colour bar titled with the field's name whenever a field is shown (as in
+        :func:`pyvista_views.render`).
     **kwargs
         Passed to :func:`pyvista_views.scene.add_mescher` (``cmap``, ``isolines``, ...).
     """
@@ -67,9 +71,13 @@ class MescherViewer:
         bounds: object = None,
         background: object = "white",
         off_screen: bool | None = None,
+        scalar_bar: bool = True,
         **kwargs: Any,
     ) -> None:
         self.m = m
+        self.scalar_bar = bool(scalar_bar)
+        self._bounds = bounds
+        self._panel = 0  # pixels of the side panel (widgets, help, colour bar) once shown
         self.order = order if hasattr(order, "linear_extension") or order is None else None
         self._draw = (
             None
@@ -87,9 +95,8 @@ class MescherViewer:
             window_size=window_size, background=background, off_screen=self.off_screen
         )
         self._picked: list[np.ndarray] = []
-        self._build()
-        self.scene.view(bounds)
         self.scene.relight(lights, env_map)
+        self._build()
 
     # -- state changes (each is what one widget does) -----------------------------------------
     def _build(self) -> None:
@@ -101,8 +108,36 @@ class MescherViewer:
         kwargs = dict(self.kwargs)
         if fields is None:
             kwargs.pop("isolines", None)
+        bar = fields is not None and self.scalar_bar
+        if self._panel:  # the panel holds the widgets and the colour bar
+            self.scene.reserve_scalar_bar(self._panel / self.scene.plotter.window_size[0])
+        else:
+            self.scene.reserve_scalar_bar(bar)
         self.scene.add(self.m, order=order, shading=self.shading, scalars=fields, **kwargs)
         self.scene.relight(self.scene.lights, self.scene.env_map)
+        self.scene.view(self._view_bounds())
+        if bar:
+            self.scene.add_scalar_bar(self.current_scalars, **self._bar_position())
+
+    def _view_bounds(self) -> object:
+        """The user's bounds (None: framed by default), widened over the side panel if any."""
+        if self._bounds is None or not self._panel:
+            return self._bounds
+        xmin, xmax, ymin, ymax = as_bounds(self._bounds)
+        width = self.scene.plotter.window_size[0] - self._panel
+        return (xmin, xmax + (xmax - xmin) * self._panel / width, ymin, ymax)
+
+    def _bar_position(self) -> dict:
+        """Where the colour bar goes: the lower part of the side panel, or the default strip."""
+        if not self._panel:
+            return {}
+        W = self.scene.plotter.window_size[0]
+        return dict(
+            position_x=(W - 0.85 * self._panel) / W,
+            width=0.7 * self._panel / W,
+            position_y=0.05,
+            height=0.38,
+        )
 
     def set_light(self, direction: object, index: int = 0) -> None:
         """Replace light ``index`` (appending when there is none) and redraw; no rebuild."""

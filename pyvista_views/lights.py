@@ -144,7 +144,7 @@ def as_lights(lights: object, name: str = "lights") -> list[DirectionalLight]:
 
 
 def lambert(normals: np.ndarray, lights: Sequence[DirectionalLight]) -> np.ndarray:
-    """Diffuse irradiance of directional lights, ``sum_i I_i c_i max(0, n . l_i)``.
+    """Diffuse irradiance of directional lights, ``sum_i I_i c_i max(0, dot(n, l_i))``.
 
     Parameters
     ----------

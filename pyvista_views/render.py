@@ -103,8 +103,11 @@ def render(
     **kwargs
         ``representation`` ("mescher", or "cut" / "bent" to draw ``m.cut_embedding()`` /
         ``m.bent_embedding()`` with identical camera and default bounds), ``color``, ``cmap``,
-        ``clim``, ``isolines``, ``isoline_color``, ``ambient`` (0.2), ``diffuse`` (0.8),
-        ``anti_aliasing`` (False).
+        ``clim``, ``isolines``, ``isoline_color``, ``isoline_width`` (2), ``ambient`` (0.2),
+        ``diffuse`` (0.8), ``anti_aliasing`` (False), ``scalar_bar`` (True: with ``scalars``, a
+        colour bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default
+        bounds then frame the figure in the rest of the window), ``scalar_bar_title`` (default:
+        the field's name, the key of a dict of scalars, else ``"scalars"``).
 
     Returns
     -------
@@ -114,6 +117,8 @@ def render(
         kwargs.pop("representation", "mescher"), "representation", REPRESENTATIONS
     )
     anti_aliasing = bool(kwargs.pop("anti_aliasing", False))
+    scalar_bar = bool(kwargs.pop("scalar_bar", True)) and scalars is not None
+    bar_title = kwargs.pop("scalar_bar_title", None)
     as_choice(shading, "shading", SHADINGS)
     directional = as_lights(lights)  # refuse point lights before any GL work
     env = as_env_map(env_map)
@@ -123,6 +128,8 @@ def render(
         window_size=window_size, background=background, anti_aliasing=anti_aliasing
     ) as scene:
         scene.relight(directional, env)  # before the layer, so it is lit (and baked) once
+        if scalar_bar:
+            scene.reserve_scalar_bar()  # before the layer, so it is framed once
         if bounds is not None:
             scene.view(bounds)
         if isinstance(m, (tuple, list)):
@@ -138,6 +145,8 @@ def render(
             scene.add(m, order=order, shading=shading, scalars=scalars, **kwargs)
         else:
             scene.add_embedding(m, kind=representation, shading=shading, scalars=scalars, **kwargs)
+        if scalar_bar:
+            scene.add_scalar_bar(bar_title)
         if bounds is None:
             scene.view()
         return scene.screenshot()

@@ -37,12 +37,13 @@ import pyvista as pv
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 from meschers_igl.errors import MescherError
-from meschers_igl.validate import as_choice, as_count, as_float_array, as_positive
+from meschers_igl.validate import as_choice, as_float_array, as_positive
 
 from . import headless
 from .camera import DEFAULT_MARGIN, as_bounds, as_window_size, default_bounds, set_view, xy_box
 from .envmap import EnvironmentMap, as_env_map
-from .gl import flat_varyings_work, use_early_z, use_flat_varyings
+from .gl import face_id_image, flat_varyings_work, use_early_z, use_flat_varyings
+from .isolines import levels_of, visible_isolines
 from .lights import DirectionalLight, as_lights, lambert, set_vtk_lights
 from .polydata import (
     SHADINGS,
@@ -60,6 +61,8 @@ DEFAULT_COLOR = COLOR
 #: The key light of the study's rig (:data:`pyvista_views.theme.LIGHT_RIG`), toward (1, 1, 1).
 DEFAULT_LIGHTS = LIGHT_RIG[:1]
 REPRESENTATIONS = ("mescher", "cut", "bent")
+#: Share of the window's width on the right that :meth:`MescherScene.add_scalar_bar` takes.
+SCALAR_BAR_STRIP = 0.2
 _BAKED = "_shaded_rgb"
 
 
@@ -81,8 +84,16 @@ class Layer:
     ambient, diffuse : float
         Matte material: ``colour * (ambient + diffuse * irradiance)``, no specular.
     isolines : pyvista.Actor or None
+        Contour lines; on a mescher only where they lie on the visible surface's levels
+        (:mod:`.isolines`), recomputed by :meth:`update_isolines` when the view changes.
     layout : {"provoking", "indexed", "soup"}
         :mod:`.polydata`; a soup's points are the corners of its cells, 3 per cell.
+    early_z : bool
+        Cells go front to back under a ``GL_LESS`` depth test (:func:`~pyvista_views.gl.use_early_z`).
+    clim : (float, float) or None
+        Colour range of the scalars.
+    title : str or None
+        Name of the scalar field (the colour bar's title).
     """
 
     mesh: pv.PolyData
@@ -95,6 +106,11 @@ class Layer:
     diffuse: float
     isolines: Any = None
     layout: str = "soup"
+    early_z: bool = False
+    clim: tuple[float, float] | None = None
+    title: str | None = None
+    _contour: tuple | None = field(default=None, repr=False)
+    _contour_key: tuple | None = field(default=None, repr=False)
     _mapper_state: tuple = field(default=(), repr=False)
     _folds_split: bool = field(default=False, repr=False)
 
@@ -135,6 +151,40 @@ class Layer:
         n = np.asarray(self.mesh.point_data.active_normals, dtype=np.float64)
         return n * point_facing[:, None]
 
+    def update_isolines(self, plotter: pv.Plotter, bounds: Sequence[float]) -> None:
+        """(Re)compute a mescher's isolines for the image ``bounds`` in ``plotter``'s window.
+
+        The lines are the contours of the field where they lie on a level of the visible
+        surface (:func:`~pyvista_views.isolines.visible_isolines`, visibility from
+        :func:`~pyvista_views.gl.face_id_image`), so they depend on the view; nothing is done
+        when the view has not changed.
+        """
+        if self._contour is None:
+            return
+        window = (int(plotter.window_size[0]), int(plotter.window_size[1]))
+        bounds = as_bounds(bounds)
+        key = (bounds, window)
+        if key == self._contour_key:
+            return
+        if self.isolines is not None:
+            plotter.remove_actor(self.isolines, render=False)
+            self.isolines = None
+        xy, F, values, levels, color, width = self._contour
+        face_map = face_id_image(self.mesh, window, bounds, self.early_z)
+        b = self.mesh.bounds
+        lift = 1e-3 * float(np.hypot(b[1] - b[0], b[3] - b[2]) or 1.0)
+        lines = visible_isolines(xy, F, values, levels, face_map, bounds, z=b[5] + lift)
+        if lines.n_cells:
+            self.isolines = plotter.add_mesh(
+                lines,
+                color=color,
+                line_width=width,
+                lighting=False,
+                show_scalar_bar=False,
+                reset_camera=False,
+            )
+        self._contour_key = key
+
     def albedo(self) -> np.ndarray:
         """(n, 3) linear RGB base colour at :attr:`shading_location` (colour-mapped or plain)."""
         location = self.shading_location
@@ -173,10 +223,13 @@ def _add_layer(
     clim: Sequence[float] | None,
     isolines: int | Sequence[float],
     isoline_color: object,
+    isoline_width: float,
     isoline_lift: float,
     ambient: float,
     diffuse: float,
     name: str | None,
+    contour: tuple | None = None,
+    early_z: bool = False,
 ) -> Layer:
     rgb, ambient, diffuse = _check_material(color, ambient, diffuse)
     active = mesh.active_scalars_name  # set by the builders from the user's fields only
@@ -213,6 +266,9 @@ def _add_layer(
         ambient,
         diffuse,
         layout=layout,
+        early_z=early_z,
+        clim=None if clim is None else (float(clim[0]), float(clim[1])),
+        title=active,
         _mapper_state=(
             mapper.GetScalarVisibility(),
             mapper.GetScalarMode(),
@@ -221,7 +277,15 @@ def _add_layer(
         ),
     )
     if _wants_isolines(isolines):
-        layer.isolines = _add_isolines(plotter, layer, isolines, clim, isoline_color, isoline_lift)
+        width = as_positive(isoline_width, "isoline_width")
+        if contour is not None:  # a mescher: lines on its visible layer, once the view is known
+            xy, F, values = contour
+            levels = levels_of(isolines, clim)
+            layer._contour = (xy, F, values, levels, isoline_color, width)
+        else:
+            layer.isolines = _add_isolines(
+                plotter, layer, isolines, clim, isoline_color, width, isoline_lift
+            )
     return layer
 
 
@@ -235,45 +299,29 @@ def _add_isolines(
     isolines: int | Sequence[float],
     clim: Sequence[float] | None,
     color: object,
+    width: float,
     lift: float,
 ) -> Any:
-    """Contours of the active per-vertex scalars, computed on the drawn soup.
+    """Contours of a real mesh's active per-vertex scalars, z-buffered with the mesh.
 
-    Every segment lies inside one face.  A line is a few pixels wide, so it spills onto the
-    faces around its own; on a real mesh those are at about the same depth and a lift of ``lift``
-    toward the viewer suffices.  On a mescher the neighbours may be drawn much later (the painter
-    order is only partial), so a segment of the face drawn k-th is put just above the latest-drawn
-    face sharing a vertex with it: it stays hidden by faces drawn after its whole neighbourhood
-    (real occluders) without being chopped by its own neighbours.
+    Every segment lies inside one face; a line is a few pixels wide, so it spills onto the
+    faces around its own, which on a real mesh are at about the same depth: a lift of ``lift``
+    toward the viewer suffices.  (A mescher's isolines are computed on its visible layer
+    instead, :meth:`Layer.update_isolines`.)
     """
     if layer.scalars is None or layer.scalars not in layer.mesh.point_data:
         raise MescherError(
             "isolines: expected per-vertex scalars to contour, found "
             + ("no scalars" if layer.scalars is None else "per-face scalars")
         )
-    if isinstance(isolines, (int, np.integer, bool, np.bool_)):
-        lo, hi = clim
-        levels = np.linspace(lo, hi, as_count(isolines, "isolines") + 2)[1:-1]
-    else:
-        levels = as_float_array(isolines, "isolines", (-1,))
-    lines = layer.mesh.contour(isosurfaces=levels, scalars=layer.scalars)
+    lines = layer.mesh.contour(isosurfaces=levels_of(isolines, clim), scalars=layer.scalars)
     if lines.n_points == 0:
         return None
-    if layer.kind == "mescher":
-        step = float(layer.mesh.field_data["painter_step"][0])
-        corners = np.asarray(layer.mesh.point_data["vertex_id"]).reshape(-1, 3)
-        k = corners.shape[0]
-        latest = np.full(int(corners.max()) + 1, -1, dtype=np.int64)
-        np.maximum.at(latest, corners.reshape(-1), np.repeat(np.arange(k), 3))
-        neighbourhood = latest[corners].max(axis=1)  # (k,) latest rank around each drawn face
-        rank = np.clip(np.rint(lines.points[:, 2] / step).astype(np.int64), 0, k - 1)
-        lines.points[:, 2] = (neighbourhood[rank] + 0.5) * step
-    else:
-        lines.points[:, 2] += lift
+    lines.points[:, 2] += lift
     return plotter.add_mesh(
         lines,
         color=color,
-        line_width=1.5,
+        line_width=width,
         lighting=False,
         show_scalar_bar=False,
         reset_camera=False,
@@ -287,6 +335,7 @@ def _representation_kwargs(**kw: Any) -> dict:
         "clim": kw.pop("clim", None),
         "isolines": kw.pop("isolines", 0),
         "isoline_color": kw.pop("isoline_color", "black"),
+        "isoline_width": kw.pop("isoline_width", 2.0),
         "ambient": kw.pop("ambient", 0.2),
         "diffuse": kw.pop("diffuse", 0.8),
         "name": kw.pop("name", None),
@@ -301,6 +350,8 @@ def add_mescher(
     scalars: object = None,
     *,
     early_z: bool = True,
+    bounds: object = None,
+    fit_isolines: bool = True,
     **kwargs: Any,
 ) -> Layer:
     """Add a mescher to ``plotter``, flattened and drawn in the order's linear extension.
@@ -315,10 +366,17 @@ def add_mescher(
         Draw the indexed mesh front to back with a ``GL_LESS`` depth test (:func:`use_early_z`,
         fastest); ``False`` draws it back to front with VTK's default test, which also displays
         right where the scene is exported or drawn by another renderer (vtk.js, glTF).
+    bounds : (xmin, xmax, ymin, ymax), optional
+        The image extent the isolines are fitted to (they follow the visible surface, so they
+        depend on the view; :meth:`Layer.update_isolines` refits them).  Default: the
+        mescher's default bounds (:func:`~pyvista_views.camera.default_bounds`) in this window.
+    fit_isolines : bool, default: True
+        ``False`` leaves fitting the isolines to the caller (:class:`MescherScene` does it
+        once its camera is set).
     **kwargs
         ``color`` (material colour), ``cmap``, ``clim``, ``isolines`` (a count of evenly spaced
-        levels in ``clim`` or the levels), ``isoline_color``, ``ambient`` (0.2), ``diffuse`` (0.8),
-        ``name``.
+        levels in ``clim`` or the levels; per-vertex scalars only), ``isoline_color``,
+        ``isoline_width`` (2 pixels), ``ambient`` (0.2), ``diffuse`` (0.8), ``name``.
 
     Returns
     -------
@@ -328,7 +386,16 @@ def add_mescher(
     shading = as_choice(shading, "shading", SHADINGS)
     F = np.asarray(m.F)
     fields = as_scalars(scalars, np.asarray(m.xy).shape[0], F.shape[0])
-    layout = _layout(shading, fields, _wants_isolines(opts["isolines"]))
+    contour = None
+    if _wants_isolines(opts["isolines"]):
+        active = next(iter(fields.items()), None)
+        if active is None or active[1][1] != "vertex":
+            raise MescherError(
+                "isolines: expected per-vertex scalars to contour, found "
+                + ("no scalars" if active is None else "per-face scalars")
+            )
+        contour = (np.asarray(m.xy, dtype=np.float64), F, active[1][0])
+    layout = _layout(shading, fields, False)  # isolines need no soup (see .isolines)
     front_to_back = layout != "soup" and bool(early_z)
     mesh = to_polydata(
         m,
@@ -341,8 +408,23 @@ def add_mescher(
     )
     if front_to_back:
         use_early_z(plotter.renderer)
-    lift = 0.5 * float(mesh.field_data["painter_step"][0])
-    return _add_layer(plotter, mesh, "mescher", shading, layout, isoline_lift=lift, **opts)
+    layer = _add_layer(
+        plotter,
+        mesh,
+        "mescher",
+        shading,
+        layout,
+        isoline_lift=0.0,
+        contour=contour,
+        early_z=front_to_back,
+        **opts,
+    )
+    if layer._contour is not None and fit_isolines:
+        if bounds is None:
+            size = plotter.window_size
+            bounds = default_bounds(xy_box(m.xy), (int(size[0]), int(size[1])))
+        layer.update_isolines(plotter, bounds)
+    return layer
 
 
 def add_embedding(
@@ -508,6 +590,7 @@ class MescherScene:
         self.env_map: EnvironmentMap | None = None
         self._lit = False
         self._box: list[tuple[float, float, float, float]] = []
+        self._reserve = 0.0  # share of the window's width kept for a colour bar
 
     # -- content ---------------------------------------------------------------------------
     def add(
@@ -522,8 +605,14 @@ class MescherScene:
         study's rig until :meth:`relight` is called) and framed head-on unless :meth:`view`
         fixed the bounds."""
         kwargs.setdefault("early_z", self.early_z)
-        layer = add_mescher(self.plotter, m, order, shading, scalars, **kwargs)
         self._box.append(xy_box(np.asarray(m.xy)))
+        try:  # isolines are fitted by _frame, once the camera is set
+            layer = add_mescher(
+                self.plotter, m, order, shading, scalars, fit_isolines=False, **kwargs
+            )
+        except Exception:
+            self._box.pop()
+            raise
         return self._adopt(layer)
 
     def add_embedding(
@@ -556,12 +645,24 @@ class MescherScene:
             self.relight(DEFAULT_LIGHTS)
         elif self.env_map is not None:
             relight(self.plotter, [layer], self.lights, self.env_map)
-        # The z range may have grown; without fixed bounds the camera frames every layer.
-        set_view(self.plotter, self.bounds if self.bounds is not None else self._auto_bounds())
+        self._frame()
         return layer
 
+    def _frame(self) -> tuple[float, float, float, float]:
+        """Point the camera (fixed bounds, or every layer's box) and fit the isolines to it.
+
+        The z range may have grown with a layer (or with isolines), so the camera is set last.
+        """
+        bounds = self.bounds if self.bounds is not None else self._auto_bounds()
+        for layer in self.layers:
+            layer.update_isolines(self.plotter, bounds)
+        set_view(self.plotter, bounds)
+        return bounds
+
     def clear(self) -> None:
-        """Remove every layer (lights and camera stay)."""
+        """Remove every layer and colour bar (lights and camera stay)."""
+        for title in list(self.plotter.scalar_bars.keys()):
+            self.plotter.remove_scalar_bar(title, render=False)
         for layer in self.layers:
             self.plotter.remove_actor(layer.actor, render=False)
             if layer.isolines is not None:
@@ -576,13 +677,88 @@ class MescherScene:
         boxes = np.array(self._box)
         box = (boxes[:, 0].min(), boxes[:, 1].max(), boxes[:, 2].min(), boxes[:, 3].max())
         size = self.plotter.window_size
-        return default_bounds(box, (int(size[0]), int(size[1])), margin)
+        return default_bounds(box, (int(size[0]), int(size[1])), margin, reserve=self._reserve)
 
     def view(self, bounds: object = None, margin: float = DEFAULT_MARGIN) -> tuple:
-        """Fix the camera; ``bounds=None`` frames every layer's xy box plus ``margin``."""
+        """Fix the camera; ``bounds=None`` frames every layer's xy box plus ``margin`` (and
+        leaves the colour bar's strip free, :meth:`add_scalar_bar`)."""
         self.bounds = as_bounds(self._auto_bounds(margin) if bounds is None else bounds)
-        set_view(self.plotter, self.bounds)
+        self._frame()
         return self.bounds
+
+    def reserve_scalar_bar(self, share: float | bool = True) -> None:
+        """Keep the window's right ``share`` (default ``SCALAR_BAR_STRIP``; ``False``: none) free
+        for a colour bar or a panel when framing by default (call it before adding layers to
+        frame them, and fit their isolines, once)."""
+        if share is True:
+            share = SCALAR_BAR_STRIP
+        self._reserve = float(share or 0.0)
+
+    def add_scalar_bar(
+        self, title: str | None = None, layer: Layer | None = None, **kwargs: Any
+    ) -> Any:
+        """A vertical colour bar with a title in a strip on the right, beside the figure.
+
+        Unless :meth:`view` fixed the bounds, the figure is framed in the window's left
+        ``1 - SCALAR_BAR_STRIP`` so the bar never covers it.
+
+        Parameters
+        ----------
+        title : str, optional
+            Default: the layer's scalar name.
+        layer : Layer, optional
+            Default: the last layer with scalars.
+        **kwargs
+            Passed to :meth:`pyvista.Plotter.add_scalar_bar` (``fmt``, ``n_labels``, ...).
+
+        Returns
+        -------
+        vtkScalarBarActor
+        """
+        if layer is None:
+            with_scalars = [la for la in self.layers if la.scalars is not None]
+            if not with_scalars:
+                raise MescherError(
+                    "layer: expected a layer with scalars for a colour bar, found none"
+                )
+            layer = with_scalars[-1]
+        title = (layer.title if title is None else str(title)) or " "
+        if self._reserve < SCALAR_BAR_STRIP:
+            self.reserve_scalar_bar()
+        if len(title) > 12 and " " in title and "\n" not in title:  # two lines, split mid-way
+            spaces = [i for i, c in enumerate(title) if c == " "]
+            cut = min(spaces, key=lambda i: abs(i - len(title) / 2))
+            title = title[:cut] + "\n" + title[cut + 1 :]
+        longest = max(len(line) for line in title.split("\n"))
+        strip = SCALAR_BAR_STRIP
+        # Text sized to the window, and the title to the strip (a glyph is ~0.6 em wide):
+        # readable at 800 x 800, never wider than the strip.
+        width_px, height_px = (int(v) for v in self.plotter.window_size)
+        box_px = float(kwargs.get("width", strip - 0.04)) * width_px
+        title_size = int(max(6, min(height_px / 36, 1.1 * box_px / (0.6 * longest))))
+        label_size = int(max(6, min(height_px / 45, 0.55 * box_px / (0.6 * 6))))
+        options = dict(
+            title=title,
+            title_font_size=title_size,
+            label_font_size=label_size,
+            unconstrained_font_size=True,
+            mapper=layer.actor.mapper,
+            vertical=True,
+            position_x=1.0 - strip + 0.02,
+            position_y=0.12,
+            width=strip - 0.04,
+            height=0.76,
+            n_labels=5,
+            fmt="%.3g",
+            color="black",
+            bold=False,
+            fill=False,
+        )
+        options.update(kwargs)
+        actor = self.plotter.add_scalar_bar(**options)
+        if self.layers:
+            self._frame()
+        return actor
 
     def relight(self, lights: object = DEFAULT_LIGHTS, env_map: object = None) -> None:
         """Change the lighting of every layer (no geometry rebuilt); see :func:`relight`.
@@ -596,6 +772,8 @@ class MescherScene:
         """(H, W, 3) uint8 of the current state (renders first, as VTK needs after a relight)."""
         if self.bounds is None:
             self.view()
+        else:
+            self._frame()  # isolines follow a changed window size
         self.plotter.render()
         image = self.plotter.screenshot(return_img=True, transparent_background=False)
         return np.ascontiguousarray(image[..., :3])

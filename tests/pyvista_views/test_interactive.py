@@ -62,7 +62,7 @@ def test_scalar_toggle_and_shading_toggle(ball):
     assert viewer.scalar_names == [None, "x", "y"] and viewer.current_scalars == "x"
     viewer.cycle_scalars()
     np.testing.assert_array_equal(
-        viewer.screenshot(), render(m, order, scalars=V[:, 1], window_size=SIZE)
+        viewer.screenshot(), render(m, order, scalars={"y": V[:, 1]}, window_size=SIZE)
     )
     viewer.cycle_scalars()
     assert viewer.current_scalars is None

@@ -153,7 +153,7 @@ def test_smooth_and_flat_shading_differ_on_a_curved_surface(ball):
 
 def test_scalar_render_shows_a_monotone_colour_gradient(ball):
     V, F, m, order = ball
-    kw = dict(order=order, scalars=V[:, 0], lights=None, ambient=1.0, diffuse=0.0)
+    kw = dict(order=order, scalars=V[:, 0], lights=None, ambient=1.0, diffuse=0.0, scalar_bar=False)
     gray = render(m, cmap="gray", window_size=SIZE, **kw)[SIZE[1] // 2]
     inside = mask(gray[None])[0]
     cols = np.nonzero(inside)[0]
