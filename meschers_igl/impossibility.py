@@ -118,15 +118,16 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
     zi = (barycentric(c, xy[F[arcs[:, 0]]]) * z[F[arcs[:, 0]]]).sum(axis=1)
     zj = (barycentric(c, xy[F[arcs[:, 1]]]) * z[F[arcs[:, 1]]]).sum(axis=1)
     dz = zj - zi  # must become > 0 after the offsets
-    # faces that only touch on screen (an occlusion contour) need not be apart in depth there;
-    # faces that overlap must be strictly ordered
-    strict = ~touch
     E = np.asarray(m.edges)
     n = xy.shape[0]
     _, comp_v = csgraph.connected_components(
         sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n)), directed=False
     )
     ci, cj = comp_v[F[arcs[:, 0], 0]], comp_v[F[arcs[:, 1], 0]]
+    # faces that only touch on screen (an occlusion contour) need not be apart in depth there;
+    # faces that overlap, and faces of different parts that touch along an occlusion contour,
+    # must be strictly ordered; faces of one part touching at equal depth carry no information
+    strict = ~touch | (ci != cj)
     same = ci == cj
     bad = same & np.where(strict, dz <= tol, dz < -tol)  # touching arcs: dz >= -tol suffices
     if bad.any():
