@@ -23,7 +23,7 @@ import numpy as np
 
 from . import topology
 from .errors import MescherError
-from .validate import as_count, as_index_array
+from .validate import as_count, as_index_array, check_budget
 
 __all__ = ["Covering", "covering_from_cut", "covering_distance"]
 
@@ -91,6 +91,7 @@ def covering_from_cut(
         period (a mescher with two independent impossible loops needs a 2D lattice of sheets).
     """
     K = as_count(K, "K", minimum=1)
+    check_budget(float(m.n_faces) * K, 200.0, what=f"covering_from_cut(K={K})")
     F = np.asarray(m.F, dtype=np.int64)
     n = int(m.n_vertices)
     z = _tree_depths(m)

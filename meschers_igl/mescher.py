@@ -124,7 +124,8 @@ class Mescher:
             self._zeta if zeta is None else zeta,
             _trusted=(self._face_edges, self._signs),
         )
-        m.__dict__["_generators"] = self._generators  # combinatorial: valid for the same F
+        if "_generators" in self.__dict__:  # else recomputed: the same tree-cotree, same F
+            m.__dict__["_generators"] = self._generators
         return m
 
     @classmethod

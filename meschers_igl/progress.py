@@ -34,6 +34,10 @@ def track(
     if work <= SHOW_ABOVE:
         yield from items
         return
-    from rich.progress import track as rich_track  # rich is a dependency; loaded when needed
+    from rich.console import Console  # rich is a dependency; loaded when needed
+    from rich.progress import track as rich_track
 
-    yield from rich_track(items, description=description, total=total, transient=True)
+    console = Console(stderr=True)  # stdout stays for results (the CLI prints JSON there)
+    yield from rich_track(
+        items, description=description, total=total, transient=True, console=console
+    )

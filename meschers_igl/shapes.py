@@ -8,7 +8,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 
-from .validate import as_count, as_positive
+from .validate import as_count, as_positive, check_budget
 
 
 def _grid_faces(n_u: int, n_v: int, wrap_u: bool, wrap_v: bool) -> np.ndarray:
@@ -55,6 +55,7 @@ def torus(
     """
     n_u, n_v = as_count(n_u, "n_u", 3), as_count(n_v, "n_v", 3)
     R, r = as_positive(R, "R"), as_positive(r, "r")
+    check_budget(2.0 * n_u * n_v, 100.0, what=f"torus({n_u}, {n_v})")
     cols = n_u + 1 if seam else n_u
     u, v = np.meshgrid(
         np.arange(cols) * (2 * np.pi / n_u), np.arange(n_v) * (2 * np.pi / n_v), indexing="ij"
@@ -71,6 +72,7 @@ def torus(
 def grid(n_x: int = 10, n_y: int = 10, size: float = 1.0):
     """A flat square ``[0, size]^2`` in the z = 0 plane, triangulated (a disc: one boundary)."""
     n_x, n_y = as_count(n_x, "n_x", 2), as_count(n_y, "n_y", 2)
+    check_budget(2.0 * n_x * n_y, 100.0, what=f"grid({n_x}, {n_y})")
     x, y = np.meshgrid(np.linspace(0, size, n_x), np.linspace(0, size, n_y), indexing="ij")
     V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
     return V, _grid_faces(n_x, n_y, False, False)
@@ -79,6 +81,7 @@ def grid(n_x: int = 10, n_y: int = 10, size: float = 1.0):
 def annulus(n_u: int = 32, n_r: int = 4, r0: float = 1.0, r1: float = 2.0):
     """A flat ring in the z = 0 plane (two boundary loops)."""
     n_u, n_r = as_count(n_u, "n_u", 3), as_count(n_r, "n_r", 2)
+    check_budget(2.0 * n_u * n_r, 100.0, what=f"annulus({n_u}, {n_r})")
     u, s = np.meshgrid(
         np.linspace(0, 2 * np.pi, n_u, endpoint=False), np.linspace(r0, r1, n_r), indexing="ij"
     )

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from .progress import track
 from .solvers import factorize_spd
 from .validate import as_count, as_positive
 
@@ -52,7 +53,8 @@ def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
     t_xy = as_positive(t_xy, "t_xy", allow_zero=True)
     t_zeta = as_positive(t_zeta, "t_zeta", allow_zero=True)
     iterations = as_count(iterations, "iterations")
-    for _ in range(iterations):
+    # each iteration factors a #V x #V system: ~1 s per iteration at 1M faces
+    for _ in track(range(iterations), "smooth", total=iterations, work=m.n_faces * iterations):
         if t_xy == 0 and t_zeta == 0:
             return m
         xy, zeta = np.asarray(m.xy), np.asarray(m.zeta)

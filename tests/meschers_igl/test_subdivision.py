@@ -193,3 +193,27 @@ def test_with_periods_sets_periods_in_the_same_basis(bagel_like, name):
     np.testing.assert_allclose(
         d.with_periods([1, 2]).smooth(t_zeta=0.01).periods(), [1, 2], atol=1e-10
     )
+
+
+def test_long_work_shows_a_progress_bar(monkeypatch):
+    """Subdivision and smoothing go through progress.track; rich draws a bar above the
+    threshold only (small calls and tests stay silent)."""
+    import rich.progress
+
+    from meschers_igl import progress
+
+    calls = []
+
+    def fake_track(items, description, total, **kw):
+        calls.append((description, total))
+        yield from items
+
+    monkeypatch.setattr(rich.progress, "track", fake_track)
+    m = shapes.impossible_torus(8, 4)
+    m.subdivide(2, "loop").smooth(t_zeta=0.1, iterations=2)
+    assert calls == []  # 1024 faces: below the threshold
+    monkeypatch.setattr(progress, "SHOW_ABOVE", 100)
+    c = m.subdivide(2, "loop")
+    c.smooth(t_zeta=0.1, iterations=2)
+    assert calls == [("subdivide (loop)", 2), ("smooth", 2)]
+    assert list(progress.track(range(5), "x", work=1e9)) == [0, 1, 2, 3, 4]
