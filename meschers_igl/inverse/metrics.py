@@ -67,18 +67,17 @@ def boundary_loop_periods(m: Mescher) -> tuple[np.ndarray, np.ndarray]:
 
 
 def figure_period(m: Mescher) -> float:
-    """``|period|`` around the figure's largest hole (0.0 when it has none).
+    """The largest ``|period|`` going once around the figure's outline or one of its holes.
 
-    Measured on the hole's own boundary loop (:func:`boundary_loop_periods`): the largest
-    clockwise loop by screen area.  Cuts along occlusion lines that end on the outline or on
-    a hole do not change it, and slits inside the figure enclose no area, so they are never
-    taken for the hole.
+    Measured on the boundary loops (:func:`boundary_loop_periods`) that enclose area: the
+    outline (counter-clockwise) and the holes; slits cut along occlusions enclose none.  A
+    figure with one hole (a Penrose triangle) climbs its period around the outline, which
+    :func:`.picture.mescher_from_picture` keeps one closed loop.  0.0 without such loops.
     """
     periods, areas = boundary_loop_periods(m)
-    holes = np.nonzero(areas < 0)[0]
-    if holes.size == 0:
-        return 0.0
-    return float(abs(periods[holes[np.argmin(areas[holes])]]))
+    size = np.abs(areas).max(initial=0.0)
+    real = np.abs(areas) > 1e-6 * size
+    return float(np.abs(periods[real]).max(initial=0.0))
 
 
 def axis_aligned_share(

@@ -45,10 +45,8 @@ class BoxModel:
         Unit screen-up direction (orthogonal to ``view``).
     gap : float
         Depth between the two parts that coincide on screen where the figure closes, model
-        units: the depth gap the illusion hides (tribar: the two corner cubes).  A picture has
-        occlusion lines along which the real depth jump varies (tribar: from
-        ``sqrt(3) (L - 2w)`` where the cut meets the hole to ``gap`` at the outline); a mescher
-        has one period per hole, so it can match ``gap`` only up to that spread.
+        units: the depth step the illusion hides (tribar: the two corner cubes), which a
+        mescher of the picture must climb going once around the figure.
     """
 
     name: str
@@ -104,9 +102,10 @@ def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
     ``X = [0, L] x [0, w]^2``, ``Y = [L-w, L] x [w, L] x [0, w]``,
     ``Z = [L-w, L] x [L-w, L] x [w, L]``: the last cube of Z is the first cube of X moved by
     ``(L - w)(1, 1, 1)``, so the two project onto the same hexagon and the picture is the closed
-    Penrose triangle.  The two cubes are ``sqrt(3) (L - w)`` apart in depth (``gap``); the
-    line where the picture hides that step runs from the outline (jump ``sqrt(3) (L - w)``)
-    to the hole (jump ``sqrt(3) (L - 2w)``).
+    Penrose triangle.  The two cubes are ``sqrt(3) (L - w)`` apart in depth (``gap``).  (The
+    picture's occlusion line from the cap to the hole hides a step that shrinks from ``gap`` to
+    ``sqrt(3) (L - 2w)`` at the hole; the step is ``gap`` all along the seam where X's faces
+    meet the cap's, which is what a loop around the whole figure crosses.)
     """
     L, w = float(length), float(width)
     if not L > 2 * w > 0:

@@ -398,6 +398,27 @@ def crease_misalignment(normals: np.ndarray, dirs: np.ndarray, pairs: np.ndarray
     return np.abs(c[:, 0] * d[:, 1] - c[:, 1] * d[:, 0])
 
 
+def _off_outline(F: np.ndarray, xy: np.ndarray, edges: np.ndarray, cut: np.ndarray):
+    """The cut edges without a vertex on the figure's outline (its outer boundary loop).
+
+    An occlusion line that reaches the outline in the picture ends, on the real figure, at a
+    corner of the face passing in front, with a sliver of that face between the corner and the
+    outline (the Penrose tribar's cap); at 64-160 pixels the sliver is sometimes lost.  Cuts
+    therefore stop one edge short of the outline, which stays one closed loop of the surface:
+    the loop the figure's period is measured on (:func:`.metrics.figure_period`).  Cuts may
+    open onto holes.
+    """
+    from ..topology import boundary_loops
+
+    loops = boundary_loops(F)
+    if cut.size == 0 or not loops:
+        return cut
+    area = [float(np.cross(xy[lp], np.roll(xy[lp], -1, axis=0)).sum()) for lp in loops]
+    outline = np.zeros(len(xy), dtype=bool)
+    outline[loops[int(np.argmax(area))]] = True
+    return cut[~outline[edges[cut]].any(axis=1)]
+
+
 def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray):
     """Cut a triangle mesh open along some of its edges (``igl.cut_mesh``).
 
@@ -535,7 +556,7 @@ def mescher_from_picture(
     edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
     normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
     occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
-    xy, F = cut_along(xy, F, edges, ids[occl])
+    xy, F = cut_along(xy, F, edges, _off_outline(F, xy, edges, ids[occl]))
     m = lift(xy, F, normals[region])
     info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
             "occlusion_length": float(lens[occl].sum()), "labels": seg.labels}  # fmt: skip

@@ -522,15 +522,25 @@ def test_zbuffer_target_shades_follow_the_lambertian_formula(tribar_128):
 
 
 @pytest.mark.render
+@pytest.mark.parametrize("res", [64, 96])
+def test_tribar_period_holds_at_other_resolutions(res):
+    pytest.importorskip("pyvista")
+    from meschers.inverse_cli import zbuffer_picture
+
+    model = mdl.penrose_tribar()
+    image, scale = zbuffer_picture(model, res, light=(0.6, -0.1, 1.0), ambient=0.2)
+    m, _, _ = pic.mescher_from_picture(image, (0.6, -0.1, 1.0), 0.2)
+    assert abs(met.figure_period(m) - model.gap * scale) < 0.1 * model.gap * scale
+
+
+@pytest.mark.render
 def test_mescher_from_a_zbuffered_tribar_picture(tribar_128):
     model, image, scale, light = tribar_128
     m, region, info = pic.mescher_from_picture(image, light, 0.2)
     # an annulus (plus slits along occlusion lines), impossible, with the model's depth gap
     assert m.n_faces > 20 and m.is_impossible()
-    # the hidden step: sqrt(3)(L - w) at the outline, sqrt(3)(L - 2w) where it meets the hole
-    # (L = 5, w = 1); the mescher's single period around the hole takes the latter (1.7)
-    period = met.figure_period(m)
-    assert abs(period - math.sqrt(3) * 3 * scale) < 0.05 * math.sqrt(3) * 3 * scale
+    # the depth step the picture hides where the bars meet (the two corner cubes)
+    assert abs(met.figure_period(m) - model.gap * scale) < 0.05 * model.gap * scale
     # faces take the model's three axis normals, within 2 degrees, over 95% of the area (the
     # rest: the bridges where an occlusion cut stops short of the outline)
     cos = np.abs(m.face_normals() @ model.axes_in_camera().T).max(axis=1)
