@@ -17,7 +17,7 @@ from pyvista_views import render
 gm = gallery.get_model("penrose_triangle", bar_length=4.0, resolution=4)
 m, order = gm.mescher, gm.order
 s = np.ptp(m.xy, axis=0).max()  # size of the figure on screen
-times = [0.0, 3e-3, 2e-2]
+times = [0.0, 5e-3, 5e-2]
 rows = {"smooth xy": (1, 0), "smooth zeta": (0, 1), "smooth both": (1, 1)}
 
 x0, y0 = m.xy.min(axis=0) - 0.05 * s

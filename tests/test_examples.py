@@ -54,7 +54,8 @@ def test_example_runs_in_an_empty_folder_and_makes_its_figure(path, tmp_path):
     figures.mkdir()
     env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
     if not env.get("DISPLAY"):
-        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+        # nothing set by hand: pyvista_views picks EGL by itself (the README says so)
+        env.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
     proc = subprocess.run(
         [sys.executable, "-c", RUNNER, str(path), str(figures)],
         cwd=cwd,
@@ -106,7 +107,8 @@ def test_notebook_uses_trame_and_its_cells_run(tmp_path):
     )
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     if not env.get("DISPLAY"):
-        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+        # nothing set by hand: pyvista_views picks EGL by itself (the README says so)
+        env.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
     proc = subprocess.run(
         [sys.executable, "-c", NOTEBOOK_RUNNER, str(NOTEBOOK)],
         cwd=tmp_path,
@@ -141,7 +143,8 @@ def test_documentation_code_runs_in_an_empty_folder(page, tmp_path):
     assert "import" in code
     env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
     if not env.get("DISPLAY"):
-        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+        # nothing set by hand: pyvista_views picks EGL by itself (the README says so)
+        env.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
     proc = subprocess.run(
         [sys.executable, "-c", code],
         cwd=tmp_path,

@@ -82,7 +82,8 @@ def _cli_lines() -> list[str]:
 def _env() -> dict:
     env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONPATH": str(ROOT)}
     if not env.get("DISPLAY"):
-        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+        # nothing set by hand: pyvista_views picks EGL by itself (the README says so)
+        env.pop("VTK_DEFAULT_OPENGL_WINDOW", None)
     return env
 
 
