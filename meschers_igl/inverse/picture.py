@@ -413,7 +413,10 @@ def _off_outline(F: np.ndarray, xy: np.ndarray, edges: np.ndarray, cut: np.ndarr
     loops = boundary_loops(F)
     if cut.size == 0 or not loops:
         return cut
-    area = [float(np.cross(xy[lp], np.roll(xy[lp], -1, axis=0)).sum()) for lp in loops]
+    area = []
+    for lp in loops:  # shoelace: a handful of loops
+        p, q = xy[lp], xy[np.roll(lp, -1)]
+        area.append(float((p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]).sum()))
     outline = np.zeros(len(xy), dtype=bool)
     outline[loops[int(np.argmax(area))]] = True
     return cut[~outline[edges[cut]].any(axis=1)]
