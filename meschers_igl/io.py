@@ -6,6 +6,8 @@ PLY layout (binary little-endian, so doubles round-trip bit-exactly)::
     element face    #F   property list uchar int vertex_indices
     element edge    #E   property int vertex1, vertex2; property double zeta
     element depth_arc #A property int back, front      (the depth order, optional)
+    element homology_edge #H property int loop, edge; property char sign
+                                                       (the loops periods() are measured on)
 
 Any PLY reader (MeshLab, PyMeshLab, PyVista) opens the file as a flat triangle mesh and skips
 the elements it does not know.  ``.npz`` stores the same arrays under their names.
@@ -53,6 +55,29 @@ def _order_arrays(order, m: Mescher) -> np.ndarray:
     return arcs
 
 
+def _generator_rows(m: Mescher) -> np.ndarray:
+    """(#H, 3) int64 rows (loop, edge, sign) of the mescher's homology loops: stored so that a
+    loaded mescher reports ``periods()`` in the same basis (a subdivided mescher's loops are
+    its parent's, not the ones a fresh tree-cotree would pick)."""
+    loops = m.homology_generators()
+    if not loops:
+        return np.zeros((0, 3), dtype=np.int64)
+    rows = [
+        np.stack([np.full(e.size, i), e, s.astype(np.int64)], 1) for i, (e, s) in enumerate(loops)
+    ]
+    return np.concatenate(rows).astype(np.int64)
+
+
+def _loops_from_rows(rows: np.ndarray) -> list:
+    rows = np.asarray(rows, dtype=np.int64).reshape(-1, 3)
+    if rows.size == 0:
+        return []
+    if rows[:, 0].min() < 0 or np.any(np.diff(rows[:, 0]) < 0):
+        raise MescherError("homology: expected rows sorted by loop, found a corrupt table")
+    cut = np.searchsorted(rows[:, 0], np.arange(1, int(rows[:, 0].max()) + 1))
+    return [(r[:, 1], r[:, 2].astype(np.float64)) for r in np.split(rows, cut)]
+
+
 def save(m: Mescher, path: str | os.PathLike, order=None, *, format: str | None = None) -> Path:
     """Write ``m`` (and its depth order) to ``.ply`` or ``.npz``; returns the path.
 
@@ -71,14 +96,16 @@ def save(m: Mescher, path: str | os.PathLike, order=None, *, format: str | None 
     path = Path(path)
     fmt = _format(path, format, "write")
     arcs = _order_arrays(order, m)
+    gens = _generator_rows(m)
     if fmt == "npz":
         with open(path, "wb") as fh:  # a file object: numpy adds no suffix to the name
             np.savez(
                 fh, version=np.int64(FORMAT_VERSION), F=m.F, xy=m.xy, edges=m.edges,
                 zeta=m.zeta, order_arcs=arcs, has_order=np.bool_(order is not None),
+                homology=gens,
             )  # fmt: skip
     else:
-        _write_ply(path, m, arcs, order is not None)
+        _write_ply(path, m, arcs, order is not None, gens)
     return path
 
 
@@ -111,11 +138,13 @@ def load(path: str | os.PathLike, *, format: str | None = None, return_order: bo
         raise MescherError(f"path: expected an existing file, found nothing at {str(path)!r}")
     fmt = _format(path, format, "read")
     if fmt == "npz":
-        F, xy, edges, zeta, arcs, has_order = _read_npz(path)
+        F, xy, edges, zeta, arcs, has_order, gens = _read_npz(path)
     else:
-        F, xy, edges, zeta, arcs, has_order = _read_ply(path)
+        F, xy, edges, zeta, arcs, has_order, gens = _read_ply(path)
     try:
         m = Mescher(F, xy, edges, zeta)
+        if gens is not None:  # the loops periods() were measured on when saved
+            m = m.with_generators(_loops_from_rows(gens))
     except MescherError as exc:
         raise MescherError(f"{path.name}: the stored mescher is invalid: {exc}") from exc
     if not return_order:
@@ -134,21 +163,25 @@ def _read_npz(path: Path):
             F, xy, edges, zeta = z["F"], z["xy"], z["edges"], z["zeta"]
             arcs = z["order_arcs"] if "order_arcs" in z else np.zeros((0, 2), np.int64)
             has_order = bool(z["has_order"]) if "has_order" in z else False
+            gens = z["homology"] if "homology" in z else None
     except (zipfile.BadZipFile, OSError, ValueError, KeyError, EOFError) as exc:
         raise MescherError(
             f"{path.name}: expected a mescher .npz (F, xy, edges, zeta), found a corrupt or "
             f"incomplete file ({type(exc).__name__}: {exc})"
         ) from None
-    return F, xy, edges, zeta, arcs, has_order
+    return F, xy, edges, zeta, arcs, has_order, gens
 
 
 _VERTEX = np.dtype([("x", "<f8"), ("y", "<f8"), ("z", "<f8")])
 _FACE = np.dtype([("n", "u1"), ("a", "<i4"), ("b", "<i4"), ("c", "<i4")])
 _EDGE = np.dtype([("vertex1", "<i4"), ("vertex2", "<i4"), ("zeta", "<f8")])
 _ARC = np.dtype([("back", "<i4"), ("front", "<i4")])
+_HOMOLOGY = np.dtype([("loop", "<i4"), ("edge", "<i4"), ("sign", "i1")])
+_ELEMENTS = {"vertex": _VERTEX, "face": _FACE, "edge": _EDGE, "depth_arc": _ARC,
+             "homology_edge": _HOMOLOGY}  # fmt: skip
 
 
-def _write_ply(path: Path, m: Mescher, arcs: np.ndarray, has_order: bool) -> None:
+def _write_ply(path: Path, m: Mescher, arcs: np.ndarray, has_order: bool, gens: np.ndarray) -> None:
     header = [
         "ply",
         "format binary_little_endian 1.0",
@@ -166,6 +199,12 @@ def _write_ply(path: Path, m: Mescher, arcs: np.ndarray, has_order: bool) -> Non
     ]
     if has_order:
         header += [f"element depth_arc {arcs.shape[0]}", "property int back", "property int front"]
+    header += [
+        f"element homology_edge {gens.shape[0]}",
+        "property int loop",
+        "property int edge",
+        "property char sign",
+    ]
     header.append("end_header")
     v = np.zeros(m.n_vertices, _VERTEX)
     v["x"], v["y"] = m.xy[:, 0], m.xy[:, 1]
@@ -183,6 +222,9 @@ def _write_ply(path: Path, m: Mescher, arcs: np.ndarray, has_order: bool) -> Non
             a = np.zeros(arcs.shape[0], _ARC)
             a["back"], a["front"] = arcs[:, 0], arcs[:, 1]
             fh.write(a.tobytes())
+        h = np.zeros(gens.shape[0], _HOMOLOGY)
+        h["loop"], h["edge"], h["sign"] = gens[:, 0], gens[:, 1], gens[:, 2]
+        fh.write(h.tobytes())
 
 
 def _read_ply(path: Path):
@@ -196,7 +238,7 @@ def _read_ply(path: Path):
             f"{path.name}: expected a binary little-endian mescher PLY written by meschers.save, "
             f"found {next((ln for ln in lines if ln.startswith('format')), 'no format line')!r}"
         )
-    counts = {}
+    counts, names = {}, []
     for ln in lines:
         parts = ln.split()
         if len(parts) == 3 and parts[0] == "element":
@@ -204,6 +246,7 @@ def _read_ply(path: Path):
                 counts[parts[1]] = int(parts[2])
             except ValueError:
                 raise MescherError(f"{path.name}: malformed header line {ln!r}") from None
+            names.append(parts[1])
     for need in ("vertex", "face", "edge"):
         if need not in counts:
             raise MescherError(
@@ -211,9 +254,13 @@ def _read_ply(path: Path):
                 f"{sorted(counts)} (a plain mesh? convert it with Mescher.from_mesh)"
             )
     body = memoryview(data)[end + len(b"end_header\n") :]
-    layout = [("vertex", _VERTEX), ("face", _FACE), ("edge", _EDGE)]
-    if "depth_arc" in counts:
-        layout.append(("depth_arc", _ARC))
+    unknown = [k for k in names if k not in _ELEMENTS]
+    if unknown:
+        raise MescherError(
+            f"{path.name}: expected the elements of a mescher PLY ({', '.join(_ELEMENTS)}), "
+            f"found {unknown}"
+        )
+    layout = [(k, _ELEMENTS[k]) for k in names]  # in the file's order
     need_bytes = sum(counts[k] * dt.itemsize for k, dt in layout)
     if len(body) != need_bytes:
         raise MescherError(
@@ -242,4 +289,8 @@ def _read_ply(path: Path):
         if has_order
         else np.zeros((0, 2), np.int64)
     )
-    return F, xy, edges, zeta, arcs, has_order
+    gens = None
+    if "homology_edge" in counts:
+        h = arrays["homology_edge"]
+        gens = np.stack([h["loop"], h["edge"], h["sign"]], axis=1).astype(np.int64)
+    return F, xy, edges, zeta, arcs, has_order, gens

@@ -495,6 +495,53 @@ class Mescher:
         """
         return list(self._generators)
 
+    def with_generators(self, loops) -> Mescher:
+        """The same mescher with ``periods()`` measured around the given homology loops.
+
+        Derived meschers (subdivided, smoothed, ``with_*``) keep their parent's loops by
+        themselves; this is for loops from elsewhere (a file, another mescher's refined basis).
+
+        Parameters
+        ----------
+        loops : sequence of ``(edges (k,) int, signs (k,) float)``
+            Closed edge loops (``signs`` +-1: along or against the stored edge direction), as
+            many as :meth:`homology_generators` returns.  Their independence in homology is
+            checked when :meth:`harmonic_basis` is first needed.
+
+        Raises
+        ------
+        MescherError
+            Wrong count, indices out of range, signs other than +-1, or a loop that is not
+            closed (naming the loop).
+        """
+        k = topo.tree_cotree(self._edges, self._face_edges, self.n_vertices).size
+        loops = list(loops)
+        if len(loops) != k:
+            raise MescherError(f"loops: expected {k} homology loops, found {len(loops)}")
+        out = []
+        for i, (e, sg) in enumerate(loops):  # a handful of loops, each vectorised
+            e = as_int_array(e, f"loops[{i}] edges", 1)
+            sg = as_vector(sg, f"loops[{i}] signs", e.size)
+            if e.size == 0 or e.min() < 0 or e.max() >= self.n_edges:
+                raise MescherError(
+                    f"loops[{i}]: expected edge indices in [0, {self.n_edges}), found "
+                    f"{'none' if e.size == 0 else f'{int(e.min())}..{int(e.max())}'}"
+                )
+            if not np.all(np.abs(sg) == 1.0):
+                raise MescherError(
+                    f"loops[{i}]: expected signs +1 or -1, found {sg[np.abs(sg) != 1][:3]}"
+                )
+            boundary = self.d01[e].T @ sg  # net flow through each vertex: 0 on a closed loop
+            if np.any(boundary != 0):
+                raise MescherError(
+                    f"loops[{i}]: expected a closed edge loop, found it open at vertices "
+                    f"{np.flatnonzero(boundary)[:4].tolist()}"
+                )
+            out.append((e, sg))
+        m = self._replace()
+        m.__dict__["_generators"] = out
+        return m
+
     @cached_property
     def _loop_matrix(self) -> sp.csr_matrix:
         return _hodge.loop_matrix(self._generators, self.n_edges)

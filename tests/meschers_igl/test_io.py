@@ -50,8 +50,12 @@ def test_corrupt_and_truncated_files(tmp_path, mescher, ext):
 def test_ply_with_broken_zeta_is_refused(tmp_path, mescher):
     p = save(mescher, tmp_path / "m.ply")
     data = bytearray(p.read_bytes())
-    # overwrite the last edge's zeta (the final 8 bytes) with a large value
-    data[-8:] = np.float64(123.0).tobytes()
+    # overwrite the last edge's zeta with a large value: after the header, the vertices
+    # (3 doubles), faces (uchar + 3 ints) and edges (2 ints + a double)
+    body = data.index(b"end_header\n") + len(b"end_header\n")
+    m = mescher
+    end_of_edges = body + 24 * m.n_vertices + 13 * m.n_faces + 16 * m.n_edges
+    data[end_of_edges - 8 : end_of_edges] = np.float64(123.0).tobytes()
     p.write_bytes(bytes(data))
     with pytest.raises(MescherError, match="locally integrable"):
         load(p)
@@ -103,3 +107,33 @@ def test_load_returns_the_same_shape_whatever_the_file_holds(tmp_path, mescher, 
     assert sorted(map(tuple, np.asarray(o1.arcs).tolist())) == [(0, 1), (2, 3)]
     with pytest.raises(MescherError, match="return_order: expected True or False"):
         load(without, return_order="yes")
+
+
+@pytest.mark.parametrize("ext", [".ply", ".npz"])
+def test_a_loaded_mescher_keeps_the_homology_basis(tmp_path, ext):
+    """A subdivided mescher measures periods on its parent's loops (not a fresh tree-cotree's):
+    the file keeps them, so periods() read back entry by entry (issue 13.2)."""
+    from meschers_igl import shapes
+
+    m = shapes.impossible_torus(12, 6, climb=0.9)
+    c = m.subdivide(1).smooth(t_zeta=0.01)
+    np.testing.assert_allclose(c.periods(), m.periods(), atol=1e-12)  # [0, 0.9]
+    c2 = load(save(c, tmp_path / f"c{ext}"))
+    np.testing.assert_allclose(c2.periods(), [0.0, 0.9], atol=1e-12)
+    fresh = Mescher(c.F, c.xy, c.edges, c.zeta)  # without the stored loops: another basis
+    assert not np.allclose(fresh.periods(), [0.0, 0.9], atol=1e-6)
+
+
+def test_with_generators_checks_the_loops():
+    from meschers_igl import shapes
+
+    m = shapes.impossible_torus(8, 4, climb=0.5)
+    loops = m.homology_generators()
+    assert np.array_equal(m.with_generators(loops[::-1]).periods(), m.periods()[::-1])
+    with pytest.raises(MescherError, match="loops: expected 2 homology loops, found 1"):
+        m.with_generators(loops[:1])
+    e, s = loops[0]
+    with pytest.raises(MescherError, match=r"loops\[0\]: expected a closed edge loop"):
+        m.with_generators([(e[1:], s[1:]), loops[1]])
+    with pytest.raises(MescherError, match=r"loops\[1\]: expected signs \+1 or -1"):
+        m.with_generators([loops[0], (loops[1][0], 2 * loops[1][1])])
