@@ -18,6 +18,8 @@ __all__ = [
     "Colorbar",
     "compose",
     "format_value",
+    "fit_text",
+    "font",
     "format_values",
     "overlay",
     "place_labels",
@@ -63,7 +65,8 @@ def format_values(values: Sequence[float], digits: int = 4, scale: float | None 
     return ", ".join(format_value(v, s, digits) for v in values)
 
 
-def _font(size: int = 13):
+def font(size: int = 13):
+    """PIL's default (scalable) font at ``size`` pixels."""
     from PIL import ImageFont
 
     try:
@@ -121,7 +124,7 @@ class Colorbar:
         from PIL import Image, ImageDraw
 
         canvas = Image.new("RGB", (self.width, height), "white")
-        draw, font = ImageDraw.Draw(canvas), _font(11)
+        draw, fnt = ImageDraw.Draw(canvas), font(11)
         top, bottom, x0, x1 = 30, height - 12, 6, 20
         n = max(bottom - top, 2)
         ramp = colormaps[self.cmap](np.linspace(1.0, 0.0, n))[:, :3]  # top = vmax
@@ -129,7 +132,7 @@ class Colorbar:
         canvas.paste(Image.fromarray(strip), (x0, top))
         draw.rectangle([x0 - 1, top - 1, x1, top + n], outline="black")
         for i, line in enumerate(_wrap(self.title, 15)[:2]):
-            draw.text((2, 2 + 12 * i), line, fill="black", font=font)
+            draw.text((2, 2 + 12 * i), line, fill="black", font=fnt)
         span = self.vmax - self.vmin
         for k in range(self.ticks):
             f = k / (self.ticks - 1)
@@ -137,7 +140,7 @@ class Colorbar:
             value = self.vmin + f * span
             draw.line([(x1, y), (x1 + 3, y)], fill="black")
             label = format_value(value, scale=max(abs(self.vmin), abs(self.vmax)), digits=3)
-            draw.text((x1 + 5, y - 6), label, fill="black", font=font)
+            draw.text((x1 + 5, y - 6), label, fill="black", font=fnt)
         return canvas
 
 
@@ -179,29 +182,29 @@ def compose(
     below = 18 if notes else 0
     right = Colorbar.width if colorbar is not None else 0
     canvas = Image.new("RGB", (left + n_cols * w + right, top + n_rows * (h + below)), "white")
-    draw, font = ImageDraw.Draw(canvas), _font()
+    draw, fnt = ImageDraw.Draw(canvas), font()
     for j, label in enumerate(col_labels or ()):
         draw.text(
-            (left + j * w + 4, 3), _fit(draw, str(label), font, w - 6), fill="black", font=font
+            (left + j * w + 4, 3), fit_text(draw, str(label), fnt, w - 6), fill="black", font=fnt
         )
     for i, row in enumerate(cells):
         y = top + i * (h + below)
         if row_labels:
-            text = _fit(draw, str(row_labels[i]), font, left - 6)
-            draw.text((4, y + h // 2 - 7), text, fill="black", font=font)
+            text = fit_text(draw, str(row_labels[i]), fnt, left - 6)
+            draw.text((4, y + h // 2 - 7), text, fill="black", font=fnt)
         for j, image in enumerate(row):
             canvas.paste(
                 Image.fromarray(np.ascontiguousarray(image, dtype=np.uint8)), (left + j * w, y)
             )
             if notes and i < len(notes) and j < len(notes[i]) and notes[i][j]:
-                text = _fit(draw, notes[i][j], font, w - 6)
-                draw.text((left + j * w + 4, y + h + 2), text, fill="black", font=font)
+                text = fit_text(draw, notes[i][j], fnt, w - 6)
+                draw.text((left + j * w + 4, y + h + 2), text, fill="black", font=fnt)
     if colorbar is not None:
         canvas.paste(colorbar.draw(h), (left + n_cols * w, top))
     return canvas
 
 
-def _fit(draw: Any, text: str, font: Any, width: int) -> str:
+def fit_text(draw: Any, text: str, font: Any, width: int) -> str:
     """``text`` shortened with an ellipsis until it fits in ``width`` pixels (labels of
     neighbouring panels never run into each other)."""
     if draw.textlength(text, font=font) <= width:
@@ -284,7 +287,7 @@ def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.
 
     h, w = image.shape[:2]
     canvas = Image.fromarray(np.ascontiguousarray(image))
-    draw, font = ImageDraw.Draw(canvas), _font(12)
+    draw, fnt = ImageDraw.Draw(canvas), font(12)
     for P, colour, width in segments:
         Q = screen_to_pixel(np.asarray(P).reshape(-1, 2), bounds, (w, h)).reshape(-1, 4)
         for q in Q:  # PIL draws one primitive per call; these are a few hundred segments
@@ -297,10 +300,10 @@ def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.
         anchors = np.vstack([screen_to_pixel(p, bounds, (w, h)) for p, _, _ in labels])
         sizes = []
         for _, text, _ in labels:
-            x0, y0, x1, y1 = draw.textbbox((0, 0), text, font=font, stroke_width=2)
+            x0, y0, x1, y1 = draw.textbbox((0, 0), text, font=fnt, stroke_width=2)
             sizes.append((x1 - x0 + 2, y1 - y0 + 2))
         for (x, y), (_, text, colour) in zip(place_labels(anchors, sizes, (w, h)), labels):
-            draw.text((x + 1, y + 1), text, fill=colour, font=font, stroke_width=2,
+            draw.text((x + 1, y + 1), text, fill=colour, font=fnt, stroke_width=2,
                       stroke_fill="white")  # fmt: skip
     return np.asarray(canvas)
 

@@ -221,10 +221,14 @@ def write_report(
     out = Path(out)
     st = metrics.get("settings", {})
     by_group = {g.key: [r for r in results if r.group == g.key] for g in groups}
-    toc = " &middot; ".join(
-        f'<a href="#{_e(_anchor(r.group, r.section.name))}">{_e(r.section.title)}</a>'
+    toc = "<br>".join(
+        f"<b>{_e(g.title)}</b>: "
+        + " &middot; ".join(
+            f'<a href="#{_e(_anchor(r.group, r.section.name))}">{_e(r.section.title)}</a>'
+            for r in by_group[g.key]
+        )
         for g in groups
-        for r in by_group[g.key]
+        if by_group[g.key]
     )
     body = [
         "<h1>Meschers: a comparison study of impossible objects</h1>",

@@ -52,7 +52,9 @@ class StudySettings:
     levels : int
         Midpoint subdivision levels applied to each gallery model before processing.
     heat_times : tuple of float
-        Heat diffusion times in units of ``h^2`` (``h`` the mean edge length after subdivision).
+        Heat diffusion times in units of ``s^2``, ``s`` the diagonal of the model's xy box (so
+        the heat spreads as far whatever the subdivision level: a point source's heat reaches
+        about ``14 sqrt(t)`` before it falls below 1e-6 of its peak).
     smooth_times : tuple of float
         Smoothing times in units of ``s^2``, ``s`` the diagonal of the model's xy box.
     compare_time : float
@@ -65,7 +67,7 @@ class StudySettings:
     quick: bool
     cell: int
     levels: int
-    heat_times: tuple[float, ...] = (2.0, 10.0, 50.0)
+    heat_times: tuple[float, ...] = (1e-4, 1e-3, 1e-2)
     smooth_times: tuple[float, ...] = (0.0, 2e-4, 1e-3, 5e-3)
     compare_time: float = 1e-3
     isolines: int = 10

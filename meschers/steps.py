@@ -45,7 +45,7 @@ __all__ = ["STEPS", "Subject", "run_mescher_steps", "subdivide"]
 PALETTE = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
 #: Heat is drawn as log10(u / max u) from this value (black) to 0: a point source's heat spans
 #: many orders of magnitude, which a linear scale shows as a black figure with one bright dot.
-HEAT_LOG_MIN = -4.0
+HEAT_LOG_MIN = -6.0
 
 
 @dataclass
@@ -214,32 +214,32 @@ def render(job: ModelJob, s: Subject) -> None:
 
 def heat(job: ModelJob, s: Subject) -> None:
     """Backward Euler heat diffusion from one vertex for three times (paper Eq. 5)."""
-    st, m, h = job.st, s.m, s.h
+    st, m, scale = job.st, s.m, s.scale
     u0 = np.zeros(m.n_vertices)
     u0[s.source] = 1.0
     mass = m.massmatrix().diagonal()
     bounds = s.bounds(st.cell)
     images, notes, drift, spans = [], [], [], []
     for factor in st.heat_times:
-        u = m.heat_diffuse(u0, factor * h * h)
+        u = m.heat_diffuse(u0, factor * scale * scale)
         drift.append(abs(float(mass @ u) - float(mass @ u0)) / float(mass @ u0))
         # log scale per panel: each panel normalised to its maximum, then log10
         v = np.log10(np.maximum(u / u.max(), 10.0**HEAT_LOG_MIN))
         spans.append(float(u.min() / u.max()))
         kw = {"shading": "smooth", "scalars": v, "cmap": HEAT_CMAP, "clim": (HEAT_LOG_MIN, 0.0)}
         images.append(job.renderer.shoot([_mescher(s, **kw)], bounds))
-        notes.append(f"t = {factor:g} h^2")
+        notes.append(f"t = {factor:g} s^2")
     job.record["heat"] = {
         "source": s.source,
-        "t": [f * h * h for f in st.heat_times],
-        "h": h,
+        "t": [f * scale * scale for f in st.heat_times],
+        "s": scale,
         "heat_conservation_error": max(drift),
         "min_over_max": spans,
     }
     bar = Colorbar(HEAT_CMAP, HEAT_LOG_MIN, 0.0, "log10(u / max u)")
     job.figure(compose([images], notes, colorbar=bar), f"{s.name}_heat.png", "Heat diffusion",
         f"Backward Euler heat diffusion (M - tL) u = M u0 (paper Eq. 5) from vertex {s.source}, for "
-        "three times t (h: mean edge length), each panel normalised to its maximum and drawn on a log "
+        "three times t (s: diagonal of the xy box), each panel normalised to its maximum and drawn on a log "
         f"scale, log10(u / max u) from {HEAT_LOG_MIN:g} (black) to 0 (white): the heat spreads over "
         "the surface as perceived, across the impossible loop. Total heat 1^T M u is kept to "
         f"{max(drift):.1e}.")  # fmt: skip

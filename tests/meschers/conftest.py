@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pyvista as pv
 
-from pyvista_views._offscreen import configure_headless
+from pyvista_views.headless import configure_headless
 
 configure_headless()
 pv.OFF_SCREEN = True

@@ -40,7 +40,7 @@ SUBCOMMANDS = ("study", "info", "convert", "render", "geodesic", "smooth", "subd
 
 def _gl() -> bool:
     try:
-        from pyvista_views._offscreen import gl_available
+        from pyvista_views.headless import gl_available
 
         return bool(gl_available())
     except Exception:  # noqa: BLE001 - no pyvista/GL at all: skip the rendering tests

@@ -93,8 +93,8 @@ def test_png_bytes_round_trip():
 def test_long_labels_are_shortened_to_their_panel(n):
     from PIL import Image, ImageDraw
 
-    from meschers.figures import _fit, _font
+    from meschers.figures import fit_text, font
 
     draw = ImageDraw.Draw(Image.new("RGB", (10, 10)))
-    text = _fit(draw, "light 1 (1.0, 1.0, 1.0) " * n, _font(), 120)
-    assert draw.textlength(text, font=_font()) <= 120
+    text = fit_text(draw, "light 1 (1.0, 1.0, 1.0) " * n, font(), 120)
+    assert draw.textlength(text, font=font()) <= 120
