@@ -157,7 +157,9 @@ def impossible_cube(size: float = 4.0, width: float = 0.7, view=(1.0, 0.75, 0.55
     the view direction by ``gap`` -- a move along the view leaves its picture where it was --
     until it lies in front of the bar it crossed behind.  The picture then shows the back bar
     passing behind and in front of the same front bar: the impossible cube (Escher's
-    Belvedere).  The figure has several holes.  True period: ``gap``.
+    Belvedere).  The figure has several holes.  ``gap`` is the move (``2 size``); note that a
+    move along the view is invisible, so the picture does not determine it: any move that
+    clears the front bar gives the same picture.
     """
     a, w = float(size), float(width)
     if not a > 3 * w > 0:
