@@ -227,7 +227,7 @@ def _budget(m: Any, levels: int, force: bool, what: str) -> None:
     """Refuse (exit 2, before any work) a subdivision whose result would not fit in memory."""
     from meschers_igl.validate import check_budget
 
-    check_budget(float(m.n_faces) * 4.0**levels, what=what, force=force)
+    check_budget(float(m.n_faces) * 4.0 ** min(levels, 200), what=what, force=force)
 
 
 def _cmd_render(args: argparse.Namespace) -> int:
