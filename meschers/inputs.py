@@ -2,18 +2,18 @@
 
 A model is named by
 
-=========================== ===================================================================
-``penrose_triangle``        a gallery model (:func:`meschers_igl.gallery.list_models`); also
-                            ``gallery:penrose_triangle``
-``paradox:penrose_triangle`` a ParadoxToolkit cut model shipped with the package
-                            (:mod:`meschers_igl.paradox`), seen from its own camera
-``model.ply``, ``x.npz``    a saved mescher (:func:`meschers_igl.io.save`), depth order included
-``model.obj`` + ``model.json`` an artist's cut model with its view in a sidecar JSON: either the
-                            ParadoxToolkit layout ``{"camera": {"view_dir": [..], "up": [..]}}``
-                            or ``{"view": [..], "up": [..]}``; any format PyMeshLab reads
-``folder/``                 every model file in the folder (sidecar JSONs are not models)
-``"models/*.obj"``          a glob pattern, expanded here (quote it for the shell)
-=========================== ===================================================================
+=============================== ===================================================================
+``penrose_triangle``            a gallery model (:func:`meschers_igl.gallery.list_models`); also
+                                ``gallery:penrose_triangle``
+``paradox:penrose_triangle``    a ParadoxToolkit cut model shipped with the package
+                                (:mod:`meschers_igl.paradox`), seen from its own camera
+``model.ply``, ``x.npz``        a saved mescher (:func:`meschers_igl.io.save`), depth order included
+``model.obj`` + ``model.json``  an artist's cut model with its view in a sidecar JSON: either the
+                                ParadoxToolkit layout ``{"camera": {"view_dir": [..], "up": [..]}}``
+                                or ``{"view": [..], "up": [..]}``; any format PyMeshLab reads
+``folder/``                     every model file in the folder (sidecar JSONs are not models)
+``"models/*.obj"``              a glob pattern, expanded here (quote it for the shell)
+=============================== ===================================================================
 
 A ``.ply`` or ``.npz`` file with a sidecar JSON is an artist model; without one it is a saved
 mescher.  :class:`ModelSpec` is small and picklable, so a study can send it to a Dask worker,

@@ -5,7 +5,7 @@
 - :func:`target_mask`: the figure's pixels in a picture;
 - :func:`penrose_soup`, :func:`penrose_target`: the Penrose triangle as flat ordered triangles,
   rendered by this package's own rasterizer (a self-consistency target only: acceptance runs on
-  z-buffered pictures of real 3D models, :mod:`.models`).
+  z-buffered pictures of real 3D models, :mod:`meschers_igl.inverse.models`).
 
 Nothing here imports PyTorch at module level.
 """
