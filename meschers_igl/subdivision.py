@@ -172,6 +172,63 @@ def refine_loops(loops, edges, edges_child, n_vertices):
     return out
 
 
+def _local_stencils(S: sp.spmatrix, edges: np.ndarray, n_vertices: int):
+    """Loop's rows as sums of ``zeta`` over edges leaving a reference vertex.
+
+    One "pair" per (row of ``S``, reference parent vertex ``p``): every vertex ``v`` with
+    ``p = v`` (pair ``v``), every new vertex ``#V + e`` from its tail (pair ``#V + e``) and from
+    its head (pair ``#V + #E + e``).  Pair ``i``'s depth relative to ``p`` is
+    ``sum_k coef[k] zeta[edge[k]]`` over the entries ``k`` with ``pair[k] == i``.
+
+    Returns
+    -------
+    pair, edge : (nnz,) int64
+    coef : (nnz,) float64
+        ``S[row, w]`` times the sign of edge ``p -> w``.
+    n_pairs : int
+    """
+    C = sp.coo_matrix(S)
+    nv, ne = int(n_vertices), edges.shape[0]
+    r, w, val = C.row.astype(np.int64), C.col.astype(np.int64), C.data
+    even = r < nv
+    er = r[~even] - nv
+    pair = np.concatenate([r[even], nv + er, nv + ne + er])
+    ref = np.concatenate([r[even], edges[er, 0], edges[er, 1]])
+    w = np.concatenate([w[even], w[~even], w[~even]])
+    val = np.concatenate([val[even], val[~even], val[~even]])
+    off = w != ref  # the reference vertex itself sits at relative depth 0
+    pair, w, val, ref = pair[off], w[off], val[off], ref[off]
+    e, sign = topo.edge_lookup(edges, nv, ref, w)
+    if np.any(e < 0):
+        k = int(np.flatnonzero(e < 0)[0])
+        raise MescherError(
+            f"S: expected stencils within one ring, found vertex {int(w[k])} in a stencil "
+            f"not adjacent to its reference vertex {int(ref[k])}"
+        )
+    return pair, e, val * sign, nv + 2 * ne
+
+
+def _child_pairs(edges: np.ndarray, n_vertices: int, edges_child: np.ndarray):
+    """The two pairs (:func:`_local_stencils`) whose difference is each child edge's zeta.
+
+    A child edge ``x -> y`` (``x < y``, so an even end is ``x``) lies in the star of a parent
+    vertex holding both ends' stencils: the even end itself, or the parent vertex shared by
+    the parent edges of two odd ends.
+    """
+    nv, ne = int(n_vertices), edges.shape[0]
+    x, y = edges_child[:, 0], edges_child[:, 1]
+    ey = y - nv
+    even_x = x < nv
+    ex = np.where(even_x, 0, x - nv)
+    a0, a1 = edges[ex, 0], edges[ex, 1]
+    b0 = edges[ey, 0]
+    shared = np.where((a0 == b0) | (a0 == edges[ey, 1]), a0, a1)
+    ref = np.where(even_x, x, shared)
+    ix = np.where(even_x, x, np.where(a0 == ref, nv + ex, nv + ne + ex))
+    iy = np.where(b0 == ref, nv + ey, nv + ne + ey)
+    return ix, iy
+
+
 def covering_one_form_matrix(
     S: sp.spmatrix, edges: np.ndarray, n_vertices: int, edges_child: np.ndarray
 ) -> sp.csr_matrix:
@@ -195,40 +252,21 @@ def covering_one_form_matrix(
     MescherError
         If a stencil reaches outside the star it must lie in.
     """
-    S = sp.csr_matrix(S)
-    nv, ne = int(n_vertices), edges.shape[0]
-    ar_e = np.arange(ne)
-    # (row of S, reference vertex): every vertex itself; each odd vertex from both its ends
-    prow = np.concatenate([np.arange(nv), nv + ar_e, nv + ar_e])
-    pref = np.concatenate([np.arange(nv), edges[:, 0], edges[:, 1]])
-    cnt = np.diff(S.indptr)[prow]
-    rep = np.repeat(np.arange(prow.size), cnt)
-    first = np.repeat(np.cumsum(cnt) - cnt, cnt)
-    pos = S.indptr[prow][rep] + (np.arange(rep.size) - first)
-    w, val, p = S.indices[pos].astype(np.int64), S.data[pos], pref[rep]
-    off = w != p  # the reference vertex itself sits at relative depth 0
-    rep, w, val, p = rep[off], w[off], val[off], p[off]
-    e, sign = topo.edge_lookup(edges, nv, p, w)
-    if np.any(e < 0):
-        k = int(np.flatnonzero(e < 0)[0])
-        raise MescherError(
-            f"S: expected stencils within one ring, found vertex {int(w[k])} in the stencil of "
-            f"row {int(prow[rep[k]])} not adjacent to vertex {int(p[k])}"
-        )
-    A = sp.csr_matrix((val * sign, (rep, e)), shape=(prow.size, ne))
-    # each child edge x -> y (x < y, so an even end is x) and the parent vertex both lie around
-    x, y = edges_child[:, 0], edges_child[:, 1]
-    ey = y - nv
-    even_x = x < nv
-    ex = np.where(even_x, 0, x - nv)
-    # two odd ends: the parent vertex shared by their two parent edges
-    a0, a1 = edges[ex, 0], edges[ex, 1]
-    b0, b1 = edges[ey, 0], edges[ey, 1]
-    shared = np.where((a0 == b0) | (a0 == b1), a0, a1)
-    ref = np.where(even_x, x, shared)
-    ix = np.where(even_x, x, np.where(a0 == ref, nv + ex, nv + ne + ex))
-    iy = np.where(b0 == ref, nv + ey, nv + ne + ey)
+    pair, e, coef, n_pairs = _local_stencils(S, edges, n_vertices)
+    A = sp.csr_matrix((coef, (pair, e)), shape=(n_pairs, edges.shape[0]))
+    ix, iy = _child_pairs(edges, n_vertices, edges_child)
     return (A[iy] - A[ix]).tocsr()
+
+
+def covering_one_form(
+    S: sp.spmatrix, edges: np.ndarray, n_vertices: int, edges_child: np.ndarray, a: np.ndarray
+) -> np.ndarray:
+    """``covering_one_form_matrix(S, edges, n_vertices, edges_child) @ a`` without building it
+    (one ``bincount`` over the stencil entries: 5x faster at 1M faces)."""
+    pair, e, coef, n_pairs = _local_stencils(S, edges, n_vertices)
+    local = np.bincount(pair, weights=coef * np.asarray(a)[e], minlength=n_pairs)
+    ix, iy = _child_pairs(edges, n_vertices, edges_child)
+    return local[iy] - local[ix]
 
 
 @dataclass(frozen=True)
@@ -282,7 +320,7 @@ def subdivide_level(
     else:
         S = loop_matrix_on(F, edges, nv)
         edges_c, fe_c, s_c = child
-        zeta_c = covering_one_form_matrix(S, edges, nv, edges_c) @ np.asarray(zeta)
+        zeta_c = covering_one_form(S, edges, nv, edges_c, zeta)
     xy_c = np.ascontiguousarray(S @ np.asarray(xy))
     gens = refine_loops(generators, edges, edges_c, nv)
     return SubdividedLevel(step.F, xy_c, edges_c, fe_c, s_c, zeta_c, gens, step.face_parent, S)
