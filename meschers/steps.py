@@ -264,7 +264,7 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     if d_exact is not None:
         rec["heat_error"] = distance_error(d, d_exact)
         rec["heat_accurate_error"] = distance_error(d_acc, d_exact)
-    path = m.shortest_path(source, target)
+    path = m.shortest_path(source, target, solver=accurate)  # the one accurate solver
     rec.update(target=target, path_length=float(path.length), path_points=int(path.n_points))
     if d_exact is not None and sources.size == 1:
         rec["path_length_over_exact"] = float(path.length / d_exact[target])
