@@ -37,6 +37,7 @@ from .order_graph import (
     feedback_arc_set,
     format_cycles,
     in_sorted,
+    path_integrals,
     shortest_cycle_through,
     strong_components,
     subgraph_arcs,
@@ -44,8 +45,6 @@ from .order_graph import (
 )
 from .topology import (
     edge_faces,
-    edge_lookup,
-    integrate_on_tree,
     integrate_one_form,
     spanning_forest,
 )
@@ -53,14 +52,12 @@ from .validate import as_count, as_float_array, as_index_array, as_int_array, as
 
 __all__ = ["DepthOrder"]
 
-# Entries of the (seeds x vertices) Dijkstra tables handled at once by from_local_depth.
-_DIJKSTRA_BLOCK = 1 << 24
 # zeta is treated as exact (path-independent) when a spanning forest's potential reproduces it
 # to this relative accuracy (float64 round-off accumulated along long tree paths stays far below).
 _EXACT_RTOL = 1e-9
-# from_local_depth on impossible meschers: exact shortest paths (one Dijkstra per source vertex)
-# while #sources * #V stays below this; shared patch seeds beyond.
-_EXACT_PATH_WORK = 30_000_000
+# from_local_depth on impossible meschers: exact shortest paths (one Dijkstra per source vertex,
+# stopped at its targets) while #sources * #V stays below this; shared patch seeds beyond.
+_EXACT_PATH_WORK = 300_000_000
 # refine: child pairs tested per parent arc directly while their number stays below this many
 # per child face (plus a constant); beyond it (parents with very many children) the grid.
 _REFINE_WORK_PER_CHILD = 64
@@ -283,46 +280,14 @@ class DepthOrder:
         DepthOrder
         """
         F, xy = _screen(m)
-        try:
-            edges, zeta = np.asarray(m.edges), np.asarray(m.zeta)
-            Zl = np.asarray(m.corner_depths())
-        except AttributeError:
-            raise MescherError(
-                f"m: expected a Mescher (with edges, zeta, corner_depths), found {type(m).__name__}"
-            ) from None
-        n, nv = F.shape[0], xy.shape[0]
+        _local_inputs(m)  # a clear error before any work
+        n = F.shape[0]
         T = xy[F]
         tol = _tol(tol, T)
         pairs, cen = overlapping_pairs(T, tol, centroids=True)
         if pairs.shape[0] == 0:
             return cls(n, None, m=m)
-        w = np.sqrt(((xy[edges[:, 1]] - xy[edges[:, 0]]) ** 2).sum(axis=1) + zeta**2)
-        w = np.maximum(w, 1e-12 * model_scale(xy))  # csgraph would drop zero-length edges
-        G = sp.csr_matrix(
-            (
-                np.concatenate((w, w)),
-                (
-                    np.concatenate((edges[:, 0], edges[:, 1])),
-                    np.concatenate((edges[:, 1], edges[:, 0])),
-                ),
-            ),
-            shape=(nv, nv),
-        )
-        ncomp, comp = csgraph.connected_components(G, directed=False)
-        vi, vj = F[pairs[:, 0], 0], F[pairs[:, 1], 0]
-        if ncomp > 1:
-            keep = comp[vi] == comp[vj]
-            pairs, cen, vi, vj = pairs[keep], cen[keep], vi[keep], vj[keep]
-        local = _depth_change(cen, pairs, T, Zl)
-        # One spanning forest (a tree per component): exact when zeta is exact.
-        roots = np.unique(comp, return_index=True)[1]
-        phi = integrate_one_form(edges, zeta, nv, spanning_forest(G, roots))
-        resid = zeta - (phi[edges[:, 1]] - phi[edges[:, 0]])
-        scale = max(model_scale(xy), float(np.abs(phi).max()))
-        if np.abs(resid).max() <= _EXACT_RTOL * scale and not _force_paths:
-            dz = phi[vj] - phi[vi] + local
-        else:
-            dz = local + _path_depths(m, G, F, T, pairs, vi, vj, radius)
+        dz = _local_depth_changes(m, pairs, cen, radius, _force_paths)
         return cls(n, _arcs_from_depths(pairs, dz, tol), m=m)
 
     # ------------------------------------------------------------------ editing
@@ -415,17 +380,7 @@ class DepthOrder:
         """
         F, xy = _screen(m_child, "m_child")
         nc = F.shape[0]
-        parent = as_int_array(face_parent, "face_parent", 1)
-        if parent.shape[0] != nc:
-            raise MescherError(
-                f"face_parent: expected one parent per child face ({nc}, the faces of m_child), "
-                f"found {parent.shape[0]}"
-            )
-        if nc and (parent.min() < 0 or parent.max() >= self._n):
-            bad = parent[(parent < 0) | (parent >= self._n)][0]
-            raise MescherError(
-                f"face_parent: expected parent faces in [0, {self._n}), found {int(bad)}"
-            )
+        parent = self._parents(face_parent, nc)
         if self.n_arcs == 0:
             return DepthOrder(nc, None, m=m_child)
         T = np.ascontiguousarray(xy[F], dtype=np.float64)
@@ -449,6 +404,91 @@ class DepthOrder:
             bwd = in_sorted(keys, pb * n + pa)
             arcs = np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
         return DepthOrder(nc, arcs, m=m_child)
+
+    def follow(
+        self,
+        m_new: Any,
+        face_parent: Any = None,
+        *,
+        tol: float | None = None,
+        radius: float | None = None,
+    ) -> DepthOrder:
+        """The order carried to a mescher whose screen positions moved (paper Sec. 3.5, 4.2).
+
+        Loop subdivision, xy smoothing, :meth:`Mescher.with_xy` and inverse rendering move
+        screen positions, so faces start or stop overlapping.  For each pair of faces ``a, b``
+        of ``m_new`` that overlap on screen (positive area, as in :meth:`from_embedding`):
+
+        * when their parents (``face_parent``; the faces themselves by default) have an arc
+          ``parent[a] -> parent[b]``, the pair gets ``a -> b`` (and ``b -> a`` for the reverse
+          arc): the order is carried;
+        * otherwise -- an overlap that appeared, or one between children of one face -- the pair
+          is ordered from local depth (:meth:`from_local_depth`'s rule on ``m_new``).
+
+        Pairs that no longer overlap get no arc: overlaps that vanish drop their arcs.  With
+        ``m_new`` equal to the order's mescher and no parents this returns the order restricted
+        to overlapping pairs, plus local-depth arcs for overlapping pairs it left unordered.
+
+        Parameters
+        ----------
+        m_new : Mescher
+            The mescher after the move (its ``F``, ``xy`` and, for new overlaps, its depths).
+        face_parent : (#F_new,) array_like of int, optional
+            Face of this order's mescher each face of ``m_new`` comes from (subdivision);
+            default: the same faces (``m_new`` must then have ``n_faces`` faces).
+        tol : float, optional
+            Overlap tolerance as in :meth:`from_embedding`.
+        radius : float, optional
+            As in :meth:`from_local_depth`.
+
+        Returns
+        -------
+        DepthOrder
+            A new order over the faces of ``m_new``, attached to it.
+        """
+        F, xy = _screen(m_new, "m_new")
+        nc = F.shape[0]
+        if face_parent is None:
+            if nc != self._n:
+                raise MescherError(
+                    f"m_new: expected a mescher with {self._n} faces (n_faces) when no "
+                    f"face_parent is given, found {nc}"
+                )
+            parent = np.arange(nc, dtype=np.int64)
+        else:
+            parent = self._parents(face_parent, nc)
+        T = np.ascontiguousarray(xy[F], dtype=np.float64)
+        tol = _tol(tol, T)
+        pairs, cen = overlapping_pairs(T, tol, centroids=True)
+        n = np.int64(self._n)
+        pa, pb = parent[pairs[:, 0]], parent[pairs[:, 1]]
+        if self.n_arcs:
+            keys = self._arcs[:, 0] * n + self._arcs[:, 1]  # sorted (canonical arcs)
+            fwd, bwd = in_sorted(keys, pa * n + pb), in_sorted(keys, pb * n + pa)
+        else:
+            fwd = bwd = np.zeros(pairs.shape[0], dtype=bool)
+        arcs = [pairs[fwd], pairs[bwd][:, ::-1]]
+        new = np.flatnonzero(~(fwd | bwd))
+        if new.size:
+            _local_inputs(m_new)
+            dz = _local_depth_changes(m_new, pairs[new], cen[new], radius)
+            arcs.append(_arcs_from_depths(pairs[new], dz, tol))
+        return DepthOrder(nc, np.concatenate(arcs), m=m_new)
+
+    def _parents(self, face_parent: Any, nc: int) -> np.ndarray:
+        """Validated ``face_parent``: one face of this order per child face."""
+        parent = as_int_array(face_parent, "face_parent", 1)
+        if parent.shape[0] != nc:
+            raise MescherError(
+                f"face_parent: expected one parent per child face ({nc}, the faces of the new "
+                f"mescher), found {parent.shape[0]}"
+            )
+        if nc and (parent.min() < 0 or parent.max() >= self._n):
+            bad = parent[(parent < 0) | (parent >= self._n)][0]
+            raise MescherError(
+                f"face_parent: expected parent faces in [0, {self._n}), found {int(bad)}"
+            )
+        return parent
 
     # ------------------------------------------------------------------ analysis
     def cycles(self, *, warn: bool = True) -> list[list[int]]:
@@ -527,9 +567,62 @@ class DepthOrder:
         return order
 
 
+def _local_inputs(m: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(edges, zeta, corner_depths)`` of a mescher, or a clear error."""
+    try:
+        return np.asarray(m.edges), np.asarray(m.zeta), np.asarray(m.corner_depths())
+    except AttributeError:
+        raise MescherError(
+            f"m: expected a Mescher (with edges, zeta, corner_depths), found {type(m).__name__}"
+        ) from None
+
+
+def _local_depth_changes(
+    m: Any, pairs: np.ndarray, cen: np.ndarray, radius: float | None, force_paths: bool = False
+) -> np.ndarray:
+    """Depth change ``dz`` from face ``i`` to face ``j`` at the centroid of each pair's overlap,
+    from the mescher's own relative depths (see :meth:`DepthOrder.from_local_depth`).
+
+    Pairs in different connected components have no path between them: ``dz = 0`` (no arc).
+    """
+    F, xy = _screen(m)
+    edges, zeta, Zl = _local_inputs(m)
+    nv = xy.shape[0]
+    T = np.ascontiguousarray(xy[F], dtype=np.float64)
+    dz = np.zeros(pairs.shape[0])
+    w = np.sqrt(((xy[edges[:, 1]] - xy[edges[:, 0]]) ** 2).sum(axis=1) + zeta**2)
+    w = np.maximum(w, 1e-12 * model_scale(xy))  # csgraph would drop zero-length edges
+    G = sp.csr_matrix(
+        (
+            np.concatenate((w, w)),
+            (
+                np.concatenate((edges[:, 0], edges[:, 1])),
+                np.concatenate((edges[:, 1], edges[:, 0])),
+            ),
+        ),
+        shape=(nv, nv),
+    )
+    ncomp, comp = csgraph.connected_components(G, directed=False)
+    vi, vj = F[pairs[:, 0], 0], F[pairs[:, 1], 0]
+    sel = np.flatnonzero(comp[vi] == comp[vj]) if ncomp > 1 else np.arange(pairs.shape[0])
+    if sel.size < pairs.shape[0]:
+        pairs, cen, vi, vj = pairs[sel], cen[sel], vi[sel], vj[sel]
+    local = _depth_change(cen, pairs, T, Zl)
+    # One spanning forest (a tree per component): exact when zeta is exact.
+    roots = np.unique(comp, return_index=True)[1]
+    phi = integrate_one_form(edges, zeta, nv, spanning_forest(G, roots))
+    resid = zeta - (phi[edges[:, 1]] - phi[edges[:, 0]])
+    scale = max(model_scale(xy), float(np.abs(phi).max()))
+    if np.abs(resid).max(initial=0.0) <= _EXACT_RTOL * scale and not force_paths:
+        dz[sel] = phi[vj] - phi[vi] + local
+    else:
+        dz[sel] = local + _path_depths(m, w, F, T, pairs, vi, vj, radius)
+    return dz
+
+
 def _path_depths(
     m: Any,
-    G: sp.csr_matrix,
+    w: np.ndarray,
     F: np.ndarray,
     T: np.ndarray,
     pairs: np.ndarray,
@@ -539,36 +632,28 @@ def _path_depths(
 ) -> np.ndarray:
     """zeta integrated from ``vi`` to ``vj`` along short paths (impossible meschers).
 
-    A shortest-path tree grown from a seed vertex ``s`` gives ``phi_s(v)``, zeta integrated from
-    ``s`` to ``v`` along the tree, and the pair's depth change is ``phi_s(v_j) - phi_s(v_i)``.
-    When the work allows (``#sources * #V <= _EXACT_PATH_WORK`` and no ``radius``), every
-    source ``v_i`` is its own seed: exact shortest paths.  Otherwise seeds are shared by patches
-    (:func:`_patch_seeds`).
+    A shortest-path search from a seed vertex ``s`` (edge lengths ``w``) gives ``phi_s(v)``,
+    zeta integrated from ``s`` to ``v`` along the path, and the pair's depth change is
+    ``phi_s(v_j) - phi_s(v_i)`` (:func:`meschers_igl.order_graph.path_integrals`: one compiled
+    Dijkstra per seed, stopped once its targets are settled).  When the work allows
+    (``#sources * #V <= _EXACT_PATH_WORK`` and no ``radius``), every source ``v_i`` is its own
+    seed: exact shortest paths.  Otherwise seeds are shared by patches (:func:`_patch_seeds`).
     """
-    nv = G.shape[0]
+    nv = np.asarray(m.xy).shape[0]
     edges, zeta = np.asarray(m.edges), np.asarray(m.zeta)
     sources = np.unique(vi)
     if radius is None and sources.size * nv <= _EXACT_PATH_WORK:
-        # few enough sources: one Dijkstra tree per source vertex, i.e. exact shortest paths
+        # few enough sources: a search per source vertex, i.e. exact shortest paths
         seeds, seed_of_pair = sources, np.searchsorted(sources, vi)
     else:
         seeds, seed_of_pair = _patch_seeds(m, F, T, pairs, radius)
+    srt = np.argsort(seed_of_pair, kind="stable")
+    tstart = 2 * np.concatenate(([0], np.cumsum(np.bincount(seed_of_pair, minlength=seeds.size))))
+    target = np.stack((vi[srt], vj[srt]), axis=1).reshape(-1)
+    phi = path_integrals(edges, w, zeta, nv, seeds, (tstart, target)).reshape(-1, 2)
     out = np.empty(pairs.shape[0])
-    block = max(1, _DIJKSTRA_BLOCK // max(nv, 1))
-    for s0 in range(0, seeds.size, block):  # loop over blocks of seeds, not faces or edges
-        sl = seeds[s0 : s0 + block]
-        _, pred = csgraph.dijkstra(G, indices=sl, return_predecessors=True)
-        pred = np.atleast_2d(pred)
-        step = np.zeros(pred.shape)
-        has = pred >= 0
-        cols = np.broadcast_to(np.arange(nv), pred.shape)
-        e, sign = edge_lookup(edges, nv, pred[has], cols[has])
-        step[has] = sign * zeta[e]
-        phi = integrate_on_tree(pred, step)
-        sel = np.flatnonzero((seed_of_pair >= s0) & (seed_of_pair < s0 + sl.size))
-        row = seed_of_pair[sel] - s0
-        out[sel] = phi[row, vj[sel]] - phi[row, vi[sel]]
-    return out
+    out[srt] = phi[:, 1] - phi[:, 0]
+    return np.nan_to_num(out, nan=0.0)  # unreachable (other component): no arc
 
 
 def _patch_seeds(
