@@ -237,10 +237,15 @@ class Mescher:
         m = cls.from_corner_depths(vm.F, vm.xy, vm.Z)
         return (m, vm.report) if return_report else m
 
-    def with_xy(self, xy) -> Mescher:
-        """Same topology and depths, new screen positions."""
+    def with_xy(self, xy, order=None):
+        """Same topology and depths, new screen positions.
+
+        With a :class:`DepthOrder`, returns ``(mescher, order.follow(mescher))``: arcs kept
+        where faces still overlap, new overlaps ordered from local depth.
+        """
         xy = as_points(xy, "xy", 2, self.n_vertices)
-        return self._replace(xy=xy)
+        m = self._replace(xy=xy)
+        return m if order is None else (m, order.follow(m))
 
     def with_zeta(self, zeta, project: bool = False) -> Mescher:
         """Same topology and screen positions, new relative depths (checked or projected)."""
@@ -604,7 +609,8 @@ class Mescher:
             Both keep local integrability and the periods (in this mescher's homology basis);
             original vertices keep their indices.
         order : DepthOrder, optional
-            Carried to the children (``order.refine``) and returned.
+            Carried to the children and returned (``order.follow``: parents' arcs where
+            children overlap, overlaps that Loop's moved xy create ordered from local depth).
         return_matrix : bool
             Also return the (#V_child, #V) 0-form subdivision matrix.
         return_face_parent : bool
@@ -628,7 +634,7 @@ class Mescher:
             m = type(self)(lvl.F, lvl.xy, lvl.edges, lvl.zeta, _trusted=(lvl.face_edges, lvl.signs))
             m.__dict__["_generators"] = lvl.generators  # the parent's basis, refined
             if order is not None:
-                order = order.refine(lvl.face_parent, m)
+                order = order.follow(m, lvl.face_parent)
             if return_matrix:
                 S_total = (lvl.S @ S_total).tocsr()
             parent_total = parent_total[lvl.face_parent]
@@ -641,15 +647,17 @@ class Mescher:
             out.append(parent_total)
         return out[0] if len(out) == 1 else tuple(out)
 
-    def smooth(self, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1) -> Mescher:
+    def smooth(self, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1, order=None):
         """Laplacian smoothing of xy and of the exact part of zeta (paper Sec. 4.4).
 
         The harmonic part and so every period is unchanged; ``smooth(0, 0)`` is the identity.
-        See :func:`meschers_igl.smoothing.smooth`.
+        See :func:`meschers_igl.smoothing.smooth`.  With a :class:`DepthOrder`, returns
+        ``(mescher, order.follow(mescher))`` (smoothing xy moves overlaps).
         """
         from .smoothing import smooth
 
-        return smooth(self, t_xy=t_xy, t_zeta=t_zeta, iterations=iterations)
+        m = smooth(self, t_xy=t_xy, t_zeta=t_zeta, iterations=iterations)
+        return m if order is None else (m, order.follow(m))
 
     def bent_embedding(self) -> tuple[np.ndarray, np.ndarray]:
         """``(V, F)``: 3D mesh with depth ``z`` from the Hodge decomposition (paper Sec. 4.6)."""
