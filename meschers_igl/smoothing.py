@@ -64,5 +64,6 @@ def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
         if t_zeta > 0:
             h = m.hodge()
             zeta = h.omega + m.d01 @ ops[t_zeta](np.asarray(h.z))
-        m = m._replace(xy=xy, zeta=zeta)
+        m = m.with_xy(xy) if t_xy > 0 else m  # both keep the homology basis
+        m = m.with_zeta(zeta) if t_zeta > 0 else m
     return m
