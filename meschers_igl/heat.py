@@ -79,9 +79,14 @@ def choose_method(m: Any) -> str:
     l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
     if l.shape[0] == 0:
         return "standard"
-    if float(intrinsic.corner_angles(l).min()) < np.radians(SLIVER_DEGREES):
+    # one pass over the cotangents: an angle below SLIVER_DEGREES has cot above cot(SLIVER),
+    # an edge is Delaunay when its weight (cot a + cot b) / 2 >= 0 (intrinsic.is_delaunay)
+    hc = intrinsic.half_cotangents(l)
+    if float(hc.max()) > 0.5 / np.tan(np.radians(SLIVER_DEGREES)):
         return "refined"
-    if not intrinsic.is_delaunay(l, m.F, face_edges=m.face_edges).all():
+    fe = np.asarray(m.face_edges).reshape(-1)
+    w = np.bincount(fe, weights=hc.reshape(-1), minlength=int(m.n_edges))
+    if float(w.min()) < -1e-9:
         return "robust"
     return "standard"
 
