@@ -38,6 +38,7 @@ from .order_graph import (
     format_cycles,
     in_sorted,
     path_integrals,
+    reconcile_arcs,
     shortest_cycle_through,
     strong_components,
     subgraph_arcs,
@@ -57,7 +58,7 @@ __all__ = ["DepthOrder"]
 _EXACT_RTOL = 1e-9
 # from_local_depth on impossible meschers: exact shortest paths (one Dijkstra per source vertex,
 # stopped at its targets) while #sources * #V stays below this; shared patch seeds beyond.
-_EXACT_PATH_WORK = 300_000_000
+_EXACT_PATH_WORK = 30_000_000
 # refine: child pairs tested per parent arc directly while their number stays below this many
 # per child face (plus a constant); beyond it (parents with very many children) the grid.
 _REFINE_WORK_PER_CHILD = 64
@@ -423,7 +424,10 @@ class DepthOrder:
           ``parent[a] -> parent[b]``, the pair gets ``a -> b`` (and ``b -> a`` for the reverse
           arc): the order is carried;
         * otherwise -- an overlap that appeared, or one between children of one face -- the pair
-          is ordered from local depth (:meth:`from_local_depth`'s rule on ``m_new``).
+          is ordered from local depth (:meth:`from_local_depth`'s rule on ``m_new``), unless
+          that would close a cycle with the carried arcs: then the carried arcs win
+          (:func:`meschers_igl.order_graph.reconcile_arcs`: such an arc is reversed when the
+          carried arcs imply the reverse, else dropped).
 
         Pairs that no longer overlap get no arc: overlaps that vanish drop their arcs.  With
         ``m_new`` equal to the order's mescher and no parents this returns the order restricted
@@ -467,13 +471,16 @@ class DepthOrder:
             fwd, bwd = in_sorted(keys, pa * n + pb), in_sorted(keys, pb * n + pa)
         else:
             fwd = bwd = np.zeros(pairs.shape[0], dtype=bool)
-        arcs = [pairs[fwd], pairs[bwd][:, ::-1]]
+        carried = np.concatenate((pairs[fwd], pairs[bwd][:, ::-1]))
         new = np.flatnonzero(~(fwd | bwd))
-        if new.size:
-            _local_inputs(m_new)
-            dz = _local_depth_changes(m_new, pairs[new], cen[new], radius)
-            arcs.append(_arcs_from_depths(pairs[new], dz, tol))
-        return DepthOrder(nc, np.concatenate(arcs), m=m_new)
+        if new.size == 0:
+            return DepthOrder(nc, carried, m=m_new)
+        _local_inputs(m_new)
+        dz = _local_depth_changes(m_new, pairs[new], cen[new], radius)
+        # local depth must not overrule the carried order (on an impossible figure the two can
+        # disagree): new arcs that close a cycle with carried ones are reversed or dropped
+        local = reconcile_arcs(nc, carried, _arcs_from_depths(pairs[new], dz, tol))
+        return DepthOrder(nc, np.concatenate((carried, local)), m=m_new)
 
     def _parents(self, face_parent: Any, nc: int) -> np.ndarray:
         """Validated ``face_parent``: one face of this order per child face."""

@@ -32,6 +32,7 @@ __all__ = [
     "gather_rows",
     "in_sorted",
     "path_integrals",
+    "reconcile_arcs",
     "shortest_cycle_through",
     "strong_components",
     "subgraph_arcs",
@@ -440,3 +441,60 @@ def path_integrals(
         np.ascontiguousarray(tstart, dtype=np.int64),
         np.ascontiguousarray(target, dtype=np.int64),
     )
+
+
+def reconcile_arcs(n: int, hard: np.ndarray, soft: np.ndarray) -> np.ndarray:
+    """``soft`` arcs adjusted so that they close no cycle with the ``hard`` ones.
+
+    Used when an order is followed (:meth:`DepthOrder.follow`): the carried arcs are *hard*,
+    the arcs of new overlaps ordered from local depth are *soft* (on an impossible figure the
+    local depth along a path can contradict the order the figure was built with).  Within each
+    strongly connected component of ``hard + soft``:
+
+    1. a soft arc ``u -> v`` with a path ``v -> ... -> u`` of hard arcs contradicts what the hard
+       arcs already imply, and is reversed (``v -> u`` is implied anyway);
+    2. soft arcs still on a cycle after that are dropped.
+
+    Arcs outside cycles are returned unchanged.  If ``hard`` is acyclic, so is the result.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes.
+    hard, soft : (h, 2), (s, 2) int64
+        Arcs ``i -> j``.
+
+    Returns
+    -------
+    (s', 2) int64
+        The adjusted soft arcs (``s' <= s``).
+    """
+    soft = np.asarray(soft, dtype=np.int64).reshape(-1, 2)
+    hard = np.asarray(hard, dtype=np.int64).reshape(-1, 2)
+    comps = strong_components(n, np.concatenate((hard, soft)))
+    if not comps or soft.shape[0] == 0:
+        return soft
+    label = np.full(n, -1, dtype=np.int64)
+    for k, c in enumerate(comps):
+        label[c] = k
+    soft = soft.copy()
+    inside = np.flatnonzero((label[soft[:, 0]] >= 0) & (label[soft[:, 0]] == label[soft[:, 1]]))
+    for k, c in enumerate(comps):  # the faces of each cycle: a handful, not all faces
+        mine = inside[label[soft[inside, 0]] == k]
+        if mine.size == 0:
+            continue
+        sub = subgraph_arcs(hard, c, n)
+        A = adjacency(c.size, sub)
+        local = np.searchsorted(c, soft[mine])
+        for r, (u, v) in zip(mine.tolist(), local.tolist(), strict=True):
+            reach = csgraph.breadth_first_order(A, v, directed=True, return_predecessors=False)
+            if np.any(reach == u):
+                soft[r] = soft[r, ::-1]
+    comps = strong_components(n, np.concatenate((hard, soft)))
+    if not comps:
+        return soft
+    label[:] = -1
+    for k, c in enumerate(comps):
+        label[c] = k
+    cyc = (label[soft[:, 0]] >= 0) & (label[soft[:, 0]] == label[soft[:, 1]])
+    return soft[~cyc]
