@@ -61,3 +61,10 @@ else:
     axes[2].set(title="loss", xlabel="step")
     fig.tight_layout()
     plt.show()
+
+# %%
+# The full fit, ``meschers inverse penrose --out fit`` (1200 steps at 128 x 128), ends with a
+# Penrose triangle: target, torus initialization and recovered mescher.
+#
+# .. image:: /images/inverse_penrose.png
+#    :alt: Inverse rendering: target, torus initialization, recovered mescher
