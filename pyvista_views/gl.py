@@ -195,5 +195,9 @@ def _id_plotter(window_size: tuple[int, int], early_z: bool) -> pv.Plotter:
     plotter, flag = _ID_PLOTTERS[-1]
     flag[0] = bool(early_z)
     if tuple(plotter.window_size) != tuple(window_size):
-        plotter.window_size = list(window_size)
+        # A new window rather than a resized one: the first frame after resizing an offscreen
+        # EGL window comes back nearly empty (seen with VTK 9.4-9.7 on Mesa).
+        plotter.close()
+        _ID_PLOTTERS.pop()
+        return _id_plotter(window_size, early_z)
     return plotter

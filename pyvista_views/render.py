@@ -107,7 +107,10 @@ def render(
         ``diffuse`` (0.8), ``anti_aliasing`` (False), ``scalar_bar`` (True: with ``scalars``, a
         colour bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default
         bounds then frame the figure in the rest of the window), ``scalar_bar_title`` (default:
-        the field's name, the key of a dict of scalars, else ``"scalars"``).
+        the field's name, the key of a dict of scalars, else ``"scalars"``), ``exposure`` (1),
+        ``tone_map`` ("none" or "reinhard") and ``normalize_lights`` (True): by default the
+        lights and environment are scaled so that no visible normal is lit brighter than the
+        material's colour, however many lights there are (:func:`~pyvista_views.scene.relight`).
 
     Returns
     -------
@@ -118,6 +121,11 @@ def render(
     )
     anti_aliasing = bool(kwargs.pop("anti_aliasing", False))
     scalar_bar = bool(kwargs.pop("scalar_bar", True)) and scalars is not None
+    exposure = {
+        "exposure": kwargs.pop("exposure", 1.0),
+        "tone_map": kwargs.pop("tone_map", "none"),
+        "normalize": bool(kwargs.pop("normalize_lights", True)),
+    }
     bar_title = kwargs.pop("scalar_bar_title", None)
     as_choice(shading, "shading", SHADINGS)
     directional = as_lights(lights)  # refuse point lights before any GL work
@@ -127,7 +135,7 @@ def render(
     with MescherScene(
         window_size=window_size, background=background, anti_aliasing=anti_aliasing
     ) as scene:
-        scene.relight(directional, env)  # before the layer, so it is lit (and baked) once
+        scene.relight(directional, env, **exposure)  # before the layer: lit (and baked) once
         if scalar_bar:
             scene.reserve_scalar_bar()  # before the layer, so it is framed once
         if bounds is not None:

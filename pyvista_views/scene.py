@@ -44,7 +44,16 @@ from .camera import DEFAULT_MARGIN, as_bounds, as_window_size, default_bounds, s
 from .envmap import EnvironmentMap, as_env_map
 from .gl import face_id_image, flat_varyings_work, use_early_z, use_flat_varyings
 from .isolines import levels_of, visible_isolines
-from .lights import DirectionalLight, as_lights, lambert, set_vtk_lights
+from .lights import (
+    TONE_MAPS,
+    DirectionalLight,
+    as_lights,
+    exposure_scale,
+    lambert,
+    peak_irradiance,
+    set_vtk_lights,
+    tone_map_curve,
+)
 from .polydata import (
     SHADINGS,
     as_scalars,
@@ -479,8 +488,11 @@ def _split_folds(layer: Layer) -> None:
     layer._folds_split = True
 
 
-def _use_baked(layer: Layer, irradiance: np.ndarray) -> None:
-    rgb = layer.albedo() * (layer.ambient + layer.diffuse * irradiance)
+def _use_baked(
+    layer: Layer, irradiance: np.ndarray, tone_map: str = "none", white: float = 1.0
+) -> None:
+    light = layer.ambient + layer.diffuse * irradiance
+    rgb = layer.albedo() * tone_map_curve(light, white, tone_map)
     baked = np.clip(np.rint(255.0 * rgb), 0, 255).astype(np.uint8)
     mapper = layer.actor.mapper
     if layer.shading_location == "cell":
@@ -500,15 +512,27 @@ def relight(
     layers: Sequence[Layer],
     lights: object = DEFAULT_LIGHTS,
     env_map: object = None,
+    *,
+    exposure: float = 1.0,
+    tone_map: str = "none",
+    normalize: bool = True,
 ) -> tuple[list[DirectionalLight], EnvironmentMap | None]:
     """Light every layer of ``plotter``; the geometry is not rebuilt.
 
-    Without an environment map the lights are VTK directional lights (the light kit and
-    headlight removed) and each layer's matte material gives
-    ``colour * (ambient + diffuse * sum_i I_i max(0, n . l_i))``.  With one, VTK lighting is off
-    and the same formula with ``E_env(n) + sum_i ...`` as irradiance is evaluated per face (flat
-    indexed meshes) or per point (:mod:`.envmap`) and drawn as colours.  Call
-    ``plotter.render()`` before a screenshot.
+    Each layer's matte material gives ``colour * (ambient + diffuse * s * E(n))`` with
+    ``E(n) = E_env(n) + sum_i I_i max(0, n . l_i)``.  By default (``normalize``) the factor
+    ``s`` keeps the brightest visible normal at ``ambient + diffuse * s * E <= 1``
+    (:func:`~pyvista_views.lights.exposure_scale`): however many lights and whatever
+    environment, nothing is brighter than the material's colour, so the figure never washes
+    out into a white background; one light of intensity 1 is left as it is.  ``exposure``
+    multiplies ``s``; ``tone_map="reinhard"`` then compresses what exceeds 1 instead of
+    clipping it (:func:`~pyvista_views.lights.tone_map_curve`, white point at the brightest
+    visible normal).
+
+    Without an environment map or tone map the lights are VTK directional lights (the light
+    kit and headlight removed, ``s`` folded into each layer's diffuse coefficient).  Otherwise
+    VTK lighting is off and the formula is evaluated per face (flat indexed meshes) or per
+    point (:mod:`.envmap`) and drawn as colours.  Call ``plotter.render()`` before a screenshot.
 
     Returns
     -------
@@ -517,16 +541,28 @@ def relight(
     """
     directional = as_lights(lights)
     env = as_env_map(env_map)
-    if env is None:
+    tone_map = as_choice(tone_map, "tone_map", TONE_MAPS)
+    exposure = as_positive(exposure, "exposure")
+    peak = peak_irradiance(directional, env)
+    scales = [exposure_scale(peak, la.ambient, la.diffuse, exposure, normalize) for la in layers]
+    # VTK clamps a material's diffuse coefficient to [0, 1]: brighter than that is baked.
+    fits = all(la.diffuse * s <= 1.0 for la, s in zip(layers, scales))
+    if env is None and tone_map == "none" and fits:
         set_vtk_lights(plotter, directional)
-        for layer in layers:
+        for layer, s in zip(layers, scales):
             _use_vtk_lighting(layer)
+            layer.actor.prop.diffuse = layer.diffuse * s
     else:
         plotter.remove_all_lights()
-        for layer in layers:
+        for layer, s in zip(layers, scales):
+            layer.actor.prop.diffuse = layer.diffuse
             _split_folds(layer)
             n = layer.shading_normals()
-            _use_baked(layer, env.irradiance(n) + lambert(n, directional))
+            irradiance = lambert(n, directional)
+            if env is not None:
+                irradiance = irradiance + env.irradiance(n)
+            white = layer.ambient + layer.diffuse * s * peak
+            _use_baked(layer, s * irradiance, tone_map, white)
     return directional, env
 
 
@@ -591,6 +627,7 @@ class MescherScene:
         self._lit = False
         self._box: list[tuple[float, float, float, float]] = []
         self._reserve = 0.0  # share of the window's width kept for a colour bar
+        self.exposure, self.tone_map, self.normalize = 1.0, "none", True
 
     # -- content ---------------------------------------------------------------------------
     def add(
@@ -643,8 +680,8 @@ class MescherScene:
         self.layers.append(layer)
         if not self._lit:
             self.relight(DEFAULT_LIGHTS)
-        elif self.env_map is not None:
-            relight(self.plotter, [layer], self.lights, self.env_map)
+        else:  # the new layer's material takes the scene's exposure
+            relight(self.plotter, [layer], self.lights, self.env_map, **self._exposure())
         self._frame()
         return layer
 
@@ -760,13 +797,34 @@ class MescherScene:
             self._frame()
         return actor
 
-    def relight(self, lights: object = DEFAULT_LIGHTS, env_map: object = None) -> None:
+    def relight(
+        self,
+        lights: object = DEFAULT_LIGHTS,
+        env_map: object = None,
+        *,
+        exposure: float | None = None,
+        tone_map: str | None = None,
+        normalize: bool | None = None,
+    ) -> None:
         """Change the lighting of every layer (no geometry rebuilt); see :func:`relight`.
 
         ``lights`` may be one direction ``(x, y, z)`` toward a light (``relight((1, 0, 1))``).
+        ``exposure``, ``tone_map`` and ``normalize`` are kept for later relights and layers
+        (defaults 1, ``"none"``, True).
         """
-        self.lights, self.env_map = relight(self.plotter, self.layers, lights, env_map)
+        if exposure is not None:
+            self.exposure = exposure
+        if tone_map is not None:
+            self.tone_map = tone_map
+        if normalize is not None:
+            self.normalize = bool(normalize)
+        self.lights, self.env_map = relight(
+            self.plotter, self.layers, lights, env_map, **self._exposure()
+        )
         self._lit = True
+
+    def _exposure(self) -> dict:
+        return {"exposure": self.exposure, "tone_map": self.tone_map, "normalize": self.normalize}
 
     def screenshot(self) -> np.ndarray:
         """(H, W, 3) uint8 of the current state (renders first, as VTK needs after a relight)."""

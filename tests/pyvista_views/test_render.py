@@ -90,13 +90,48 @@ def test_matte_shade_is_exactly_ambient_plus_lambert(tilt, shading):
 def test_several_lights_add_up_and_no_light_leaves_ambient_only():
     V, F = square(0, 1, 0, 1)
     m = Mescher.from_mesh(V, F)
-    (one,) = {int(v) for v in render(m, lights=[(1, 0, 1)], window_size=(20, 20))[10, 10]}
-    two = render(m, lights=[(1, 0, 1), (-1, 0, 1)], window_size=(20, 20))[10, 10, 0]
-    none = render(m, lights=None, window_size=(20, 20))[10, 10, 0]
+    kw = dict(window_size=(20, 20), normalize_lights=False)
+    (one,) = {int(v) for v in render(m, lights=[(1, 0, 1)], **kw)[10, 10]}
+    two = int(render(m, lights=[(1, 0, 1), (-1, 0, 1)], **kw)[10, 10, 0])
+    none = int(render(m, lights=None, **kw)[10, 10, 0])
     c = np.sqrt(0.5)
     assert abs(one - 255 * 0.85 * (0.2 + 0.8 * c)) <= 1
     assert abs(two - min(255, 255 * 0.85 * (0.2 + 1.6 * c))) <= 1
     assert abs(none - 255 * 0.85 * 0.2) <= 1
+
+
+def test_lights_never_wash_out_by_default():
+    """Normalised (the default): the brightest visible normal of two lights (1,0,1), (-1,0,1)
+    is n = (0,0,1) with irradiance 2c (c = cos 45); the diffuse factor becomes
+    s = (1 - 0.2) / (0.8 * 2c), so that normal shows exactly the albedo 0.85, and one light
+    of intensity 1 is left as it is."""
+    V, F = square(0, 1, 0, 1)
+    m = Mescher.from_mesh(V, F)
+    c = np.sqrt(0.5)
+    one = int(render(m, lights=[(1, 0, 1)], window_size=(20, 20))[10, 10, 0])
+    assert abs(one - 255 * 0.85 * (0.2 + 0.8 * c)) <= 1  # unchanged
+    two = int(render(m, lights=[(1, 0, 1), (-1, 0, 1)], window_size=(20, 20))[10, 10, 0])
+    assert abs(two - 255 * 0.85) <= 1  # 0.85 * (0.2 + 0.8 * s * 2c) with s = 1 / (2c)
+    # environment maps count too: studio + two lights stay below the albedo on a sphere
+    ball = sphere(24)
+    img = render(
+        Mescher.from_mesh(*ball),
+        order=back_to_front(*ball),
+        lights=[(1, 1, 1), (-1, 0, 1)],
+        env_map="studio",
+        shading="smooth",
+        window_size=(64, 64),
+    )
+    assert img[mask(img)].max() <= round(255 * 0.85) + 1
+    # exposure brightens on purpose; the Reinhard tone map keeps the highlights unclipped
+    bright = render(m, lights=[(1, 0, 1), (-1, 0, 1)], window_size=(20, 20), exposure=2.0)
+    assert int(bright[10, 10, 0]) == 255
+    toned = render(
+        m, lights=[(1, 0, 1), (-1, 0, 1)], window_size=(20, 20), exposure=2.0, tone_map="reinhard"
+    )
+    assert 0.85 * 255 - 2 <= int(toned[10, 10, 0]) <= 0.85 * 255 + 1  # white point -> albedo
+    with pytest.raises(MescherError, match="tone_map"):
+        render(m, tone_map="filmic", window_size=(20, 20))
 
 
 def test_point_lights_are_refused_before_rendering():
