@@ -32,7 +32,7 @@ print("depth gaps the tool recorded:", pm.meta["verification"]["depth_gaps"][:2]
 
 # %%
 # The mescher rendered with its depth order, and its exact part ``z`` as colour.
-fig, axes = plt.subplots(1, 2, figsize=(10, 5))
+fig, axes = plt.subplots(1, 2, figsize=(10, 5.6))
 axes[0].imshow(render(m, order=order, lights=[(1, 1, 1)], window_size=(420, 420)))
 axes[0].set_title("ParadoxToolkit penrose_triangle as a mescher")
 axes[1].imshow(render(m, order=order, scalars=m.hodge().z, window_size=(420, 420)))

@@ -33,18 +33,18 @@ print(
 # %%
 # The plotter component draws the mescher (the same rendering path as
 # :func:`pyvista_views.render`), adds the bent embedding as a real mesh in a second scene, and
-# relights.
+# relights; ``pl.mescher.screenshot()`` renders first, as VTK needs after a relight.
 pv.set_plot_theme("meschers")
 shots = {}
 pl = pv.Plotter(off_screen=True, window_size=(400, 400))
 pl.mescher.add(m, order=order)
-shots["pl.mescher.add(m, order)"] = pl.screenshot()
+shots["pl.mescher.add(m, order)"] = pl.mescher.screenshot()
 pl.mescher.relight((-1, 0.5, 0.6))
-shots["pl.mescher.relight((-1, 0.5, 0.6))"] = pl.screenshot()
+shots["pl.mescher.relight((-1, 0.5, 0.6))"] = pl.mescher.screenshot()
 pl.close()
 pl = pv.Plotter(off_screen=True, window_size=(400, 400))
 pl.mescher.add_embedding(m, kind="bent")
-shots['pl.mescher.add_embedding(m, kind="bent")'] = pl.screenshot()
+shots['pl.mescher.add_embedding(m, kind="bent")'] = pl.mescher.screenshot()
 pl.close()
 
 # %%
