@@ -469,3 +469,29 @@ def test_auto_is_standard_on_delaunay_meshes_and_equals_libigl():
     d_auto = HeatGeodesicSolver(m).distance(7)
     d_std = HeatGeodesicSolver(m, method="standard").distance(7)
     np.testing.assert_array_equal(d_auto, d_std)
+
+
+def test_solver_reuses_the_meschers_topology_and_poisson_factor(monkeypatch):
+    """Issue 12: the standard solver factors only its heat matrix; the pinned -L is the
+    mescher's own cached factorization (shared with the Hodge decomposition)."""
+    import meschers_igl.heat as heat
+    import meschers_igl.topology as topology
+
+    V, F = ordinary_torus(24, 8)
+    m = Mescher.from_mesh(V, F)
+    ex = m.exact_part_solver()  # the mescher factors -L once (Hodge decomposition)
+    calls = []
+    real = heat.factorize_spd
+    monkeypatch.setattr(
+        heat, "factorize_spd", lambda A, **kw: calls.append(A.shape) or real(A, **kw)
+    )
+    monkeypatch.setattr(
+        topology, "edge_topology", lambda *a, **k: pytest.fail("edge topology recomputed")
+    )
+    S = HeatGeodesicSolver(m, method="standard")
+    assert calls == [(m.n_vertices, m.n_vertices)]  # the heat step only (closed mesh)
+    assert S._poisson == ex.solve
+    d = S.distance(5)
+    np.testing.assert_allclose(
+        d, HeatGeodesicSolver(m, method="standard", solver="splu").distance(5), atol=1e-10
+    )
