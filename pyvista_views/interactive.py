@@ -21,6 +21,9 @@ from .camera import as_bounds
 from .polydata import SHADINGS, as_scalars, draw_order
 from .scene import DEFAULT_LIGHTS, MescherScene
 
+#: Font size of the help text in the side panel (PyVista's points: about 17-pixel lines).
+HELP_FONT_SIZE = 9
+
 
 def light_from_angles(azimuth: float, elevation: float) -> np.ndarray:
     """(3,) unit direction toward a light, camera frame.
@@ -133,10 +136,10 @@ class MescherViewer:
             return {}
         W = self.scene.plotter.window_size[0]
         return dict(
-            position_x=(W - 0.85 * self._panel) / W,
-            width=0.7 * self._panel / W,
-            position_y=0.05,
-            height=0.38,
+            position_x=(W - 0.92 * self._panel) / W,
+            width=0.6 * self._panel / W,
+            position_y=0.04,
+            height=0.3,
         )
 
     def set_light(self, direction: object, index: int = 0) -> None:
@@ -225,37 +228,76 @@ class MescherViewer:
         """(H, W, 3) uint8 of the current state."""
         return self.scene.screenshot()
 
+    #: Help shown in the side panel (short lines: the panel is ~300 pixels wide).
+    HELP = (
+        "Keys\n"
+        "r  select faces: the 1st\n"
+        "   group goes in front\n"
+        "   of the 2nd\n"
+        "s  next scalar field\n"
+        "f  flat / smooth\n"
+        "mouse  pan and zoom\n"
+        "q  close"
+    )
+
+    def open_panel(self) -> int:
+        """Widen the window by a side panel on the right for the widgets, the help and the
+        colour bar, so that nothing is drawn over the figure; returns its width in pixels.
+
+        The figure keeps its size and framing (``window_size`` is the figure's); the panel is
+        ``max(300, 0.4 * height)`` pixels wide, enough for the sliders' titles and the help at a
+        readable size (:data:`HELP_FONT_SIZE`) at the default 800 x 800.
+        """
+        if self._panel:
+            return self._panel
+        w, h = (int(v) for v in self.scene.plotter.window_size)
+        self._panel = max(300, int(0.4 * h))
+        self.scene.plotter.window_size = [w + self._panel, h]
+        self.scene.window_size = (w + self._panel, h)
+        self._build()
+        return self._panel
+
     def _add_widgets(self) -> None:
         plotter = self.scene.plotter
+        panel = self.open_panel()
+        W, H = (int(v) for v in plotter.window_size)
+        x0, x1 = (W - 0.92 * panel) / W, (W - 0.08 * panel) / W  # inside the panel
         az, el = (
             angles_from_light(self.scene.lights[0].direction) if self.scene.lights else (45, 45)
         )
+        common = dict(style="modern", title_height=0.022, fmt="%.0f", color="black")
         plotter.add_slider_widget(
             lambda v: self.set_light_angles(azimuth=v),
             [-180, 180],
             value=az,
-            title="light azimuth",
-            pointa=(0.55, 0.92),
-            pointb=(0.95, 0.92),
-            style="modern",
+            title="light azimuth (deg)",
+            pointa=(x0, 0.90),
+            pointb=(x1, 0.90),
+            **common,
         )
         plotter.add_slider_widget(
             lambda v: self.set_light_angles(elevation=v),
             [-89, 90],
             value=el,
-            title="light elevation",
-            pointa=(0.55, 0.8),
-            pointb=(0.95, 0.8),
-            style="modern",
+            title="light elevation (deg)",
+            pointa=(x0, 0.77),
+            pointb=(x1, 0.77),
+            **common,
         )
+        help_text = plotter.add_text(
+            self.HELP,
+            position=(int(W - 0.92 * panel), int(0.68 * H)),
+            font_size=HELP_FONT_SIZE,
+            color="black",
+            name="help",
+        )
+        help_text.GetTextProperty().SetVerticalJustificationToTop()  # hangs below the sliders
         plotter.add_key_event("s", self.cycle_scalars)
         plotter.add_key_event("f", self.toggle_shading)
         plotter.enable_cell_picking(
             callback=self.on_pick,
             through=False,
-            show_message=(
-                "r: select faces (1st: front group, 2nd: back group)  s: scalars  f: flat/smooth"
-            ),
+            show_message=False,  # the help in the panel says it; a message would cover the figure
             style="surface",
             show=False,
         )
