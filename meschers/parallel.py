@@ -9,6 +9,7 @@ Dask is imported here only, lazily, with an install hint.
 from __future__ import annotations
 
 import logging
+import os
 import uuid
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -27,6 +28,24 @@ def _import_distributed():
             "(pip install 'dask[distributed]'), or run with --jobs 1"
         ) from exc
     return distributed
+
+
+def _fast_exit_plugin():
+    """A worker plugin that ends the worker process at once when the cluster closes.
+
+    A worker that has rendered (an EGL context) takes seconds to exit normally, and the nanny
+    kills it after 4 s: on a 45 s study that is a tenth of the time.  Only for the local cluster
+    this module starts (never on someone else's scheduler).
+    """
+    distributed = _import_distributed()
+
+    class FastExit(distributed.WorkerPlugin):
+        name = "meschers-fast-exit"
+
+        def teardown(self, worker: Any) -> None:  # noqa: ARG002 -- Dask's signature
+            os._exit(0)
+
+    return FastExit()
 
 
 class dask_client:
@@ -59,6 +78,7 @@ class dask_client:
             silence_logs=logging.ERROR,
         )
         self.client = distributed.Client(self._cluster)
+        self.client.register_plugin(_fast_exit_plugin())
         return self.client
 
     def __exit__(self, *exc: object) -> None:
