@@ -76,16 +76,22 @@ def _pairs(n, k, seed=0):
 # ----------------------------------------------------------------------------------------------
 # shortest paths
 # ----------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("name", ["sliver_box", "sliver_box_fine", "obtuse_sheet", "bumpy"])
+@pytest.mark.parametrize(
+    "name", ["sliver_box", "sliver_box_fine", "flat_sliver_box", "obtuse_sheet", "bumpy"]
+)
 def test_shortest_paths_are_exact_geodesics_on_ordinary_meshes(name):
     V, F = {
         "sliver_box": sliver_box,
         "sliver_box_fine": lambda: sliver_box(k=60, cluster=200),
+        # 0.001-degree fans, mollified; pair (42, 1) came down the wrong face at a box corner
+        # (+2.8%) until the cone detours
+        "flat_sliver_box": lambda: sliver_box(size=(3.0, 1.0, 0.2), k=12, cluster=300),
         "obtuse_sheet": obtuse_sheet,
         "bumpy": bumpy_sphere,
     }[name]()
     m = Mescher.from_mesh(V, F)
-    rel = _rel_errors(m, _pairs(len(V), 8), lambda s: exact(V, F, s))
+    pairs = _pairs(len(V), 8) + ([(42, 1)] if name == "flat_sliver_box" else [])
+    rel = _rel_errors(m, pairs, lambda s: exact(V, F, s))
     print(f"{name}: path / exact - 1 in [{rel.min():.2e}, {rel.max():.2e}]")
     assert rel.min() > -1e-9  # never shorter than the exact distance
     assert rel.max() < REL
