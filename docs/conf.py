@@ -26,6 +26,8 @@ sys.path.insert(0, str(ROOT))  # document the working tree even when it is not i
 if not os.environ.get("DISPLAY"):
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
+from sphinx.ext import autosummary  # noqa: E402
+
 import meschers_igl  # noqa: E402
 
 # `python -m meschers` runs the command line when imported; autosummary's recursive scan imports
@@ -64,7 +66,8 @@ root_doc = "index"
 # --- API reference (autodoc + autosummary + numpydoc) ------------------------------------
 autosummary_generate = True
 autosummary_imported_members = False
-autodoc_default_options = {"members": True, "show-inheritance": True}
+# Each object is documented once, in the module that defines it (``__all__`` lists re-exports).
+autodoc_default_options = {"members": True, "show-inheritance": True, "ignore-module-all": True}
 autodoc_typehints = "none"  # the numpy docstrings give types and shapes
 autodoc_member_order = "bysource"
 # PyTorch is an optional extra: document meschers_igl.inverse without it by mocking it.
@@ -91,8 +94,40 @@ def _escape_bars(app, what, name, obj, options, lines) -> None:
         )
 
 
+_OURS = ("meschers_igl", "pyvista_views", "meshlab_filters", "meschers")
+
+
+def _skip_foreign(app, what, name, obj, skip, options):
+    """Never document another library's class imported into a module (e.g. scipy's cKDTree)."""
+    module = getattr(obj, "__module__", None)
+    if what == "module" and isinstance(module, str) and module.split(".")[0] not in _OURS:
+        return True
+    return None
+
+
 def setup(app) -> None:
     app.connect("autodoc-process-docstring", _escape_bars)
+    app.connect("autodoc-skip-member", _skip_foreign)
+
+
+# pyvista_views re-exports functions named like the modules that define them (``render``,
+# ``compare``): ``pyvista_views.render`` is then a function to getattr but a module to import.
+# Autosummary's recursive scan asks getattr first and would document the function in place of
+# the module; let a submodule's own name mean the module.
+_import_by_name = autosummary._import_by_name
+
+
+def _submodules_first(name: str, grouped_exception: bool = True):
+    module = sys.modules.get(name)
+    parent_name, _, attr = name.rpartition(".")
+    parent = sys.modules.get(parent_name)
+    if isinstance(module, types.ModuleType) and parent is not None:
+        if not isinstance(getattr(parent, attr, None), types.ModuleType):
+            return module, parent, parent_name
+    return _import_by_name(name, grouped_exception=grouped_exception)
+
+
+autosummary._import_by_name = _submodules_first
 
 
 # --- the gallery (sphinx-gallery runs every script in examples/) --------------------------
