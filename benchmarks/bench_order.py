@@ -23,7 +23,7 @@ without its ~1 KB of temporaries per pair.
 Also printed (not ratios against libigl): the grid broad phase against brute force on a window
 of ``--subset`` faces, and ``linear_extension`` against networkx.
 
-Run:  python benchmarks/bench_order.py [--faces 1000000] [--repeat 2] [--no-networkx]
+Run:  python benchmarks/bench_order.py [--faces 1000000] [--repeat 3] [--no-networkx]
 """
 
 from __future__ import annotations
@@ -99,7 +99,7 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--faces", type=int, default=1_000_000)
     ap.add_argument("--subset", type=int, default=3000)
-    ap.add_argument("--repeat", type=int, default=2, help="interleaved rounds (best of each)")
+    ap.add_argument("--repeat", type=int, default=3, help="interleaved rounds (best of each)")
     ap.add_argument("--no-networkx", action="store_true", help="skip the (slow) networkx peer")
     args = ap.parse_args(argv)
 

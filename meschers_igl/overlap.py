@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "extent",
     "arcs_from_depths",
     "barycentric_depths",
     "boxes_and_heights",
@@ -578,3 +579,20 @@ def arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarra
             out[k, 0], out[k, 1] = pairs[r, 1], pairs[r, 0]
             k += 1
     return out
+
+
+@njit(cache=True)
+def extent(points: np.ndarray):
+    """Per-coordinate ``(min, max)`` of ``points (k, d)`` in one pass (numpy reduces a short
+    trailing axis slowly)."""
+    d = points.shape[1]
+    mn = np.full(d, np.inf)
+    mx = np.full(d, -np.inf)
+    for r in range(points.shape[0]):
+        for c in range(d):
+            v = points[r, c]
+            if v < mn[c]:
+                mn[c] = v
+            if v > mx[c]:
+                mx[c] = v
+    return mn, mx
