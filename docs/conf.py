@@ -105,7 +105,33 @@ def _skip_foreign(app, what, name, obj, skip, options):
     return None
 
 
+def _resolve_reexport(app, env, node, contnode):
+    """Link ``meschers_igl.Mescher`` (a re-export) to where it is documented (``meschers_igl.mescher``)."""
+    target = node.get("reftarget", "")
+    if node.get("refdomain") != "py" or target.split(".")[0] not in _OURS:
+        return None
+    parts = target.split(".")
+    for i in range(len(parts) - 1, 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:i]))
+            for attr in parts[i:]:
+                obj = getattr(obj, attr)
+        except (ImportError, AttributeError):
+            continue
+        module, qualname = getattr(obj, "__module__", None), getattr(obj, "__qualname__", None)
+        if not (isinstance(module, str) and isinstance(qualname, str)):
+            return None
+        real = f"{module}.{qualname}"
+        if real == target:
+            return None
+        return env.get_domain("py").resolve_xref(
+            env, node["refdoc"], app.builder, node["reftype"], real, node, contnode
+        )
+    return None
+
+
 def setup(app) -> None:
+    app.connect("missing-reference", _resolve_reexport)
     app.connect("autodoc-process-docstring", _escape_bars)
     app.connect("autodoc-skip-member", _skip_foreign)
 
