@@ -834,6 +834,8 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
     ``A``'s plane (so it is continuous with ``A``) and is glued to ``B`` across the depth
     offset, which becomes a period.  Each bridge face gets arcs to the visible faces in front.
     """
+    import shapely
+
     nf = Fa.shape[0]
     none = (Fa, src, Z, np.zeros(nf, dtype=bool), glue, arcs, [])
     occ = fe["occl_far"]
@@ -868,6 +870,9 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
             if not _parallel_to_face_edge(s0, sa, xy, pl, T, Fa, src, tol):
                 continue
             poly = [*A[::-1], *B[::-1]]
+            ring = shapely.Polygon(xy[poly])
+            if not ring.is_valid or ring.area <= tol * (L0 + L1):  # not a simple strip
+                continue
             c = xy[poly].mean(axis=0)
             gap = float(_plane_depth(c, pl[sb]) - _plane_depth(c, pl[sa]))
             if not _hidden(xy[poly], pl[sa], pl[sb], T, Z, tol):
@@ -878,8 +883,10 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
             continue
         _, ib, poly, sb, gap = best
         P = xy[poly]
-        used |= {ia, ib}
         tri = _polygon_triangles(P)
+        if tri is None:
+            continue
+        used |= {ia, ib}
         new_faces += [[poly[i] for i in t] for t in tri]
         new_src += [sa] * len(tri)
         kind = "hidden gap" if abs(gap) > tol else "occluded continuation"
@@ -941,7 +948,7 @@ def _polygon_triangles(P: np.ndarray) -> list:
     out = tr.triangulate({"vertices": P, "segments": seg}, "pQ")
     T = np.asarray(out["triangles"], dtype=np.int64)
     if out["vertices"].shape[0] != n:
-        raise MescherError("F: expected a bridge polygon triangulated without new points")
+        return None  # not a simple polygon after all: no bridge here
     Q = P[T]
     a2 = (Q[:, 1, 0] - Q[:, 0, 0]) * (Q[:, 2, 1] - Q[:, 0, 1]) - (Q[:, 2, 0] - Q[:, 0, 0]) * (
         Q[:, 1, 1] - Q[:, 0, 1]
