@@ -158,7 +158,6 @@ def _cmd_study(args: argparse.Namespace) -> int:
     from .study import run_study
 
     jobs = as_count(args.jobs, "--jobs", minimum=1) if args.jobs is not None else _default_jobs()
-    _headless_views()
     names = [*args.inputs, *_split_names(args.models)]
     result = run_study(names or None, out=args.out, quick=args.quick, progress=not args.no_progress,
                        other_tools=not args.no_other_tools, jobs=jobs, scheduler=args.scheduler)  # fmt: skip

@@ -67,7 +67,7 @@ class StudySettings:
     quick: bool
     cell: int
     levels: int
-    heat_times: tuple[float, ...] = (1e-4, 1e-3, 1e-2)
+    heat_times: tuple[float, ...] = (1e-3, 1e-2, 1e-1)
     smooth_times: tuple[float, ...] = (0.0, 2e-4, 1e-3, 5e-3)
     compare_time: float = 1e-3
     isolines: int = 10

@@ -236,7 +236,7 @@ def heat(job: ModelJob, s: Subject) -> None:
         "heat_conservation_error": max(drift),
         "min_over_max": spans,
     }
-    bar = Colorbar(HEAT_CMAP, HEAT_LOG_MIN, 0.0, "log10(u / max u)")
+    bar = Colorbar(HEAT_CMAP, HEAT_LOG_MIN, 0.0, "log10(u/max u)")
     job.figure(compose([images], notes, colorbar=bar), f"{s.name}_heat.png", "Heat diffusion",
         f"Backward Euler heat diffusion (M - tL) u = M u0 (paper Eq. 5) from vertex {s.source}, for "
         "three times t (s: diagonal of the xy box), each panel normalised to its maximum and drawn on a log "

@@ -24,7 +24,6 @@ from typing import Any
 import numpy as np
 
 from meschers_igl.errors import MescherError
-from pyvista_views.compare import image_agreement  # noqa: F401 -- re-exported for old callers
 
 from .inputs import ModelSpec, expand_models
 from .job import Figure, ModelJob, ModelResult, Section
@@ -345,6 +344,17 @@ def _run_parallel(specs, keys, st, jobs, scheduler, progress: bool) -> list[Mode
 def _study_pair(pair: tuple[ModelSpec, str], st: StudySettings) -> ModelResult:
     """:func:`study_model` for one (spec, key) item of :func:`~meschers.parallel.map_models`."""
     return study_model(pair[0], pair[1], st)
+
+
+def __getattr__(name: str) -> Any:
+    """``meschers.study.image_agreement`` for old callers: it lives in
+    :mod:`pyvista_views.compare` (imported on first use, so that a parallel study's client
+    process never loads pyvista)."""
+    if name == "image_agreement":
+        from pyvista_views.compare import image_agreement
+
+        return image_agreement
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _jsonable(x: Any) -> Any:
