@@ -164,6 +164,7 @@ def face_id_image(
             name="ids",
         )
         set_view(plotter, bounds)
+        plotter.render()  # PyVista's screenshot renders only a plotter's first frame
         image = plotter.screenshot(return_img=True)[..., :3].astype(np.int64)
     finally:
         plotter.remove_actor("ids", render=False)

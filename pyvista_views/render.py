@@ -45,6 +45,7 @@ __all__ = [
     "flat_varyings_work",
     "relight",
     "render",
+    "render_scene",
     "set_view",
     "use_early_z",
     "use_flat_varyings",
@@ -116,6 +117,30 @@ def render(
     -------
     (H, W, 3) uint8
     """
+    with render_scene(
+        m, order, lights, shading, scalars, env_map, window_size, bounds, background, **kwargs
+    ) as scene:
+        return scene.screenshot()
+
+
+def render_scene(
+    m: Any,
+    order: object = None,
+    lights: object = DEFAULT_LIGHTS,
+    shading: str = "flat",
+    scalars: object = None,
+    env_map: object = None,
+    window_size: tuple[int, int] = (800, 800),
+    bounds: object = None,
+    background: object = "white",
+    **kwargs: Any,
+) -> MescherScene:
+    """The scene :func:`render` screenshots, left open (arguments as in :func:`render`).
+
+    For callers that want the plotter itself: ``scene.plotter.show()`` (e.g. under
+    pytest-pyvista's ``verify_image_cache``), more layers, or an export.  Close it when done
+    (it is a context manager).
+    """
     representation = as_choice(
         kwargs.pop("representation", "mescher"), "representation", REPRESENTATIONS
     )
@@ -132,9 +157,10 @@ def render(
     env = as_env_map(env_map)
     if bounds is not None:
         bounds = as_bounds(bounds)
-    with MescherScene(
+    scene = MescherScene(
         window_size=window_size, background=background, anti_aliasing=anti_aliasing
-    ) as scene:
+    )
+    try:
         scene.relight(directional, env, **exposure)  # before the layer: lit (and baked) once
         if scalar_bar:
             scene.reserve_scalar_bar()  # before the layer, so it is framed once
@@ -157,7 +183,10 @@ def render(
             scene.add_scalar_bar(bar_title)
         if bounds is None:
             scene.view()
-        return scene.screenshot()
+    except BaseException:
+        scene.close()
+        raise
+    return scene
 
 
 #: Deprecated alias of :func:`pyvista_views.camera.xy_box` (kept until every caller has moved).

@@ -298,34 +298,7 @@ def test_env_map_relight_back_to_directional_lights(ball):
     np.testing.assert_array_equal(first, again)
 
 
-# -- image regression ----------------------------------------------------------------------------
-
-
-def test_image_regression_sphere_smooth_scalars_isolines(ball, image_regression):
-    V, F, m, order = ball
-    img = render(
-        m,
-        order=order,
-        shading="smooth",
-        scalars=V[:, 1],
-        isolines=4,
-        lights=[(1, 1, 1)],
-        window_size=(96, 96),
-    )
-    image_regression("sphere_smooth_isolines", img, mean=2.0, frac=0.02)
-
-
-def test_image_regression_ring_flat(ring, image_regression):
-    m, *_ = ring
-    image_regression(
-        "ring_flat", render(m, lights=[(-1, 0, 0.5)], window_size=(96, 96)), mean=1.0, frac=0.01
-    )
-
-
-def test_image_regression_ring_studio(ring, image_regression):
-    m, *_ = ring
-    img = render(m, env_map="studio", lights=None, shading="smooth", window_size=(96, 96))
-    image_regression("ring_studio", img, mean=1.0, frac=0.01)
+# -- image regression: tests/pyvista_views/test_images.py (pytest-pyvista verify_image_cache) --
 
 
 def test_real_depth_order_from_the_embedding_gives_the_meshs_picture(ball):

@@ -1,0 +1,74 @@
+"""Image regression with pytest-pyvista's ``verify_image_cache`` (issue 17, 8c).
+
+Each test draws one figure through :func:`pyvista_views.render.render_scene` and shows its
+plotter; pytest-pyvista compares the frame with ``image_cache/<test name>.png`` (reference
+images committed after a person looked at them) using PyVista's image error, with a per-test
+tolerance set on the fixture.  Regenerate with ``pytest tests/pyvista_views/test_images.py
+--reset_image_cache`` and *look at every image* before committing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from pvv_helpers import back_to_front, ramp_ring, requires_gl, sphere
+
+from meschers_igl import Mescher
+from meschers_igl.gallery import get_model
+from pyvista_views.render import render_scene
+
+pytestmark = [requires_gl, pytest.mark.render]
+SIZE = (160, 160)
+
+
+def check(verify_image_cache, error: float, m, **kw) -> None:
+    """Show ``render_scene(m, **kw)``'s plotter under ``verify_image_cache`` with ``error``."""
+    verify_image_cache.error_value = error
+    verify_image_cache.warning_value = 0.5 * error
+    scene = render_scene(m, window_size=SIZE, **kw)
+    scene.plotter.show()  # off screen: renders, then the fixture's close callback compares
+
+
+@pytest.fixture(scope="module")
+def ball():
+    V, F = sphere(24)
+    return V, F, Mescher.from_mesh(V, F), back_to_front(V, F)
+
+
+@pytest.fixture(scope="module")
+def penrose():
+    g = get_model("penrose_triangle")
+    return g.mescher, g.order
+
+
+def test_sphere_smooth_scalars_isolines(ball, verify_image_cache):
+    V, F, m, order = ball
+    kw = dict(order=order, shading="smooth", scalars={"height": V[:, 1]}, isolines=4)
+    check(verify_image_cache, 40.0, m, lights=[(1, 1, 1)], **kw)  # light moved 6 deg: 89
+
+
+def test_ring_flat(verify_image_cache):
+    F, xy, Z, *_ = ramp_ring()
+    m = Mescher.from_corner_depths(F, xy, Z)
+    check(verify_image_cache, 30.0, m, lights=[(-1, 0, 0.5)])  # light tilted by 0.2: 82
+
+
+def test_ring_studio(verify_image_cache):
+    F, xy, Z, *_ = ramp_ring()
+    m = Mescher.from_corner_depths(F, xy, Z)
+    check(verify_image_cache, 60.0, m, env_map="studio", lights=None, shading="smooth")  # sky: 731
+
+
+def test_penrose_two_lights_and_studio(penrose, verify_image_cache):
+    """The README's ``meschers render ... --light 1,1,1 --light -1,0,1 --env studio``."""
+    m, order = penrose
+    kw = dict(order=order, lights=[(1, 1, 1), (-1, 0, 1)], env_map="studio", shading="smooth")
+    check(verify_image_cache, 100.0, m, **kw)  # without the order: 655, unnormalised: 3442
+
+
+def test_penrose_geodesic_isolines_colour_bar(penrose, verify_image_cache):
+    m, order = penrose
+    m2, order2 = m.subdivide(levels=2, order=order)
+    d = m2.geodesic_distance([int(np.argmin(m2.xy[:, 1]))])
+    kw = dict(order=order2, shading="smooth", scalars={"geodesic distance": d}, isolines=8)
+    check(verify_image_cache, 150.0, m2, **kw)  # 7 isolines: 504, no colour bar: 4258
