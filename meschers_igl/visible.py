@@ -579,7 +579,7 @@ def see_model(
         Fb, sb, Zb = Fa, src, Z
         if bridge:
             Fb, sb, Zb, is_bridge, glue, arcs, bridges = _bridge(
-                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs
+                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs, C[F][:, :, :2]
             )
         if perceive == "manhattan":
             from .manhattan import model_face_axes, perceive_manhattan, perceived_frame
@@ -823,7 +823,7 @@ def _chains(xy, Fa, hs):
     return out
 
 
-def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
+def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm):
     """Amodal completion: bridge occluded pieces that line up across an occluder.
 
     Occluded edges (far side of a true occlusion where the far surface continues) are grouped
@@ -867,7 +867,7 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol):
             da = a1 - a0
             if _cross(da, s0) >= 0:  # the strip must lie to the right of A (outside its face)
                 continue
-            if not _parallel_to_face_edge(s0, sa, xy, pl, T, Fa, src, tol):
+            if not (_parallel_to_edge(s0, Tm[sa], tol) or _parallel_to_edge(s0, Tm[sb], tol)):
                 continue
             poly = [*A[::-1], *B[::-1]]
             ring = shapely.Polygon(xy[poly])
@@ -957,12 +957,10 @@ def _polygon_triangles(P: np.ndarray) -> list:
     return T.tolist()
 
 
-def _parallel_to_face_edge(s, f, xy, pl, T, Fa, src, tol) -> bool:
-    """Is screen direction ``s`` parallel to an edge of a visible triangle from source ``f``?"""
-    faces = np.flatnonzero(src == f)
-    if faces.size == 0:
-        return False
-    E = (T[faces][:, [1, 2, 0]] - T[faces]).reshape(-1, 2)
+def _parallel_to_edge(s, tri, tol) -> bool:
+    """Is screen direction ``s`` parallel to an edge of the screen triangle ``tri`` (3, 2)?
+    (A bar's model face has its long edges along the bar: the strip continues them.)"""
+    E = tri[[1, 2, 0]] - tri
     L = np.linalg.norm(E, axis=1)
     c = np.abs(E[:, 0] * s[1] - E[:, 1] * s[0]) / np.maximum(L, 1e-300) / np.linalg.norm(s)
     return bool(np.any((c <= 1e-6) & (L > tol)))
