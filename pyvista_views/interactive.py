@@ -55,9 +55,9 @@ class MescherViewer:
     scalars : None, array or dict name -> array
         Fields the "s" key cycles through (``None``, i.e. plain shading, is one of the states).
     off_screen : bool, optional
-    scalar_bar : bool, default: True
-        A colour bar titled with the field's name whenever a field is shown (as in
-        :func:`pyvista_views.render`).
+    scalar_bar : bool, optional
+        A colour bar titled with the field's name whenever a field is shown; default: unless
+        ``bounds`` is given (as in :func:`pyvista_views.render`).
     **kwargs
         Passed to :func:`pyvista_views.scene.add_mescher` (``cmap``, ``isolines``, ...).
     """
@@ -74,11 +74,11 @@ class MescherViewer:
         bounds: object = None,
         background: object = "white",
         off_screen: bool | None = None,
-        scalar_bar: bool = True,
+        scalar_bar: bool | None = None,
         **kwargs: Any,
     ) -> None:
         self.m = m
-        self.scalar_bar = bool(scalar_bar)
+        self.scalar_bar = bounds is None if scalar_bar is None else bool(scalar_bar)
         self._bounds = bounds
         self._panel = 0  # pixels of the side panel (widgets, help, colour bar) once shown
         self.order = order if hasattr(order, "linear_extension") or order is None else None

@@ -105,9 +105,12 @@ def render(
         ``representation`` ("mescher", or "cut" / "bent" to draw ``m.cut_embedding()`` /
         ``m.bent_embedding()`` with identical camera and default bounds), ``color``, ``cmap``,
         ``clim``, ``isolines``, ``isoline_color``, ``isoline_width`` (2), ``ambient`` (0.2),
-        ``diffuse`` (0.8), ``anti_aliasing`` (False), ``scalar_bar`` (True: with ``scalars``, a
-        colour bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default
-        bounds then frame the figure in the rest of the window), ``scalar_bar_title`` (default:
+        ``diffuse`` (0.8), ``anti_aliasing`` (False), ``scalar_bar`` (with ``scalars``, a colour
+        bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default bounds
+        then frame the figure in the rest of the window.  Default: on unless ``bounds`` is
+        given; with explicit bounds, leave the strip free with
+        ``camera.default_bounds(box, window_size, reserve=scene.SCALAR_BAR_STRIP)`` and pass
+        ``scalar_bar=True``), ``scalar_bar_title`` (default:
         the field's name, the key of a dict of scalars, else ``"scalars"``), ``exposure`` (1),
         ``tone_map`` ("none" or "reinhard") and ``normalize_lights`` (True): by default the
         lights and environment are scaled so that no visible normal is lit brighter than the
@@ -145,7 +148,10 @@ def render_scene(
         kwargs.pop("representation", "mescher"), "representation", REPRESENTATIONS
     )
     anti_aliasing = bool(kwargs.pop("anti_aliasing", False))
-    scalar_bar = bool(kwargs.pop("scalar_bar", True)) and scalars is not None
+    scalar_bar = kwargs.pop("scalar_bar", None)
+    if scalar_bar is None:  # by default only where the default framing leaves it its strip
+        scalar_bar = bounds is None
+    scalar_bar = bool(scalar_bar) and scalars is not None
     exposure = {
         "exposure": kwargs.pop("exposure", 1.0),
         "tone_map": kwargs.pop("tone_map", "none"),
