@@ -33,7 +33,15 @@ print(
 # %%
 # Left: the depth potential ``z`` as colour on the rendered mescher (the depth of the bent
 # model). Right: ``|omega|`` per edge; it circulates around the triangle's hole.
-img = render(m, order=order, scalars=h.z, cmap="viridis", isolines=10, window_size=(500, 500))
+img = render(
+    m,
+    order=order,
+    scalars=h.z,
+    cmap="viridis",
+    isolines=10,
+    window_size=(500, 500),
+    scalar_bar_title="z",
+)
 
 fig, axes = plt.subplots(1, 2, figsize=(11, 5.2))
 axes[0].imshow(img)

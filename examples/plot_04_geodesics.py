@@ -39,7 +39,10 @@ x0, y0 = m.xy.min(axis=0)
 x1, y1 = m.xy.max(axis=0)
 pad = 0.05 * max(x1 - x0, y1 - y0)
 bounds = (x0 - pad, x1 + pad, y0 - pad, y1 + pad)
-img = render(m, order=order, scalars=d, isolines=8, bounds=bounds, window_size=(500, 500))
+# explicit bounds: the picture is exactly that box, with no colour bar beside it
+img = render(
+    m, order=order, scalars=d, isolines=8, bounds=bounds, window_size=(500, 500), scalar_bar=False
+)
 heat = render(
     m,
     order=order,
@@ -47,6 +50,7 @@ heat = render(
     cmap="inferno",
     bounds=bounds,
     window_size=(500, 500),
+    scalar_bar=False,
 )
 
 fig, axes = plt.subplots(1, 2, figsize=(11, 5.5))

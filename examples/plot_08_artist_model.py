@@ -35,7 +35,9 @@ print("depth gaps the tool recorded:", pm.meta["verification"]["depth_gaps"][:2]
 fig, axes = plt.subplots(1, 2, figsize=(10, 5.6))
 axes[0].imshow(render(m, order=order, lights=[(1, 1, 1)], window_size=(420, 420)))
 axes[0].set_title("ParadoxToolkit penrose_triangle as a mescher")
-axes[1].imshow(render(m, order=order, scalars=m.hodge().z, window_size=(420, 420)))
+axes[1].imshow(
+    render(m, order=order, scalars=m.hodge().z, window_size=(420, 420), scalar_bar_title="z")
+)
 axes[1].set_title("its depth potential z")
 for ax in axes:
     ax.axis("off")
