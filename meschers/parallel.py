@@ -82,10 +82,20 @@ class dask_client:
         return self.client
 
     def __exit__(self, *exc: object) -> None:
-        if self.client is not None:
-            self.client.close()
-        if self._cluster is not None:
-            self._cluster.close()
+        # the local workers exit at once (_fast_exit_plugin): the comms to them close under
+        # Dask's feet, which it logs with tracebacks; nothing is lost, so say nothing
+        quiet = [logging.getLogger(n) for n in ("distributed", "tornado")] if self._cluster else []
+        levels = [lg.level for lg in quiet]
+        for lg in quiet:
+            lg.setLevel(logging.CRITICAL)
+        try:
+            if self.client is not None:
+                self.client.close()
+            if self._cluster is not None:
+                self._cluster.close()
+        finally:
+            for lg, level in zip(quiet, levels):
+                lg.setLevel(level)
 
 
 def map_models(
