@@ -98,12 +98,13 @@ def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, res
     A rectangular frame with two vertical mullions, and a horizontal transom joined to the side
     bars by short posts.  The transom passes in front of the left mullion; between the mullions
     it slides back along the view direction (invisible on screen) and passes behind the right
-    mullion.  No cut, no period (``is_impossible()`` is False): the figure is impossible only
-    through its depth order.
+    mullion: that slid model gives the depth order. The mescher is the frame a person sees,
+    with a straight transom in front of both mullions: its zeta integrates (no period), and no
+    depth offset per part realises the order (``is_impossible(order=...)``, kind ``"order"``).
 
     Returns
     -------
-    V, F, view, up, expected_period (0)
+    V, F (the slid model), view, up, expected_period (0), builder of the perceived mescher
     """
     W = as_positive(width, "width")
     H = as_positive(height, "height")
@@ -137,4 +138,14 @@ def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, res
     g = np.interp(V[:, 0], knots, [0.0, -D, -D, 0.0], left=0.0, right=0.0)
     s = np.clip((V[:, 2] - w) / w, 0.0, 1.0)  # 0 on the frame, 1 on the transom
     v = view_frame(WINDOW_VIEW, WINDOW_UP)[2]
-    return V + (g * s)[:, None] * v, F, WINDOW_VIEW, WINDOW_UP, 0.0
+    flat = V
+
+    def build():
+        # what a person perceives: a straight transom in front of the frame (the slide along
+        # the view is invisible on screen, and its sheared faces would shade as dark and
+        # light squares); the depth order comes from the slid model
+        from ..mescher import Mescher
+
+        return Mescher.from_mesh(flat, F, view=WINDOW_VIEW, up=WINDOW_UP), np.arange(len(V))
+
+    return V + (g * s)[:, None] * v, F, WINDOW_VIEW, WINDOW_UP, 0.0, build

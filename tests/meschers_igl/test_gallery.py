@@ -201,6 +201,12 @@ def test_window_is_impossible_only_through_its_depth_order():
         fronts.append(depth[0, f].max() - q[2])
     assert fronts[0] > 0.5 * w  # something (the transom) in front of the left mullion
     assert fronts[1] == pytest.approx(0.0, abs=1e-9)  # the right mullion is the front
+    # the mescher is what a person sees: a straight transom (flat faces, no slide), so no depth
+    # offset realises the order
+    verdict = g.mescher.is_impossible(order=g.order)
+    assert verdict and verdict.kind == "order"
+    n = g.mescher.face_normals()
+    assert np.unique(np.round(n, 9), axis=0).shape[0] == 6  # an axis-aligned frame, no shear
 
 
 def _backface_share(m, order) -> float:
