@@ -17,6 +17,9 @@ from meschers_igl import Mescher
 from meschers_igl.gallery import get_model
 from pyvista_views.render import render_scene
 
+# The plugin is in the test extra; without it (a bare environment) these tests skip.  Note that
+# pytest-pyvista 0.3.3 fails at exit under ``-p no:cacheprovider`` (it needs config.cache).
+pytest.importorskip("pytest_pyvista")
 pytestmark = [requires_gl, pytest.mark.render]
 SIZE = (160, 160)
 
