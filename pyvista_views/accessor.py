@@ -108,7 +108,9 @@ class MescherAccessor:
         from meschers_igl.models import model_to_mescher
 
         mesh = _triangles(self._mesh)
-        return model_to_mescher(mesh.points, mesh.regular_faces, view=view, up=up, perceive=perceive)
+        return model_to_mescher(
+            mesh.points, mesh.regular_faces, view=view, up=up, perceive=perceive
+        )
 
     def to_polydata(
         self,
