@@ -603,9 +603,10 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-#: Measured wall times of the study on the gallery, shown in its help (bench_study.py measures them).
-STUDY_TIME = "about 40 s on 2 cores"
-QUICK_TIME = "about 20 s"
+#: Measured CPU times of the study (benchmarks/bench_study.py; CPU time, which does not depend on
+#: what else the machine runs): the default study, and --quick, one model after another.
+STUDY_TIME = "measured: 42-46 s of CPU time with --jobs 1, 65-70 s with --jobs 2"
+QUICK_TIME = "measured: 14 s of CPU time with --jobs 1"
 
 _VECTOR_OPTIONS = ("--view", "--up", "--light")
 

@@ -69,12 +69,12 @@ class dask_client:
                 ) from None
             return self.client
         # one thread per worker: the steps hold the GIL in numpy/VTK and each worker renders
-        # with its own GL context; the dashboard is left off (it needs bokeh, and a port)
+        # with its own GL context; Dask's HTTP server on a free port (a fixed one may be taken)
         self._cluster = distributed.LocalCluster(
             n_workers=self.jobs,
             threads_per_worker=1,
             processes=True,
-            dashboard_address=None,
+            dashboard_address=":0",
             silence_logs=logging.ERROR,
         )
         self.client = distributed.Client(self._cluster)
