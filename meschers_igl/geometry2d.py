@@ -205,12 +205,9 @@ def intersection_centroids(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np
     A = np.asarray(A, dtype=np.float64)
     B = np.asarray(B, dtype=np.float64)
     k = A.shape[0]
-    cen = np.empty((k, 2))
-    area = np.empty(k)
     T = np.ascontiguousarray(np.concatenate((A, B)))
-    for r in range(k):  # small batches only (tests, tools); the order uses grid_overlaps
-        cen[r, 0], cen[r, 1], area[r] = _kernels.intersection_centroid(T, r, r + k)
-    return cen, area
+    idx = np.arange(k, dtype=np.int64)
+    return _kernels.pair_centroids(T, np.stack((idx, idx + k), axis=1))
 
 
 def barycentric(P: np.ndarray, T: np.ndarray) -> np.ndarray:

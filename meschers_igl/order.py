@@ -8,9 +8,12 @@ depth of an impossible object.  Rendering draws the faces in a linear extension 
 (a topological sort), back to front.
 
 The arcs live in an ``(k, 2)`` int64 array; :attr:`DepthOrder.graph` is a networkx view for
-users and cycle reports.  Sorting, cycle detection and feedback-arc breaking run on scipy CSR
-matrices: building a networkx ``DiGraph`` for 1M faces alone takes 11-20 s, while Kahn's
-algorithm on CSR sorts it in under a second (FACTS.md).
+users and cycle reports.  Sorting, cycle detection and feedback-arc breaking work on the arrays
+(:mod:`meschers_igl.order_graph`): building a networkx ``DiGraph`` for 1M faces alone takes
+11-20 s, while Kahn's algorithm on CSR sorts it in under a second (FACTS.md).  Which faces
+overlap on screen, and where, comes from :mod:`meschers_igl.geometry2d` (compiled kernels in
+:mod:`meschers_igl.overlap`).  Operations that move screen positions carry the order with
+:meth:`DepthOrder.follow`.
 """
 
 from __future__ import annotations

@@ -9,8 +9,8 @@ the public API) and of :class:`meschers_igl.order.DepthOrder`.  Why numba and no
   returns box candidates only.
 * CGAL's Python bindings are not on PyPI for this platform, and libigl's
   ``tri_tri_intersect`` is 3D and per pair.
-* The vectorized numpy version this replaces (kept as the reference of
-  ``tests/meschers_igl/data/order_reference.npz``) spends its time in temporaries: about 1 KB a
+* The vectorized numpy version this replaces (its results are frozen in
+  ``tests/meschers_igl/data/order_reference.npz``) spent its time in temporaries: about 1 KB a
   pair, 17-25x libigl's cotmatrix + massmatrix at 1M faces (issue 15).
 
 So the broad phase (a uniform grid, each pair reported once by the cell holding the lower-left
@@ -39,6 +39,7 @@ __all__ = [
     "grid_overlaps",
     "intersection_centroid",
     "overlap_pairs_sat",
+    "pair_centroids",
     "sat_overlap",
     "sort_pairs",
 ]
@@ -596,3 +597,14 @@ def extent(points: np.ndarray):
             if v > mx[c]:
                 mx[c] = v
     return mn, mx
+
+
+@njit(cache=True)
+def pair_centroids(T: np.ndarray, pairs: np.ndarray):
+    """:func:`intersection_centroid` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]``: ``(cen, area)``."""
+    k = pairs.shape[0]
+    cen = np.empty((k, 2))
+    area = np.empty(k)
+    for r in range(k):
+        cen[r, 0], cen[r, 1], area[r] = intersection_centroid(T, pairs[r, 0], pairs[r, 1])
+    return cen, area
