@@ -366,7 +366,9 @@ class DepthOrder:
         Child faces ``a, b`` get the arc ``a -> b`` when their parents had the arc
         ``parent[a] -> parent[b]`` and the children overlap on screen (positive area, as in
         :meth:`from_embedding`).  Children of one parent, or of unrelated parents, stay
-        unrelated.
+        unrelated.  This is complete only when children lie inside their parents on screen
+        (midpoint subdivision); where xy moved (Loop), overlaps appear that no parent arc
+        covers: :meth:`follow` orders those too.
 
         Parameters
         ----------
