@@ -77,13 +77,9 @@ def test_parallel_study_equals_serial(runs):
     assert "Step failed: broken: convert" in html and "Stair" in html
 
 
-@pytest.mark.xfail(
-    reason="pyvista_views keeps state across scenes in one process: a render with isolines "
-    "changes the isolines of a later render in a new scene (gl.face_id_image's shared plotter); "
-    "the serial run renders several models in one process, the workers one or two each",
-    strict=False,
-)
 def test_parallel_figures_equal_serial_pixel_for_pixel(runs):
+    """The serial run renders several models in one process, a worker one or two: no state
+    may leak from one render to the next (it did once, through the face-id pass of isolines)."""
     from io import BytesIO
 
     from PIL import Image
