@@ -122,6 +122,7 @@ def test_impossibagel_is_the_torus_with_the_cut_models_periods():
     # with_periods keeps the torus's exact part (its depth z) and adds a 1-form harmonic on
     # the torus: closed, and co-closed in the torus's own metric
     Vt, Ft = shapes.torus(24, 6, R=2.0, r=0.6)
+    Vt = Vt[:, [1, 0, 2]] * np.array([-1.0, 1.0, 1.0])  # a quarter turn: the seam at the back
     np.testing.assert_array_equal(Ft, m.F)
     m0 = Mescher.from_mesh(Vt, Ft, view=g.view, up=g.up)
     h = np.asarray(m.zeta) - m0.d01 @ (Vt @ view_frame(g.view, g.up)[2])
@@ -259,3 +260,58 @@ def test_reutersvard_is_impossible_through_its_order():
     assert g.order.cycles(warn=False) == []
     with pytest.raises(MescherError, match="pitch"):
         get_model("reutersvard_triangle", pitch=1.25)  # three cubes would share pixels
+
+
+def _bagel_halves(g: GalleryModel, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(#F,) bool: face in the back half of the ring (world y > 0), in its right half (x > 0)."""
+    _, _, u = shapes.torus(4 * n, n, R=2.0, r=0.6, seam=True, return_angles=True)
+    w = u[g.F].mean(axis=1) + np.pi / 2  # world angle around the axis (seam at the back)
+    return np.sin(w) > 0, np.cos(w) > 0
+
+
+def test_impossibagel_front_passes_in_front_on_the_left_and_behind_on_the_right():
+    """The sense in which the default impossibagel is impossible beyond its period: where the
+    ring's front and back overlap on screen, the front is in front at the left end of the hole
+    and behind at the right end.  Contracted to its two halves the order is a 2-cycle (no rigid
+    front and back could give it), and a person sees it: the painter's picture shows the back
+    where the ordinary ring (same view, its own depths) shows the front -- on the right only,
+    and not with the climb alone."""
+    from meschers_igl import DepthOrder
+    from meschers_igl.painter import visible_faces
+
+    g = get_model("impossibagel")
+    back, right = _bagel_halves(g, 16)
+    nz = np.asarray(g.mescher.face_normals())[:, 2]
+    behind, front = np.asarray(g.order.arcs).T
+    across = back[behind] != back[front]
+    left = across & ~right[behind] & ~right[front]
+    assert left.sum() > 100 and not back[front[left]].any()  # left: the front is in front
+    facing = back & (nz > 0)  # the back's faces toward the viewer
+    ahead = (facing[behind] & ~back[front]) | (facing[front] & ~back[behind])
+    ahead &= right[behind] & right[front]
+    assert ahead.sum() > 100 and back[front[ahead]].all()  # right: the back is in front
+    assert not g.order.cycles(warn=False)  # faces alone: no cycle (it renders)
+    ordinary = get_model("impossibagel", climb=1e-3)
+    np.testing.assert_allclose(ordinary.mescher.xy, g.mescher.xy, atol=1e-12)
+    seen_as = {
+        "edited": visible_faces(g.mescher, g.order, size=300),
+        "climb alone": visible_faces(
+            g.mescher, DepthOrder.from_embedding(g.mescher, g.corner_depths), size=300
+        ),
+        "ordinary": visible_faces(
+            ordinary.mescher,
+            DepthOrder.from_embedding(ordinary.mescher, ordinary.corner_depths),
+            size=300,
+        ),
+    }
+    vis0 = seen_as["ordinary"]
+    half = vis0.shape[1] // 2
+    n_figure = (vis0 >= 0).sum()
+    flipped = {}
+    for name, vis in seen_as.items():
+        np.testing.assert_array_equal(vis >= 0, vis0 >= 0)  # the same outline
+        f = (vis0 >= 0) & back[np.maximum(vis, 0)] & ~back[np.maximum(vis0, 0)]
+        flipped[name] = (f[:, :half].sum() / n_figure, f[:, half:].sum() / n_figure)
+    assert flipped["ordinary"] == (0.0, 0.0)
+    assert flipped["climb alone"] == (0.0, 0.0)  # the period alone does not show (module notes)
+    assert flipped["edited"][0] == 0.0 and flipped["edited"][1] > 0.01  # 1.5% of the figure
