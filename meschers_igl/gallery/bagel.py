@@ -12,16 +12,17 @@ Two things make it impossible:
   the front of the right half, where they overlap on screen (``front_back``, as for
   Reutersvard's triangle).
 
-Why not the climb alone (measured while building this, issue 17 item 5): a lift ``f`` of the
-ring along the view is locally a shear ``depth += a_y y`` (``y`` toward the back), and the back
-of a tube stays behind its own front iff ``1 - a_y sin(tilt) > 0``.  For the back to pass in
-front of the front at the end of the hole, the lift must rise faster than the ring's own depth
-there, ``a_y > sin(tilt)``... and near the end of the hole the front and back *are* one bent
-tube, so the order there can only flip by turning the tube inside out (a linear climb of
-``1.3 * 2 pi R sin(tilt)``: 8% of the pixels showed back faces, the "see-through blob") or by
-letting the front and back tubes pass through each other (a visible, jagged intersection, and a
-cut model that no z-buffer test accepts).  The climb gives the period; the order edit gives the
-picture.
+Why not the climb alone (measured while building this, issue 17 item 5): a lift of the ring
+along the view is locally a shear ``depth += a_x x + a_y y`` (``y`` toward the back of the
+ring).  It keeps the depth order along every ray iff ``1 - a_y sin(tilt) > 0`` (the Jacobian
+of ``(y, z) -> (screen y, depth)``; ``a_x`` never matters), so where it is locally affine it
+cannot change which surface is in front.  Near the ends of the hole, where front and back are
+one bent tube, a flip needs ``a_y > 1 / sin(tilt)``: the tube turns inside out (a linear climb
+``1.3 * 2 pi R sin(tilt)`` has ``a_y sin(tilt) = 1.18`` at 72 degrees; 8% of the pixels showed
+back faces, a see-through blob).  Lifts that rise faster in the middle of the overlap flip only
+a small hook and let the front and back tubes pass through each other at its end (a jagged
+intersection; the cut model self-intersects, so its order disagrees with its z-buffer).  So the
+climb gives the period and the edited order gives the picture.
 """
 
 from __future__ import annotations
