@@ -123,7 +123,8 @@ _MODELS: dict[str, tuple[Callable, str]] = {
     ),
     "impossibagel": (
         bagel.impossibagel,
-        "Impossibagel: a torus given a period around its hole with Mescher.with_periods.",
+        "Impossibagel: a torus given a period around its hole with Mescher.with_periods; seen at "
+        "a grazing angle, its back passes in front of its front at the right end of the hole.",
     ),
 }
 
