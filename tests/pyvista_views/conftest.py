@@ -6,6 +6,8 @@ Image regression uses pytest-pyvista's ``verify_image_cache`` (``test_images.py`
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 import pyvista as pv
 
@@ -13,6 +15,12 @@ from pyvista_views.headless import configure_headless
 
 configure_headless()
 pv.OFF_SCREEN = True
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """pytest-pyvista's reference images live here (its ``--image_cache_dir`` unless given)."""
+    if getattr(config.option, "image_cache_dir", "absent") is None:
+        config.option.image_cache_dir = str(Path(__file__).parent / "image_cache")
 
 
 @pytest.fixture(autouse=True)
