@@ -50,7 +50,11 @@ class StudySettings:
     cell : int
         Width and height in pixels of one rendered panel.
     levels : int
-        Midpoint subdivision levels applied to each gallery model before processing.
+        Midpoint subdivision levels applied to each model before processing, at most: a level
+        is skipped when it would take the model past ``max_faces``.
+    max_faces : int
+        Face budget of a subdivided model (a model already finer gets fewer levels; each level
+        multiplies the faces, and the accurate heat method's cost, by 4).
     heat_times : tuple of float
         Heat diffusion times in units of ``s^2``, ``s`` the diagonal of the model's xy box (so
         the heat spreads as far whatever the subdivision level: a point source's heat reaches
@@ -67,6 +71,7 @@ class StudySettings:
     quick: bool
     cell: int
     levels: int
+    max_faces: int = 24_000
     heat_times: tuple[float, ...] = (1e-3, 1e-2, 1e-1)
     smooth_times: tuple[float, ...] = (0.0, 2e-4, 1e-3, 5e-3)
     compare_time: float = 1e-3

@@ -39,7 +39,7 @@ from .metrics import (
 )
 from .settings import ENV_MAP, GEODESIC_CMAP, HEAT_CMAP, LIGHTS
 
-__all__ = ["STEPS", "Subject", "run_mescher_steps", "subdivide"]
+__all__ = ["STEPS", "Subject", "run_mescher_steps", "subdivide", "subdivision_levels"]
 
 #: Colours of the homology loops in the Hodge figure (grey: a loop with period 0).
 PALETTE = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
@@ -111,8 +111,9 @@ def _mescher(s: Subject, **kw: Any) -> tuple:
 
 
 def subdivide(job: ModelJob, m0: Any, order0: Any) -> tuple:
-    """Midpoint subdivision ``st.levels`` times, the order carried along; periods kept."""
-    levels = job.st.levels
+    """Midpoint subdivision ``st.levels`` times (fewer if the faces would pass
+    ``st.max_faces``), the order carried along; periods kept."""
+    levels = subdivision_levels(m0.n_faces, job.st.levels, job.st.max_faces)
     if levels == 0:
         return m0, order0
     if order0 is None:
@@ -127,6 +128,14 @@ def subdivide(job: ModelJob, m0: Any, order0: Any) -> tuple:
         "max_integrability_residual": float(np.abs(m.integrability_residual()).max()),
     }
     return m, order
+
+
+def subdivision_levels(n_faces: int, levels: int, max_faces: int) -> int:
+    """The most levels, up to ``levels``, whose result has at most ``max_faces`` faces
+    (each level multiplies the faces by 4)."""
+    while levels > 0 and n_faces * 4**levels > max_faces:
+        levels -= 1
+    return levels
 
 
 def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) -> tuple:
@@ -440,8 +449,9 @@ def run_mescher_steps(job: ModelJob, name: str, m0: Any, order0: Any, reference:
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)
     coarse = None
-    if m is not m0 and job.st.levels >= 2:
-        coarse = vertices_after_midpoint(m0.n_vertices, m0.n_edges, m0.n_faces, job.st.levels - 1)
+    levels = job.record.get("subdivision", {}).get("levels", 0) if m is not m0 else 0
+    if levels >= 2:
+        coarse = vertices_after_midpoint(m0.n_vertices, m0.n_edges, m0.n_faces, levels - 1)
     s = Subject(name, m, order, reference, reference_note, coarse_vertices=coarse)
     for key, label, fn in STEPS:
         job.step(key, label, fn, job, s)

@@ -30,3 +30,12 @@ def test_exact_distance_at_some_vertices_equals_the_full_field():
     coarse_d, _ = exact_distance(g.mescher, [3])
     np.testing.assert_allclose(part[:coarse], coarse_d, rtol=1e-9, atol=1e-9)
     assert np.isfinite(full).all() and full[3] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_subdivision_levels_keep_to_the_face_budget():
+    from meschers.steps import subdivision_levels
+
+    assert subdivision_levels(1408, 2, 24_000) == 2  # 22 528 faces
+    assert subdivision_levels(2048, 2, 24_000) == 1  # 32 768 would be too many: 8 192
+    assert subdivision_levels(30_000, 2, 24_000) == 0
+    assert subdivision_levels(100, 0, 24_000) == 0
