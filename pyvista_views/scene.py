@@ -793,6 +793,7 @@ class MescherScene:
         )
         options.update(kwargs)
         actor = self.plotter.add_scalar_bar(**options)
+        _exact_zero_labels(actor, layer.actor.mapper.GetScalarRange(), int(options["n_labels"]))
         if self.layers:
             self._frame()
         return actor
@@ -880,3 +881,24 @@ def embedding_of(m: Any, kind: str, scalars: object = None) -> tuple:
     if isinstance(scalars, dict):
         return V, F, {k: carry(v) for k, v in scalars.items()}
     return V, F, carry(scalars)
+
+
+def _exact_zero_labels(actor: Any, scalar_range: Sequence[float], n_labels: int) -> None:
+    """Label the bar at evenly spaced values, with round-off below 1e-9 of the range shown as 0.
+
+    VTK labels the bar at ``lo + k (hi - lo) / (n - 1)``; for a symmetric range the middle
+    value is round-off (``1.74e-13``), printed as such. Custom labels carry the same values
+    with that round-off removed.
+    """
+    if n_labels < 2:
+        return
+    from vtkmodules.vtkCommonCore import vtkDoubleArray
+
+    lo, hi = (float(v) for v in scalar_range)
+    values = np.linspace(lo, hi, n_labels)
+    values[np.abs(values) <= 1e-9 * max(abs(hi - lo), abs(lo), abs(hi))] = 0.0
+    labels = vtkDoubleArray()
+    for v in values:
+        labels.InsertNextValue(v)
+    actor.SetCustomLabels(labels)
+    actor.SetUseCustomLabels(True)
