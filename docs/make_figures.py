@@ -22,7 +22,7 @@ from pyvista_views import render
 
 OUT = Path(__file__).resolve().parent / "images"
 LIGHTS = [(0.4, 0.6, 1.0), (-0.8, 0.3, 0.6)]
-TILE = 260
+TILE = 320
 
 
 def _font(size: int = 15):
@@ -46,7 +46,7 @@ def gallery_figure() -> Path:
                 order=order,
                 scalars=m.hodge().z,
                 scalar_bar_title="depth z",
-                window_size=(TILE + 90, TILE),
+                window_size=(TILE + 120, TILE),
             )
         )
         row = Image.fromarray(np.concatenate(tiles, axis=1))

@@ -794,6 +794,8 @@ class MescherScene:
         options.update(kwargs)
         actor = self.plotter.add_scalar_bar(**options)
         _exact_zero_labels(actor, layer.actor.mapper.GetScalarRange(), int(options["n_labels"]))
+        # the top label sits half above the bar: keep the title clear of it
+        actor.SetVerticalTitleSeparation(int(options["label_font_size"]))
         if self.layers:
             self._frame()
         return actor
