@@ -30,8 +30,8 @@ from sphinx.ext import autosummary  # noqa: E402
 
 import meschers_igl  # noqa: E402
 
-# `python -m meschers` runs the command line when imported; autosummary's recursive scan imports
-# every module, so stand in a placeholder that autosummary skips (it skips mocked modules).
+# `meschers.__main__` is the `python -m meschers` entry, not API: a placeholder keeps it out of
+# autosummary's recursive scan (which skips mocked modules).
 _main = types.ModuleType("meschers.__main__")
 _main.__sphinx_mock__ = True
 sys.modules.setdefault("meschers.__main__", _main)
