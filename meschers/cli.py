@@ -605,8 +605,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 #: Measured CPU times of the study (benchmarks/bench_study.py; CPU time, which does not depend on
 #: what else the machine runs): the default study, and --quick, one model after another.
-STUDY_TIME = "measured: 42-46 s of CPU time with --jobs 1, 65-70 s with --jobs 2"
-QUICK_TIME = "measured: 14 s of CPU time with --jobs 1"
+STUDY_TIME = (
+    "measured on 2 cores: 38-55 s wall and 60 s of CPU time with --jobs 2, 40-44 s with --jobs 1"
+)
+QUICK_TIME = "measured: 19 s wall, 19 s of CPU time with --jobs 1"
 
 _VECTOR_OPTIONS = ("--view", "--up", "--light")
 
