@@ -35,7 +35,10 @@ __all__ = [
     "expand_models",
     "load_artist",
     "load_mescher",
+    "load_solid",
+    "list_solids",
     "resolve",
+    "solid_path",
 ]
 
 #: Suffixes of saved meschers.
@@ -51,7 +54,9 @@ class ModelSpec:
 
     Attributes
     ----------
-    kind : {"gallery", "artist", "mescher"}
+    kind : {"gallery", "artist", "solid", "mescher"}
+        ``"solid"``: any 3D model (closed solids, separate blocks) seen from its sidecar view
+        (``"seen_as": "solid"``), converted by ``meshlab_filters.model_to_mescher``.
     name : str
         Used for section titles and file names.
     path : str, optional
@@ -110,7 +115,8 @@ def _file_spec(path: Path, source: str) -> ModelSpec:
                 f"{side.name}: expected a view in the sidecar JSON ({{'view': [x, y, z], "
                 f"'up': [x, y, z]}} or ParadoxToolkit's camera.view_dir/up), found none"
             )
-        return ModelSpec("artist", path.stem, str(path), cam[0], cam[1], meta, source)
+        kind = "solid" if isinstance(meta, dict) and meta.get("seen_as") == "solid" else "artist"
+        return ModelSpec(kind, path.stem, str(path), cam[0], cam[1], meta, source)
     if path.suffix.lower() in MESCHER_SUFFIXES:
         return ModelSpec("mescher", path.stem, str(path), source=source)
     raise MescherError(
@@ -118,6 +124,25 @@ def _file_spec(path: Path, source: str) -> ModelSpec:
         f"'{path.with_suffix('.json').name}' giving its view, found '{path.name}' without one "
         f"(or convert it first: meschers convert {source} OUT.ply --view X,Y,Z --up X,Y,Z)"
     )
+
+
+def list_solids() -> list[str]:
+    """Names of the shipped artist-style solid models (``solid:NAME``)."""
+    import importlib.resources
+
+    root = importlib.resources.files("meschers_igl") / "data" / "solids"
+    return sorted(p.name[:-4] for p in root.iterdir() if p.name.endswith(".obj"))
+
+
+def solid_path(name: str) -> Path:
+    """The OBJ file of the shipped solid model ``name`` (its view is in the sidecar JSON)."""
+    import importlib.resources
+
+    if name not in list_solids():
+        raise MescherError(
+            f"name: expected one of the shipped solids {', '.join(list_solids())}, found {name!r}"
+        )
+    return Path(str(importlib.resources.files("meschers_igl") / "data" / "solids" / f"{name}.obj"))
 
 
 def _named(spec: str) -> ModelSpec | None:
@@ -130,6 +155,8 @@ def _named(spec: str) -> ModelSpec | None:
 
         pm = paradox_model(rest)
         return ModelSpec("artist", rest, str(pm.obj), pm.view, pm.up, pm.meta, spec)
+    if prefix == "solid" and rest:
+        return _file_spec(solid_path(rest), spec)
     if prefix == "gallery" and rest:
         spec = rest
     if spec in list_models():
@@ -228,4 +255,28 @@ def load_artist(spec: ModelSpec, merge_tol: float = 0.0, tol: float | None = Non
 
     V, F, report = load_artist_model(spec.path, merge_tol=merge_tol)
     m, order = cut_model_to_mescher((V, F), view=spec.view, up=spec.up, tol=tol)
+    return m, order, camera_coordinates(V, spec.view, spec.up), F, report
+
+
+def load_solid(spec: ModelSpec) -> tuple:
+    """Any 3D model (closed solids, separate blocks, soups) seen from its view, as a mescher.
+
+    Returns
+    -------
+    (m, order, Vcam, F, report)
+        The mescher of what the viewer sees and its depth order (false edges glued, occlusions
+        ordered, hidden gaps bridged: :func:`meshlab_filters.model_to_mescher`); the model in
+        camera coordinates and its triangles (for a z-buffered reference); the conversion report.
+    """
+    import pymeshlab
+
+    from meschers_igl.cutmesh import camera_coordinates
+    from meshlab_filters import model_to_mescher
+
+    perceive = spec.meta.get("perceive") if isinstance(spec.meta, dict) else None
+    m, order, report = model_to_mescher(spec.path, view=spec.view, up=spec.up, perceive=perceive)
+    ms = pymeshlab.MeshSet()
+    ms.load_new_mesh(spec.path)
+    mesh = ms.current_mesh()
+    V, F = mesh.vertex_matrix(), mesh.face_matrix().astype("int64")
     return m, order, camera_coordinates(V, spec.view, spec.up), F, report

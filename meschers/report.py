@@ -195,7 +195,7 @@ def _section(result: Any, level: str = "h2") -> str:
 
 
 #: Summary table of each report part (:data:`meschers.study.GROUPS`): key -> function(records).
-TABLES = {"models": _gallery_table, "other_tools": _tools_table}
+TABLES = {"models": _gallery_table, "other_tools": _tools_table, "artist_models": _tools_table}
 
 
 def write_report(

@@ -67,6 +67,18 @@ GROUPS: tuple[Group, ...] = (
         "tool's depth gap; the stairs and block triangle are closed boxes, impossible through their "
         "depth order only.",
     ),
+    Group(
+        "artist_models",
+        "Models as artists make them",
+        "Real models of impossible figures as people publish them: closed solids and separate "
+        "blocks, not cut models (built from half-spaces and saved as OBJ quads, shipped in "
+        "<code>meschers_igl/data/solids</code>). Each is seen from its view by "
+        "<code>Mescher.from_model</code> (<code>meshlab_filters.model_to_mescher</code>): hidden "
+        "surfaces removed by polygon clipping, false edges glued crosswise so their depth gap "
+        "becomes a period, occlusions ordered, a gap hidden behind a crossing bar bridged; the "
+        "sheared torus is read with perceived right angles (<code>perceive='manhattan'</code>). "
+        "The reference row is the model itself, z-buffered.",
+    ),
 )
 
 
@@ -107,10 +119,18 @@ def _run_artist(job: ModelJob, spec: ModelSpec) -> None:
 
 
 #: How a job runs each kind of model: kind -> (group key, runner, steps shown by progress).
+def _run_solid(job: ModelJob, spec: ModelSpec) -> None:
+    from .tool_steps import run_solid_steps
+
+    job.record.update(file=Path(spec.path).name)
+    run_solid_steps(job, spec)
+
+
 RUNNERS: dict[str, tuple[str, Callable[[ModelJob, ModelSpec], None], int]] = {
     "gallery": ("models", _run_gallery, 9),
     "mescher": ("models", _run_saved, 9),
     "artist": ("other_tools", _run_artist, 3),
+    "solid": ("artist_models", _run_solid, 3),
 }
 
 
@@ -122,6 +142,8 @@ def _description(spec: ModelSpec) -> str:
     if spec.kind == "mescher":
         return f"Saved mescher '{Path(spec.path).name}'."
     repo = spec.meta.get("source", {}).get("repo", "") if isinstance(spec.meta, dict) else ""
+    if spec.kind == "solid" and isinstance(spec.meta, dict) and spec.meta.get("description"):
+        return str(spec.meta["description"])
     if "ParadoxToolkit" in repo:
         return f"ParadoxToolkit cut model '{Path(spec.path).name}'."
     return f"Cut model '{Path(spec.path).name}' seen from its sidecar view."
@@ -178,13 +200,16 @@ def failed_result(spec: ModelSpec, key: str, exc: BaseException) -> ModelResult:
 
 
 def default_models(other_tools: bool = True) -> list[ModelSpec]:
-    """The gallery, then (with ``other_tools``) the six shipped ParadoxToolkit models."""
+    """The gallery, then (with ``other_tools``) the shipped ParadoxToolkit and solid models."""
     from meschers_igl.gallery import list_models
     from meschers_igl.paradox import list_paradox_models
+
+    from .inputs import list_solids
 
     names = list(list_models())
     if other_tools:
         names += [f"paradox:{n}" for n in list_paradox_models(variants=False)]
+        names += [f"solid:{n}" for n in list_solids()]
     return expand_models(names)
 
 
@@ -301,6 +326,7 @@ def run_study(
         "env_map": ENV_MAP,
         "models": {},
         "other_tools": {},
+        "artist_models": {},
     }
     errors: list[str] = []
     for res in results:

@@ -16,12 +16,13 @@ from pyvista_views.camera import default_bounds, xy_box
 
 from .describe import describe
 from .figures import compose, format_values, overlay
-from .inputs import ModelSpec, load_artist
+from .inputs import ModelSpec, load_artist, load_solid
 from .job import ModelJob
 from .metrics import distance_error, exact_distance, one_source_per_component
 from .settings import ENV_MAP, GEODESIC_CMAP, LIGHTS
 
-__all__ = ["convert", "periods_and_geodesic", "relight", "run_tool_steps"]
+__all__ = ["convert", "convert_solid", "periods_and_geodesic", "relight", "run_solid_steps",
+           "run_tool_steps"]  # fmt: skip
 
 
 def convert(job: ModelJob, spec: ModelSpec) -> tuple:
@@ -37,7 +38,40 @@ def convert(job: ModelJob, spec: ModelSpec) -> tuple:
     return m, order, Vcam, F
 
 
-def relight(job: ModelJob, name: str, m: Any, order: Any, Vcam: np.ndarray, F: np.ndarray) -> None:
+def convert_solid(job: ModelJob, spec: ModelSpec) -> tuple:
+    """See the 3D model from its view (``Mescher.from_model``); record the conversion report."""
+    m, order, Vcam, F, report = load_solid(spec)
+    job.record["input"] = describe(m)
+    job.record["conversion"] = {
+        "junctions": [
+            {"position": [float(v) for v in j.position], "depth_gap": float(j.depth_gap)}
+            for j in report.junctions
+        ],
+        "report": str(report),
+    }
+    gap = spec.meta.get("depth_gap") if isinstance(spec.meta, dict) else None
+    verdict = m.is_impossible(order=order)
+    job.record["impossible_kind"] = verdict.kind
+    job.record["expected"] = {"depth_gaps": None if gap is None else [float(gap)]}
+    return m, order, Vcam, F
+
+
+def run_solid_steps(job: ModelJob, spec: ModelSpec) -> None:
+    """Convert (model seen from its view), relight against its z-buffer, periods and geodesic."""
+    got = job.step("convert", "convert", convert_solid, job, spec)
+    if got is None:
+        return
+    m, order, Vcam, F = got
+    job.step("relight", "relight", relight, job, spec.name, m, order, Vcam, F, "the model")
+    job.step(
+        "periods_geodesic", "periods and geodesic", periods_and_geodesic, job, spec.name, m, order
+    )
+
+
+def relight(
+    job: ModelJob, name: str, m: Any, order: Any, Vcam: np.ndarray, F: np.ndarray,
+    reference: str = "tool's cut",
+) -> None:  # fmt: skip
     """The glued mescher and the tool's cut model under the four lights (and the env map)."""
     from pyvista_views.compare import image_agreement
 
@@ -52,7 +86,7 @@ def relight(job: ModelJob, name: str, m: Any, order: Any, Vcam: np.ndarray, F: n
         [""] * len(ref),
     ]
     cols = [f"light {i + 1}" for i in range(len(LIGHTS))] + [f"env map '{ENV_MAP}'"]
-    fig = compose([mes, ref], cols, ["mescher", "tool's cut"], notes)
+    fig = compose([mes, ref], cols, ["mescher", reference], notes)
     job.figure(fig, f"tool_{name}_relight.png", "Render and relight",
         "Top: the mescher glued from the tool's cut model (only its view and up vectors given), drawn in "
         "its depth order under four lights and an environment map. Bottom: the cut model itself, z-buffered "

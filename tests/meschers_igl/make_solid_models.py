@@ -1,0 +1,49 @@
+"""Write the study's artist-style solid models to meschers_igl/data/solids (run from the repo root).
+
+python tests/meschers_igl/make_solid_models.py
+
+The models are built here, the way the tests build them (half-spaces, welded quads), not by the
+code under test; each OBJ gets a sidecar JSON with its view and the depth gap it hides.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from visible_models import (
+    ISO_UP,
+    ISO_VIEW,
+    block_stairs,
+    hidden_gap_frame,
+    sheared_tribar_torus,
+    u_tribar,
+    write_obj,
+)
+
+OUT = Path(__file__).resolve().parents[2] / "meschers_igl" / "data" / "solids"
+MODELS = {
+    "u_tribar": (u_tribar, None, "A Penrose tribar as one closed U-shaped solid (sphere "
+                 "topology) whose two capped ends line up on screen."),
+    "block_stairs": (block_stairs, None, "Penrose stairs as four separate closed blocks."),
+    "hidden_gap_frame": (hidden_gap_frame, None, "A tribar frame broken behind a crossing bar "
+                         "(the gap is hidden; the pieces are bridged behind the occluder)."),
+    "sheared_tribar_torus": (sheared_tribar_torus, "manhattan", "A real closed torus sheared "
+                             "along the view: it looks like a tribar only to a person who "
+                             "assumes right angles (perceive='manhattan')."),
+}  # fmt: skip
+
+
+def main() -> None:
+    OUT.mkdir(parents=True, exist_ok=True)
+    for name, (build, perceive, text) in MODELS.items():
+        V, polys, gap = build()
+        write_obj(OUT / f"{name}.obj", V, polys)
+        meta = {"view": ISO_VIEW.tolist(), "up": ISO_UP.tolist(), "seen_as": "solid",
+                "perceive": perceive, "depth_gap": float(gap), "description": text}  # fmt: skip
+        (OUT / f"{name}.json").write_text(json.dumps(meta, indent=1) + "\n")
+        print(name, len(V), "vertices", len(polys), "polygons, gap", gap)
+
+
+if __name__ == "__main__":
+    main()
