@@ -372,17 +372,6 @@ def _study_pair(pair: tuple[ModelSpec, str], st: StudySettings) -> ModelResult:
     return study_model(pair[0], pair[1], st)
 
 
-def __getattr__(name: str) -> Any:
-    """``meschers.study.image_agreement`` for old callers: it lives in
-    :mod:`pyvista_views.compare` (imported on first use, so that a parallel study's client
-    process never loads pyvista)."""
-    if name == "image_agreement":
-        from pyvista_views.compare import image_agreement
-
-        return image_agreement
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
 def _jsonable(x: Any) -> Any:
     """numpy scalars and arrays to plain Python, NaN/inf kept as JSON's NaN/Infinity."""
     if isinstance(x, dict):

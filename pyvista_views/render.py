@@ -193,7 +193,3 @@ def render_scene(
         scene.close()
         raise
     return scene
-
-
-#: Deprecated alias of :func:`pyvista_views.camera.xy_box` (kept until every caller has moved).
-_xy_box = xy_box

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from pvv_helpers import requires_gl
 
-from meschers.study import image_agreement
 from meschers_igl.operators import view_frame
 from meschers_igl.paradox import list_paradox_models, paradox_model
 from pyvista_views import MescherScene
+from pyvista_views.compare import image_agreement
 
 pytestmark = [requires_gl, pytest.mark.render]
 
