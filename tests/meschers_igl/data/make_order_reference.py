@@ -1,8 +1,14 @@
 """Freeze today's (numpy) depth-order results, commit 62e4088, for the numba rewrite's test."""
-import hashlib, json, sys
-import numpy as np, igl
+
+import hashlib
+import sys
+
+import igl
+import numpy as np
+
 sys.path.insert(0, "tests/meschers_igl")
-from test_order import torus, camera, folded_strip, _paradox
+from test_order import _paradox, camera, folded_strip, torus
+
 from meschers_igl import DepthOrder, Mescher, shapes
 from meschers_igl.geometry2d import overlapping_pairs
 
@@ -19,7 +25,14 @@ out["torus_pairs"], out["torus_centroids"] = p, c
 front = np.flatnonzero(m.xy[m.F][:, :, 0].mean(1) > 0.1)
 back = np.setdiff1d(np.arange(m.n_faces), front)
 out["torus_put_in_front"] = o.copy().put_in_front(front, back).arcs
-for name in ["penrose_triangle", "penrose_triangle_block", "impossible_cube", "penrose_stair", "impossible_arch", "reutersvard_rectangle"]:
+for name in [
+    "penrose_triangle",
+    "penrose_triangle_block",
+    "impossible_cube",
+    "penrose_stair",
+    "impossible_arch",
+    "reutersvard_rectangle",
+]:
     mp, Zp = _paradox(name)
     out[name + "_embedding"] = DepthOrder.from_embedding(mp, Zp).arcs
     out[name + "_local"] = DepthOrder.from_local_depth(mp).arcs
