@@ -87,11 +87,17 @@ def relight(
     ]
     cols = [f"light {i + 1}" for i in range(len(LIGHTS))] + [f"env map '{ENV_MAP}'"]
     fig = compose([mes, ref], cols, ["mescher", reference], notes)
+    top = (
+        "the mescher glued from the tool's cut model (only its view and up vectors given)"
+        if reference == "tool's cut"
+        else "the mescher of what the viewer sees (Mescher.from_model, from the model's view)"
+    )
+    bottom = "the cut model" if reference == "tool's cut" else "the 3D model"
     job.figure(fig, f"tool_{name}_relight.png", "Render and relight",
-        "Top: the mescher glued from the tool's cut model (only its view and up vectors given), drawn in "
-        "its depth order under four lights and an environment map. Bottom: the cut model itself, z-buffered "
-        "with the same camera. Numbers: silhouette IoU and the correlation of the two luminances (0 = black "
-        "to 1 = white) on pixels covered by both.")  # fmt: skip
+        f"Top: {top}, drawn in its depth order under four lights and an environment map. Bottom: "
+        f"{bottom} itself, z-buffered with the same camera. Numbers: silhouette IoU and the correlation of "
+        "the two luminances (0 = black to 1 = white) on pixels covered by both; a model read with "
+        "perceived right angles shades as perceived, not as built.")  # fmt: skip
 
 
 def periods_and_geodesic(job: ModelJob, name: str, m: Any, order: Any) -> None:
