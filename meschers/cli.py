@@ -388,8 +388,13 @@ def _add(p: argparse.ArgumentParser, *names: str, **kw: Any) -> None:
 def _input(p: argparse.ArgumentParser, nargs: str | None = None) -> None:
     _add(p, "input", metavar="INPUT", nargs=nargs,
          help="a gallery model (e.g. penrose_triangle), paradox:NAME (a shipped ParadoxToolkit "
-              "model), a .ply/.npz mescher file, or a mesh with a sidecar .json view; "
+              "model), solid:NAME (a shipped closed solid), a .ply/.npz mescher file, or a mesh with a sidecar .json view; "
               "'meschers info --list' lists the names")  # fmt: skip
+
+
+def _mescher_output(p: argparse.ArgumentParser) -> None:
+    _add(p, "-o", "--output", required=True, metavar="OUT",
+         help="the mescher file to write (.ply or .npz)")  # fmt: skip
 
 
 def _force(p: argparse.ArgumentParser) -> None:
@@ -540,14 +545,7 @@ def build_parser() -> argparse.ArgumentParser:
                        "depths (paper Sec. 4.4); the harmonic part and every period are kept.",
                        epilog=_examples("smooth penrose_triangle -o smooth.ply --t-xy 0.05 --t-zeta 0.05"))  # fmt: skip
     _input(p)
-    _add(
-        p,
-        "-o",
-        "--output",
-        required=True,
-        metavar="OUT",
-        help="the mescher file to write (.ply or .npz)",
-    )
+    _mescher_output(p)
     _add(p, "--t-xy", type=_nonnegative, default=0.0, metavar="T",
          help="diffusion time for the screen positions, in squared screen units (default 0: kept)")  # fmt: skip
     _add(p, "--t-zeta", type=_nonnegative, default=0.0, metavar="T",
@@ -561,14 +559,7 @@ def build_parser() -> argparse.ArgumentParser:
                        "result would not fit in memory is refused at once unless --force is given.",
                        epilog=_examples("subdivide penrose_triangle -o fine.ply --levels 2 --scheme loop"))  # fmt: skip
     _input(p)
-    _add(
-        p,
-        "-o",
-        "--output",
-        required=True,
-        metavar="OUT",
-        help="the mescher file to write (.ply or .npz)",
-    )
+    _mescher_output(p)
     _add(p, "--levels", type=int, default=1, metavar="N",
          help="subdivision levels; each multiplies the faces by 4 (default %(default)s)")  # fmt: skip
     _add(p, "--scheme", choices=("midpoint", "loop"), default="midpoint",

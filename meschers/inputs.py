@@ -236,7 +236,8 @@ def load_mescher(spec: ModelSpec) -> tuple[Any, Any]:
         from meschers_igl import io
 
         return io.load(spec.path, return_order=True)
-    m, order, _, _, _ = load_artist(spec)
+    load = load_solid if spec.kind == "solid" else load_artist
+    m, order, _, _, _ = load(spec)
     return m, order
 
 

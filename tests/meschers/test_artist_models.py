@@ -38,3 +38,11 @@ def test_study_section_for_closed_solids(tmp_path):
         )
     page = (tmp_path / "index.html").read_text()
     assert "Models as artists make them" in page and "u_tribar" in page.replace(" ", "_").lower()
+
+
+def test_cli_info_sees_a_solid_from_its_view(capsys):
+    from meschers.cli import main
+
+    assert main(["info", "solid:u_tribar"]) == 0
+    out = capsys.readouterr().out
+    assert "impossible: yes" in out and "6.928" in out
