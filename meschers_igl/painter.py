@@ -70,6 +70,22 @@ def pixel_grid(
     return centres, (float(b[0]), float(b[1]), float(b[2]), float(b[3])), (H, W)
 
 
+def _double_signed_area(T: np.ndarray) -> np.ndarray:
+    """(k,) twice the signed area of screen triangles ``T`` (k, 3, 2); > 0 counter-clockwise."""
+    e1, e2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
+    return e1[:, 0] * e2[:, 1] - e2[:, 0] * e1[:, 1]
+
+
+def _barycentric(t: np.ndarray, p: np.ndarray, area2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Barycentric coordinates ``(l1, l2)`` of points ``p`` (k, 2) in triangles ``t`` (k, 3, 2)
+    with twice-signed areas ``area2``, by signed sub-areas (exact sign for points off the edges)."""
+    e1, e2, q = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], p - t[:, 0]
+    inv = 1.0 / area2
+    return (q[:, 0] * e2[:, 1] - q[:, 1] * e2[:, 0]) * inv, (
+        e1[:, 0] * q[:, 1] - e1[:, 1] * q[:, 0]
+    ) * inv
+
+
 def _draw_order(m: Any, order: Any) -> np.ndarray:
     n = len(m.F)
     if order is None:
@@ -137,9 +153,7 @@ def visible_faces(
     nc = np.maximum(c_hi - c_lo + 1, 0)
     nr = np.maximum(r_hi - r_lo + 1, 0)
     count = nc * nr
-    area2 = (T[:, 1, 0] - T[:, 0, 0]) * (T[:, 2, 1] - T[:, 0, 1]) - (T[:, 2, 0] - T[:, 0, 0]) * (
-        T[:, 1, 1] - T[:, 0, 1]
-    )
+    area2 = _double_signed_area(T)
     count[area2 == 0] = 0
 
     best = np.full(H * W, -1, dtype=np.int64)
@@ -157,13 +171,7 @@ def visible_faces(
         col = c_lo[f] + local % nc[f]
         row = r_lo[f] + local // nc[f]
         p = centres[row, col]
-        t = T[f]
-        # barycentric coordinates by signed sub-areas (exact sign for points off the edges)
-        e1, e2 = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
-        q = p - t[:, 0]
-        inv = 1.0 / area2[f]
-        l1 = (q[:, 0] * e2[:, 1] - q[:, 1] * e2[:, 0]) * inv
-        l2 = (e1[:, 0] * q[:, 1] - e1[:, 1] * q[:, 0]) * inv
+        l1, l2 = _barycentric(T[f], p, area2[f])
         inside = (l1 >= -1e-12) & (l2 >= -1e-12) & (1.0 - l1 - l2 >= -1e-12)
         np.maximum.at(best, (row * W + col)[inside], rank[f[inside]])
 
@@ -173,12 +181,7 @@ def visible_faces(
         return faces
     bary = np.full((H, W, 3), np.nan)
     hit = faces >= 0
-    t = T[faces[hit]]
-    p = centres[hit]
-    e1, e2, q = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], p - t[:, 0]
-    inv = 1.0 / area2[faces[hit]]
-    l1 = (q[:, 0] * e2[:, 1] - q[:, 1] * e2[:, 0]) * inv
-    l2 = (e1[:, 0] * q[:, 1] - e1[:, 1] * q[:, 0]) * inv
+    l1, l2 = _barycentric(T[faces[hit]], centres[hit], area2[faces[hit]])
     bary[hit] = np.stack([1.0 - l1 - l2, l1, l2], axis=1)
     return faces, bary
 
@@ -205,7 +208,4 @@ def backface_share(m: Any, order: Any = None, *, size: int = 256, bounds: Any = 
     if not hit.any():
         return 0.0
     T = np.asarray(m.xy, dtype=np.float64)[np.asarray(m.F)[faces[hit]]]
-    area2 = (T[:, 1, 0] - T[:, 0, 0]) * (T[:, 2, 1] - T[:, 0, 1]) - (T[:, 2, 0] - T[:, 0, 0]) * (
-        T[:, 1, 1] - T[:, 0, 1]
-    )
-    return float(np.mean(area2 <= 0))
+    return float(np.mean(_double_signed_area(T) <= 0))
