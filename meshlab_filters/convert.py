@@ -31,6 +31,16 @@ _NORMAL_ATTR = "meschers_normal"
 RENDER_Z_SPREAD = 1e-2
 
 
+def _mesh_pair(path_or_V_F: Any) -> tuple[np.ndarray, np.ndarray]:
+    """``(V, F)`` checked, from a pair given in place of a file path."""
+    if isinstance(path_or_V_F, (tuple, list)) and len(path_or_V_F) == 2:
+        V = as_points(path_or_V_F[0], "path_or_V_F[0] (V)", 3)
+        return V, as_faces(path_or_V_F[1], "path_or_V_F[1] (F)", V.shape[0])
+    raise MescherError(
+        f"path_or_V_F: expected a file path or a pair (V, F), found {type(path_or_V_F).__name__}"
+    )
+
+
 def _mescher(m: Any, name: str = "m") -> Mescher:
     if not isinstance(m, Mescher):
         raise MescherError(f"{name}: expected a meschers_igl.Mescher, found {type(m).__name__}")
@@ -87,14 +97,8 @@ def cut_model_to_mescher(
         V, F, report = load_artist_model(path_or_V_F, merge_tol=merge_tol)
         if merge is not None:
             merge = _translate_pairs(merge, report.vertex_map, path_or_V_F)
-    elif isinstance(path_or_V_F, (tuple, list)) and len(path_or_V_F) == 2:
-        V = as_points(path_or_V_F[0], "path_or_V_F[0] (V)", 3)
-        F = as_faces(path_or_V_F[1], "path_or_V_F[1] (F)", V.shape[0])
     else:
-        raise MescherError(
-            "path_or_V_F: expected a file path or a pair (V, F), found "
-            f"{type(path_or_V_F).__name__}"
-        )
+        V, F = _mesh_pair(path_or_V_F)
     m, order = core_cut_model_to_mescher(V, F, view=view, up=up, tol=tol, merge=merge)
     return (m, order, report) if return_report else (m, order)
 
@@ -162,14 +166,8 @@ def model_to_mescher(
             pre.append(f"removed {n_c} pair(s) of coincident opposite faces (blocks touching)")
         V, F, cleanup = clean_mesh(V0, F0, merge_tol=merge_tol)
         cleanup.source = str(path_or_V_F)
-    elif isinstance(path_or_V_F, (tuple, list)) and len(path_or_V_F) == 2:
-        V = as_points(path_or_V_F[0], "path_or_V_F[0] (V)", 3)
-        F = as_faces(path_or_V_F[1], "path_or_V_F[1] (F)", V.shape[0])
     else:
-        raise MescherError(
-            "path_or_V_F: expected a file path or a pair (V, F), found "
-            f"{type(path_or_V_F).__name__}"
-        )
+        V, F = _mesh_pair(path_or_V_F)
     m, order, report = core_model_to_mescher(V, F, view=view, up=up, perceive=perceive, tol=tol)
     report.cleanup = cleanup
     report.repairs[:0] = pre
