@@ -30,7 +30,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -95,9 +95,10 @@ def _nonnegative(text: str) -> float:
     return v
 
 
-def load_input(spec: str) -> tuple[Any, Any, str]:
+def load_input(spec: str, check: Callable[[Any], None] | None = None) -> tuple[Any, Any, str]:
     """A mescher from a model name (:mod:`meschers.inputs`): a gallery model, ``paradox:NAME``,
-    a ``.ply`` / ``.npz`` mescher file, or a mesh with a sidecar JSON view.
+    a ``.ply`` / ``.npz`` mescher file, or a mesh with a sidecar JSON view.  ``check(mescher)``
+    runs before the depth order is computed (:func:`meschers.inputs.load_mescher`).
 
     Returns
     -------
@@ -106,7 +107,7 @@ def load_input(spec: str) -> tuple[Any, Any, str]:
     from .inputs import load_mescher, resolve
 
     model = resolve(spec, "INPUT")
-    m, order = load_mescher(model)
+    m, order = load_mescher(model, check)
     return m, order, model.label
 
 
@@ -232,11 +233,12 @@ def _budget(m: Any, levels: int, force: bool, what: str) -> None:
 def _cmd_render(args: argparse.Namespace) -> int:
     from meschers_igl.validate import as_count
 
-    m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".png",), "-o")
     levels = as_count(args.subdivide, "--subdivide")
+    m, order, _ = load_input(
+        args.input, lambda m: _budget(m, levels, args.force, f"render --subdivide {levels}")
+    )
     if levels:
-        _budget(m, levels, args.force, f"render --subdivide {levels}")
         m, order = _subdivide(m, order, levels, force=args.force)
     pvv = _headless_views()
     image = pvv.render(
@@ -314,9 +316,10 @@ def _cmd_subdivide(args: argparse.Namespace) -> int:
     from meschers_igl.validate import as_count
 
     levels = as_count(args.levels, "--levels")
-    m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".ply", ".npz"), "-o")
-    _budget(m, levels, args.force, f"subdivide --levels {levels}")
+    m, order, _ = load_input(
+        args.input, lambda m: _budget(m, levels, args.force, f"subdivide --levels {levels}")
+    )
     ms, order_s = _subdivide(m, order, levels, args.scheme, force=args.force)
     io.save(ms, out, order=order_s)
     print(f"wrote {out}: {m.n_faces} -> {ms.n_faces} faces ({args.scheme}, {levels} level(s))")

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import glob
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -225,19 +226,29 @@ def expand_models(specs: list[str], name: str = "models") -> list[ModelSpec]:
     return out
 
 
-def load_mescher(spec: ModelSpec) -> tuple[Any, Any]:
-    """``(mescher, order or None)`` of a gallery model or a saved mescher."""
+def load_mescher(spec: ModelSpec, check: Callable[[Any], None] | None = None) -> tuple[Any, Any]:
+    """``(mescher, order or None)`` of a gallery model or a saved mescher.
+
+    ``check(mescher)``, when given, runs as soon as the mescher exists and before its depth
+    order is computed (a gallery model's order is the costly part), so a refusal such as a size
+    guard comes at once.
+    """
     if spec.kind == "gallery":
         from meschers_igl.gallery import get_model
 
         g = get_model(spec.name)
+        if check is not None:
+            check(g.mescher)
         return g.mescher, g.order
     if spec.kind == "mescher":
         from meschers_igl import io
 
-        return io.load(spec.path, return_order=True)
-    load = load_solid if spec.kind == "solid" else load_artist
-    m, order, _, _, _ = load(spec)
+        m, order = io.load(spec.path, return_order=True)
+    else:
+        load = load_solid if spec.kind == "solid" else load_artist
+        m, order, _, _, _ = load(spec)
+    if check is not None:
+        check(m)
     return m, order
 
 

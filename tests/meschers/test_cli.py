@@ -362,6 +362,27 @@ def test_too_big_subdivision_is_refused_at_once(tmp_path, capsys):
     assert "--force" in _one_error_line(capsys)
 
 
+def test_size_guard_refuses_before_the_depth_order_is_computed(tmp_path, monkeypatch, capsys):
+    # The order is the costly part of loading a gallery model (numba kernels, overlaps): the
+    # refusal must not wait for it, so that `meschers subdivide --levels 30` exits at once.
+    from meschers_igl import gallery
+
+    model = type(gallery.get_model("penrose_triangle"))
+
+    def no_order(self):
+        raise AssertionError("the depth order was computed before the size guard")
+
+    monkeypatch.setattr(model, "order", property(no_order))
+    out = tmp_path / "x.ply"
+    assert main(["subdivide", "penrose_triangle", "-o", str(out), "--levels", "30"]) == 2
+    assert "--force" in _one_error_line(capsys)
+    assert (
+        main(["render", "penrose_triangle", "-o", str(tmp_path / "x.png"), "--subdivide", "30"])
+        == 2
+    )
+    assert "--force" in _one_error_line(capsys)
+
+
 def test_force_bypasses_the_size_guard(tmp_path, monkeypatch):
     from meschers_igl import validate
 
