@@ -134,11 +134,11 @@ def _tr(cells) -> str:
     return "<tr>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>"
 
 
-def _tools_table(tools: dict) -> str:
+def _tools_table(tools: dict, gaps: str = "tool's depth gaps", reference: str = "cut") -> str:
     head = (
         "<tr><th>figure</th><th>#V</th><th>#F</th><th>components</th><th>genus</th><th>&chi;</th>"
-        "<th>expected &chi;</th><th>non-zero periods</th><th>tool's depth gaps</th>"
-        "<th>min IoU vs cut</th><th>min luminance corr.</th><th>geodesic err.</th></tr>"
+        f"<th>expected &chi;</th><th>non-zero periods</th><th>{gaps}</th>"
+        f"<th>min IoU vs {reference}</th><th>min luminance corr.</th><th>geodesic err.</th></tr>"
     )
     rows = []
     for name, r in tools.items():
@@ -195,7 +195,11 @@ def _section(result: Any, level: str = "h2") -> str:
 
 
 #: Summary table of each report part (:data:`meschers.study.GROUPS`): key -> function(records).
-TABLES = {"models": _gallery_table, "other_tools": _tools_table, "artist_models": _tools_table}
+TABLES = {
+    "models": _gallery_table,
+    "other_tools": _tools_table,
+    "artist_models": lambda records: _tools_table(records, "model's depth gaps", "3D model"),
+}
 
 
 def write_report(

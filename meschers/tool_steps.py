@@ -64,8 +64,9 @@ def run_solid_steps(job: ModelJob, spec: ModelSpec) -> None:
     m, order, Vcam, F = got
     job.step("relight", "relight", relight, job, spec.name, m, order, Vcam, F, "the model")
     job.step(
-        "periods_geodesic", "periods and geodesic", periods_and_geodesic, job, spec.name, m, order
-    )
+        "periods_geodesic", "periods and geodesic", periods_and_geodesic, job, spec.name, m, order,
+        "the model's depth gaps",
+    )  # fmt: skip
 
 
 def relight(
@@ -100,8 +101,11 @@ def relight(
         "perceived right angles shades as perceived, not as built.")  # fmt: skip
 
 
-def periods_and_geodesic(job: ModelJob, name: str, m: Any, order: Any) -> None:
-    """Periods against the tool's depth gaps; heat distance after one subdivision."""
+def periods_and_geodesic(
+    job: ModelJob, name: str, m: Any, order: Any, gaps_of: str = "the tool's depth gaps"
+) -> None:
+    """Periods against the expected depth gaps (``gaps_of`` names them in the caption); heat
+    distance after one subdivision."""
     st = job.st
     periods = np.asarray(m.periods())
     job.record["periods"] = periods.tolist()
@@ -136,7 +140,7 @@ def periods_and_geodesic(job: ModelJob, name: str, m: Any, order: Any) -> None:
         else ""
     )
     job.figure(fig, f"tool_{name}_periods.png", "Periods and geodesic distance",
-        f"Left: homology loops with a non-zero period (the tool's depth gaps: {gaps_txt}); periods found "
+        f"Left: homology loops with a non-zero period ({gaps_of}: {gaps_txt}); periods found "
         f"{format_values(periods)}. Right: heat-method distance (accurate preset) from the white dots (one "
         f"per connected component) after one midpoint subdivision, with {st.isolines} isolines.{err}")  # fmt: skip
 

@@ -38,6 +38,9 @@ def test_study_section_for_closed_solids(tmp_path):
         )
     page = (tmp_path / "index.html").read_text()
     assert "Models as artists make them" in page and "u_tribar" in page.replace(" ", "_").lower()
+    # the section speaks of the 3D model, not of another tool's cut model
+    assert "model's depth gaps" in page and "IoU vs 3D model" in page
+    assert "tool's" not in page and "vs cut" not in page
 
 
 def test_cli_info_sees_a_solid_from_its_view(capsys):
