@@ -219,3 +219,19 @@ def test_long_work_shows_a_progress_bar(monkeypatch):
     c.smooth(t_zeta=0.1, iterations=2)
     assert calls == [("subdivide (loop)", 2), ("smooth", 2)]
     assert list(progress.track(range(5), "x", work=1e9)) == [0, 1, 2, 3, 4]
+
+
+@pytest.mark.parametrize(
+    "name", ["penrose_triangle", "impossible_cube", "reutersvard_triangle", "window"]
+)
+def test_midpoint_subdivision_carries_the_same_arcs_as_follow(name):
+    # Midpoint children lie inside their parents on screen, so refining the order (what
+    # subdivide does) must give exactly the arcs that the general follow() would give.
+    from meschers_igl.gallery import get_model
+
+    g = get_model(name)
+    ms, order_s, parent = g.mescher.subdivide(1, order=g.order, return_face_parent=True)
+    followed = g.order.follow(ms, parent)
+    assert order_s.n_arcs > 0
+    as_set = lambda o: set(map(tuple, np.asarray(o.arcs).tolist()))  # noqa: E731
+    assert as_set(order_s) == as_set(followed)
