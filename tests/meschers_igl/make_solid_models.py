@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from relief_models import reutersvard_relief
 from visible_models import (
     ISO_UP,
     ISO_VIEW,
@@ -31,6 +32,11 @@ MODELS = {
     "sheared_tribar_torus": (sheared_tribar_torus, "manhattan", "A real closed torus sheared "
                              "along the view: it looks like a tribar only to a person who "
                              "assumes right angles (perceive='manhattan')."),
+    "reutersvard_relief": (reutersvard_relief, "manhattan", "Reutersvard's triangle of twelve "
+                           "touching cubes as a shallow relief: each cube sheared along the view "
+                           "and the depth compressed to 0.3, a real thin torus; a person "
+                           "assuming right angles sees cubes climbing sqrt(3) * 4 per turn "
+                           "(perceive='manhattan')."),
 }  # fmt: skip
 
 
