@@ -117,13 +117,100 @@ def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover
 
 
 @numba.njit(cache=True, nogil=True)
-def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pragma: no cover
-    """Exact distances from ``sources`` (see the module docstring).
+def _grow(hk, hv):  # pragma: no cover - compiled
+    hk2 = np.empty(2 * hk.size, hk.dtype)
+    hv2 = np.empty(2 * hv.size, hv.dtype)
+    hk2[: hk.size] = hk
+    hv2[: hv.size] = hv
+    return hk2, hv2
+
+
+@numba.njit(cache=True, nogil=True)
+def _trim(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cover - compiled
+    """Shrink ``[lo, hi]`` (window ``w``) where window ``o`` is strictly nearer at its ends.
+
+    Both distance functions ``sigma + sqrt((x - sx)^2 + sy^2)`` are on the same edge and frame;
+    ``g = d_o - d_w`` has at most two roots (MMP's quadratic), so the overlap splits into at
+    most three pieces of constant sign.  Only pieces touching an end of ``[lo, hi]`` on which
+    ``o`` wins by more than the round-off slack are cut (an interior piece would split ``w``).
+    """
+    a = max(lo, olo)
+    b = min(hi, ohi)
+    if b <= a:
+        return lo, hi
+    D = ws - osg
+    al = 2.0 * (wx - ox)
+    be = ox * ox - wx * wx + oy2 - wy2 - D * D
+    qa = al * al - 4.0 * D * D
+    qb = 2.0 * al * be + 8.0 * D * D * wx
+    qc = be * be - 4.0 * D * D * (wx * wx + wy2)
+    r = np.empty(4)
+    nr = 1
+    r[0] = a
+    scale = abs(qb) + abs(qc) + 1e-300
+    if abs(qa) * (L * L + 1.0) > 1e-14 * scale:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc >= 0.0:
+            sq = np.sqrt(disc)
+            qq = -0.5 * (qb + sq) if qb >= 0.0 else -0.5 * (qb - sq)
+            x1 = qq / qa
+            x2 = qc / qq if qq != 0.0 else x1
+            if x1 > x2:
+                x1, x2 = x2, x1
+            if a < x1 < b:
+                r[nr] = x1
+                nr += 1
+            if a < x2 < b and x2 != x1:
+                r[nr] = x2
+                nr += 1
+    elif qb != 0.0:
+        x1 = -qc / qb
+        if a < x1 < b:
+            r[nr] = x1
+            nr += 1
+    r[nr] = b
+    # pieces [r[i], r[i+1]]: o wins on a piece when it wins at its midpoint and ends
+    tol = _REL * (ws + osg + L)
+    i = 0
+    if a <= lo:
+        while i < nr:
+            won = True
+            for x in (r[i], 0.5 * (r[i] + r[i + 1]), r[i + 1]):
+                g = osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
+                if g >= -tol:
+                    won = False
+                    break
+            if not won:
+                break
+            lo = r[i + 1]
+            i += 1
+    if i == nr:
+        return (hi, hi) if b >= hi else (lo, hi)
+    j = nr
+    if b >= hi:
+        while j > i:
+            won = True
+            for x in (r[j - 1], 0.5 * (r[j - 1] + r[j]), r[j]):
+                g = osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
+                if g >= -tol:
+                    won = False
+                    break
+            if not won:
+                break
+            hi = r[j - 1]
+            j -= 1
+    return lo, hi
+
+
+@numba.njit(cache=True, nogil=True)
+def _propagate(F, fl, fx, fy, twin, rev, hedge, n_edges, pseudo, vptr, vcorner, sources):
+    """Exact distances from ``sources`` (see the module docstring).  # pragma: no cover
 
     ``fl, fx, fy`` (#F*3,): for half-edge ``h = 3 f + c`` (the edge opposite corner ``c``,
     from ``F[f, c+1]`` to ``F[f, c+2]``) its length and the apex ``F[f, c]`` in its frame.
     ``twin`` (#F*3,): the same edge seen from the other face (-1 on the boundary); ``rev``: the
-    twin runs the other way.  Returns the distances and the number of windows created.
+    twin runs the other way; ``hedge``: the edge id.  Returns the distances and the number of
+    windows created.
     """
     nv = pseudo.size
     dist = np.full(nv, np.inf)
@@ -131,35 +218,34 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
     cap = 1024
     wh = np.empty(cap, np.int64)
     wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
-    free = np.empty(cap, np.int64)
-    nfree = 0
-    nw = 0  # high-water mark of the pool
-    hcap = 1024
-    hk = np.empty(hcap, np.float64)
-    hv = np.empty(hcap, np.int64)
+    state = np.empty(cap, np.int8)  # 0 queued, 1 propagated, 2 dead
+    nxt = np.empty(cap, np.int64)  # next window on the same edge
+    head = np.full(n_edges, -1, np.int64)
+    nw = 0
+    hk = np.empty(1024, np.float64)
+    hv = np.empty(1024, np.int64)
     nh = 0
-    created = 0
     for s in sources:
         dist[s] = 0.0
     for s in sources:
-        if nh == hcap:
-            hcap *= 2
-            hk2 = np.empty(hcap, np.float64)
-            hv2 = np.empty(hcap, np.int64)
-            hk2[:nh] = hk[:nh]
-            hv2[:nh] = hv[:nh]
-            hk, hv = hk2, hv2
+        if nh == hk.size:
+            hk, hv = _grow(hk, hv)
         _heap_push(hk, hv, nh, 0.0, -(s + 1))
         nh += 1
-    # children produced by one step: (half-edge, b0, b1, sx, sy, sigma, key)
-    ch_h = np.empty(64, np.int64)
-    ch_b = np.empty((64, 6), np.float64)
+    # children produced by one step: half-edge; b0, b1, sx, sy, sigma
+    mdeg = 2
+    for v in range(nv):
+        mdeg = max(mdeg, vptr[v + 1] - vptr[v])
+    ch_h = np.empty(mdeg, np.int64)
+    ch_b = np.empty((mdeg, 5), np.float64)
+    upd = np.empty(3, np.int64)  # vertices whose distance a step lowered
     while nh > 0:
         key = hk[0]
         item = hv[0]
         _heap_pop(hk, hv, nh)
         nh -= 1
         nch = 0
+        nu = 0
         if item < 0:
             # ---- a pseudo-source (or source) emits
             v = -item - 1
@@ -170,55 +256,40 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
                 h = vcorner[k]  # half-edge opposite v in its face
                 f = h // 3
                 c = h - 3 * f
-                a = F[f, (c + 1) % 3]
-                b = F[f, (c + 2) % 3]
                 # neighbours along the two edges at v (lengths: opposite b, opposite a)
-                for u, luv in ((a, fl[3 * f + (c + 2) % 3]), (b, fl[3 * f + (c + 1) % 3])):
-                    du = key + luv
+                for j in range(2):
+                    u = F[f, (c + 1 + j) % 3]
+                    du = key + fl[3 * f + (c + 2 - j) % 3]
                     if du < dist[u]:
                         dist[u] = du
                         if pseudo[u]:
-                            if nh == hcap:
-                                hcap *= 2
-                                hk2 = np.empty(hcap, np.float64)
-                                hv2 = np.empty(hcap, np.int64)
-                                hk2[:nh] = hk[:nh]
-                                hv2[:nh] = hv[:nh]
-                                hk, hv = hk2, hv2
+                            if nh == hk.size:
+                                hk, hv = _grow(hk, hv)
                             _heap_push(hk, hv, nh, du, -(u + 1))
                             nh += 1
                 t = twin[h]
                 if t < 0:
                     continue
                 L = fl[h]
-                if rev[h]:
-                    sx = L - fx[h]
-                else:
-                    sx = fx[h]
                 ch_h[nch] = t
                 ch_b[nch, 0] = 0.0
                 ch_b[nch, 1] = L
-                ch_b[nch, 2] = sx
+                ch_b[nch, 2] = L - fx[h] if rev[h] else fx[h]
                 ch_b[nch, 3] = -fy[h]
                 ch_b[nch, 4] = key
                 nch += 1
-                if nch == ch_h.size:
-                    ch_h2 = np.empty(2 * nch, np.int64)
-                    ch_b2 = np.empty((2 * nch, 6), np.float64)
-                    ch_h2[:nch] = ch_h[:nch]
-                    ch_b2[:nch] = ch_b[:nch]
-                    ch_h, ch_b = ch_h2, ch_b2
         else:
             # ---- a window enters face f through half-edge h
             w = item
+            if state[w] != 0:
+                continue
+            state[w] = 1
             h = wh[w]
             b0 = wb[w, 0]
             b1 = wb[w, 1]
             sx = wb[w, 2]
             sy = wb[w, 3]
             sig = wb[w, 4]
-            free[nfree] = w
-            nfree += 1
             f = h // 3
             c = h - 3 * f
             ia = F[f, (c + 1) % 3]
@@ -230,51 +301,27 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
             if _useless(dist, ia, ib, ic, L, cx, cy, b0, b1, sx, sy, sig):
                 continue
             tol = _REL * L
-            # the window's ends may be the edge's vertices
+            # the window's ends may be the edge's vertices; the apex when visible
             if b0 <= tol:
                 dv = sig + np.hypot(sx, sy)
                 if dv < dist[ia]:
                     dist[ia] = dv
-                    if pseudo[ia]:
-                        if nh == hcap:
-                            hcap *= 2
-                            hk2 = np.empty(hcap, np.float64)
-                            hv2 = np.empty(hcap, np.int64)
-                            hk2[:nh] = hk[:nh]
-                            hv2[:nh] = hv[:nh]
-                            hk, hv = hk2, hv2
-                        _heap_push(hk, hv, nh, dv, -(ia + 1))
-                        nh += 1
+                    upd[nu] = ia
+                    nu += 1
             if b1 >= L - tol:
                 dv = sig + np.hypot(L - sx, sy)
                 if dv < dist[ib]:
                     dist[ib] = dv
-                    if pseudo[ib]:
-                        if nh == hcap:
-                            hcap *= 2
-                            hk2 = np.empty(hcap, np.float64)
-                            hv2 = np.empty(hcap, np.int64)
-                            hk2[:nh] = hk[:nh]
-                            hv2[:nh] = hv[:nh]
-                            hk, hv = hk2, hv2
-                        _heap_push(hk, hv, nh, dv, -(ib + 1))
-                        nh += 1
+                    upd[nu] = ib
+                    nu += 1
             # where the ray from s through the apex C crosses AB
             tc = sx + (cx - sx) * (-sy) / (cy - sy)
             if b0 - tol <= tc <= b1 + tol:
                 dv = sig + np.hypot(cx - sx, cy - sy)
                 if dv < dist[ic]:
                     dist[ic] = dv
-                    if pseudo[ic]:
-                        if nh == hcap:
-                            hcap *= 2
-                            hk2 = np.empty(hcap, np.float64)
-                            hv2 = np.empty(hcap, np.int64)
-                            hk2[:nh] = hk[:nh]
-                            hv2[:nh] = hv[:nh]
-                            hk, hv = hk2, hv2
-                        _heap_push(hk, hv, nh, dv, -(ic + 1))
-                        nh += 1
+                    upd[nu] = ic
+                    nu += 1
             for side in range(2):
                 if side == 0:
                     # child on AC: rays through [b0, min(b1, tc)]; frame: C -> A
@@ -292,11 +339,11 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
                     ex, ey = cx - L, cy
                 if x1 <= x0:
                     continue
-                hk_ = 3 * f + k
-                t = twin[hk_]
+                hc = 3 * f + k
+                t = twin[hc]
                 if t < 0:
                     continue  # a boundary edge: rays end there
-                Lk = fl[hk_]
+                Lk = fl[hc]
                 ex /= Lk
                 ey /= Lk
                 # source and the two window ends in the child's frame
@@ -304,7 +351,8 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
                 qy = sy - oy
                 ssx = qx * ex + qy * ey
                 ssy = ex * qy - ey * qx
-                u = np.empty(2)
+                lo = Lk
+                hi = 0.0
                 for j in range(2):
                     px = (x0 if j == 0 else x1) - ox
                     py = -oy
@@ -315,12 +363,12 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
                         uu = ssx + (ppx - ssx) * ssy / den
                     else:
                         uu = ppx
-                    u[j] = min(max(uu, 0.0), Lk)
-                lo = min(u[0], u[1])
-                hi = max(u[0], u[1])
+                    uu = min(max(uu, 0.0), Lk)
+                    lo = min(lo, uu)
+                    hi = max(hi, uu)
                 if hi <= lo:
                     continue
-                if rev[hk_]:
+                if rev[hc]:
                     lo, hi = Lk - hi, Lk - lo
                     ssx = Lk - ssx
                 ch_h[nch] = t
@@ -330,7 +378,14 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
                 ch_b[nch, 3] = -ssy
                 ch_b[nch, 4] = sig
                 nch += 1
-        # ---- prune and queue the children
+        for j in range(nu):
+            u = upd[j]
+            if pseudo[u]:
+                if nh == hk.size:
+                    hk, hv = _grow(hk, hv)
+                _heap_push(hk, hv, nh, dist[u], -(u + 1))
+                nh += 1
+        # ---- prune, trim against the windows already on the edge, queue
         for j in range(nch):
             t = ch_h[j]
             b0 = ch_b[j, 0]
@@ -340,46 +395,80 @@ def _propagate(F, fl, fx, fy, twin, rev, pseudo, vptr, vcorner, sources):  # pra
             sig = ch_b[j, 4]
             f = t // 3
             c = t - 3 * f
+            L = fl[t]
             if _useless(
                 dist, F[f, (c + 1) % 3], F[f, (c + 2) % 3], F[f, c],
-                fl[t], fx[t], fy[t], b0, b1, sx, sy, sig,
+                L, fx[t], fy[t], b0, b1, sx, sy, sig,
             ):  # fmt: skip
+                continue
+            e = hedge[t]
+            flip = rev[t]
+            sy2 = sy * sy
+            prev = -1
+            o = head[e]
+            while o >= 0:
+                on = nxt[o]
+                if state[o] == 2:  # unlink dead windows on the way
+                    if prev < 0:
+                        head[e] = on
+                    else:
+                        nxt[prev] = on
+                    o = on
+                    continue
+                olo = wb[o, 0]
+                ohi = wb[o, 1]
+                ox = wb[o, 2]
+                same = wh[o] == t
+                if not same and flip:
+                    olo, ohi = L - ohi, L - olo
+                    ox = L - ox
+                if ohi > b0 and olo < b1:
+                    oy2 = wb[o, 3] * wb[o, 3]
+                    osg = wb[o, 4]
+                    b0, b1 = _trim(b0, b1, sx, sy2, sig, olo, ohi, ox, oy2, osg, L)
+                    if b1 <= b0:
+                        break
+                    if True:
+                        nlo, nhi = _trim(olo, ohi, ox, oy2, osg, b0, b1, sx, sy2, sig, L)
+                        if nhi <= nlo:
+                            state[o] = 2
+                        elif nlo != olo or nhi != ohi:
+                            if not same and flip:
+                                nlo, nhi = L - nhi, L - nlo
+                            wb[o, 0] = nlo
+                            wb[o, 1] = nhi
+                prev = o
+                o = on
+            if b1 <= b0:
                 continue
             if b0 <= sx <= b1:
                 kk = sig + abs(sy)
             else:
                 kk = sig + min(np.hypot(b0 - sx, sy), np.hypot(b1 - sx, sy))
-            if nfree > 0:
-                nfree -= 1
-                w = free[nfree]
-            else:
-                if nw == cap:
-                    cap *= 2
-                    wh2 = np.empty(cap, np.int64)
-                    wb2 = np.empty((cap, 5), np.float64)
-                    free2 = np.empty(cap, np.int64)
-                    wh2[:nw] = wh[:nw]
-                    wb2[:nw] = wb[:nw]
-                    wh, wb, free = wh2, wb2, free2
-                w = nw
-                nw += 1
+            if nw == wh.size:
+                wh, nxt = _grow(wh, nxt)
+                state2 = np.empty(wh.size, np.int8)
+                state2[:nw] = state[:nw]
+                state = state2
+                wb2 = np.empty((wh.size, 5), np.float64)
+                wb2[:nw] = wb[:nw]
+                wb = wb2
+            w = nw
+            nw += 1
             wh[w] = t
             wb[w, 0] = b0
             wb[w, 1] = b1
             wb[w, 2] = sx
             wb[w, 3] = sy
             wb[w, 4] = sig
-            created += 1
-            if nh == hcap:
-                hcap *= 2
-                hk2 = np.empty(hcap, np.float64)
-                hv2 = np.empty(hcap, np.int64)
-                hk2[:nh] = hk[:nh]
-                hv2[:nh] = hv[:nh]
-                hk, hv = hk2, hv2
+            state[w] = 0
+            nxt[w] = head[e]
+            head[e] = w
+            if nh == hk.size:
+                hk, hv = _grow(hk, hv)
             _heap_push(hk, hv, nh, kk, w)
             nh += 1
-    return dist, created
+    return dist, nw
 
 
 # ----------------------------------------------------------------------------------------------
@@ -462,8 +551,9 @@ class ExactGeodesicSolver:
         vorder = np.argsort(corner_v, kind="stable")
         vptr = np.zeros(nv + 1, dtype=np.int64)
         np.cumsum(np.bincount(corner_v, minlength=nv), out=vptr[1:])
+        ne = int(he.max()) + 1 if he.size else 0
         self._data = (
-            np.ascontiguousarray(F), L.copy(), fx, fy, twin, rev, pseudo, vptr,
+            np.ascontiguousarray(F), L.copy(), fx, fy, twin, rev, he.copy(), ne, pseudo, vptr,
             vorder.astype(np.int64),
         )  # fmt: skip
         self.n_windows = 0
