@@ -83,10 +83,31 @@ def boxes_mesh(boxes) -> tuple[np.ndarray, np.ndarray]:
     if b.ndim != 3 or b.shape[1:] != (2, 3) or np.any(b[:, 1] <= b[:, 0]):
         raise MescherError(f"boxes: expected (B, 2, 3) with lo < hi, found shape {b.shape}")
     lo, size = b[:, 0], b[:, 1] - b[:, 0]
-    V = (lo[:, None, :] + _CUBE_V[None] * size[:, None, :]).reshape(-1, 3)
+    return hexahedra_mesh(lo[:, None, :] + _CUBE_V[None] * size[:, None, :])
+
+
+def hexahedra_mesh(corners) -> tuple[np.ndarray, np.ndarray]:
+    """Triangle meshes of convex hexahedra given by their corners in the unit cube's order.
+
+    A box with some faces cut by planes (a bar whose end is cut obliquely) keeps the box's
+    connectivity: corner ``k`` is the image of the unit cube's corner ``k``
+    (``_CUBE_V``), so faces stay outward when the map keeps the orientation.
+
+    Parameters
+    ----------
+    corners : (B, 8, 3) array_like
+
+    Returns
+    -------
+    V : (8B, 3) float64
+    F : (12B, 3) int64
+    """
+    c = np.asarray(corners, dtype=np.float64)
+    if c.ndim != 3 or c.shape[1:] != (8, 3):
+        raise MescherError(f"corners: expected (B, 8, 3), found shape {c.shape}")
     tri = np.concatenate([_CUBE_Q[:, [0, 1, 2]], _CUBE_Q[:, [0, 2, 3]]])
-    F = (tri[None] + 8 * np.arange(len(b))[:, None, None]).reshape(-1, 3)
-    return V, F.astype(np.int64)
+    F = (tri[None] + 8 * np.arange(len(c))[:, None, None]).reshape(-1, 3)
+    return c.reshape(-1, 3), F.astype(np.int64)
 
 
 def _iso_view(up_axis=(0.0, 0.0, 1.0)) -> tuple[np.ndarray, np.ndarray]:
@@ -149,64 +170,60 @@ def penrose_stairs(
     return BoxModel("stairs", V, F, view, up, math.sqrt(3.0) * float(rise))
 
 
-def impossible_cube(size: float = 4.0, width: float = 0.7, view=(1.0, 0.75, 0.55)) -> BoxModel:
-    """An impossible cube frame: a cube's twelve bars, one bar's upper half moved to the front.
+def impossible_cube(size: float = 10.0, width: float = 2.0) -> BoxModel:
+    """An impossible cube frame built as an artist builds it (ParadoxToolkit's construction).
 
-    The back vertical bar (through the corner farthest from the viewer) crosses a front bar on
-    screen.  It is split at the crossing and its upper half is moved *toward the viewer* along
-    the view direction by ``gap`` -- a move along the view leaves its picture where it was --
-    until it lies in front of the bar it crossed behind.  The picture then shows the back bar
-    passing behind and in front of the same front bar: the impossible cube (Escher's
-    Belvedere).  The figure has several holes.  ``gap`` is the move (``2 size``); note that a
-    move along the view is invisible, so the picture does not determine it: any move that
-    clears the front bar gives the same picture.
+    The bars of the cube ``[-h, h]^3`` (``h = (size + width) / 2``, bars ``width`` thick,
+    ``size`` apart centre to centre) seen along ``v = (1, -1, 1) / sqrt(3)``, where the nearest
+    corner ``(h, -h, h)`` and the farthest corner land on the same screen point.  The nearest
+    corner keeps only its bar along y (ten bars in all), and two bars along y are changed, both
+    straight and axis-aligned:
+
+    - the *back* bar ``x, z in [-h, -h + width]`` keeps only its half from the cut plane to
+      the rim corner ``(-h, -h, -h)``;
+    - the *front* bar ``x, z in [h - width, h]`` is extended beyond the nearest corner up to
+      the same cut plane.
+
+    The cut plane ``x + 2 y + z = width - 2 h`` contains ``v``, so both cut faces are seen
+    edge-on, and the two pieces are collinear on screen: the front bar seems to go on as the
+    back bar (the picture is one straight bar through the middle of the frame).  Their axes are
+    ``size`` apart in x and in z; being collinear on screen forces a y offset of ``size`` too,
+    so the hidden depth step where they meet is fixed by the cube:
+    ``gap = |size (1, -1, 1)| = sqrt(3) size`` (17.32 for the defaults, as the shipped
+    ``paradox/impossible_cube`` model measures).  Glued there, the frame is one closed
+    surface of genus 3 with one period class equal to ``gap``.
     """
     a, w = float(size), float(width)
-    if not a > 3 * w > 0:
-        raise MescherError(f"size, width: expected size > 3 width > 0, found {a}, {w}")
-    v = np.asarray(view, dtype=np.float64)
-    v = v / np.linalg.norm(v)
-    up = np.array([0.0, 0.0, 1.0]) - v[2] * v
-    up /= np.linalg.norm(up)
-    right = np.cross(up, v)
-    P = np.stack([right, up])  # screen projection
-    lo, hi = 0.0, a - w
-    bars = []
+    if not a > 2 * w > 0:
+        raise MescherError(f"size, width: expected size > 2 width > 0, found {a}, {w}")
+    h = 0.5 * (a + w)
+    lo, hi = (-h, -h + w), (h - w, h)
+    c = w - 2.0 * h  # the cut plane x + 2y + z = c goes through the back bar's middle
+
+    def y_cut(x, z):
+        return 0.5 * (c - x - z)
+
+    corners = []
     for axis in range(3):
         o1, o2 = (axis + 1) % 3, (axis + 2) % 3
         for p_ in (lo, hi):
             for q in (lo, hi):
+                # the nearest corner's bars along x (y low, z high) and z (x high, y low)
+                if (axis == 0 and p_ == lo and q == hi) or (axis == 2 and p_ == hi and q == lo):
+                    continue
                 b0, b1 = np.zeros(3), np.zeros(3)
-                b0[axis], b1[axis] = 0.0, a
-                b0[o1], b1[o1] = p_, p_ + w
-                b0[o2], b1[o2] = q, q + w
-                bars.append((axis, b0, b1))
-    # the back vertical bar (x = y = lo) and the front bars it crosses on screen
-    back = next(i for i, (ax, b0, _) in enumerate(bars) if ax == 2 and b0[0] == lo and b0[1] == lo)
-    c0 = np.array([w / 2, w / 2, 0.0])
-    best = None
-    for i, (ax, b0, b1) in enumerate(bars):
-        if ax == 2 or (b0 + b1) @ v / 2 <= (c0 + [0, 0, a / 2]) @ v:
-            continue  # only bars nearer the viewer than the back bar's middle
-        m0 = (b0 + b1) / 2
-        d0 = np.zeros(3)
-        d0[ax] = 1.0
-        # screen intersection of c0 + s e_z and m0 + t d0
-        A = np.column_stack([P @ np.array([0, 0, 1.0]), -(P @ d0)])
-        if abs(np.linalg.det(A)) < 1e-9:
-            continue
-        s_, t_ = np.linalg.solve(A, P @ (m0 - c0))
-        if 2 * w < s_ < a - 2 * w and abs(t_) < a / 2 - w:
-            best = (s_, i)
-            break
-    if best is None:
-        raise MescherError("view: expected a view where a front bar crosses the back bar")
-    zc = best[0]
-    _, b0, b1 = bars[back]
-    lower = (b0.copy(), np.r_[b1[:2], zc])
-    upper = (np.r_[b0[:2], zc], b1.copy())
-    gap = 2.0 * a  # toward the viewer: far enough to clear every other bar
-    boxes = [(b0_, b1_) for i, (_, b0_, b1_) in enumerate(bars) if i != back]
-    boxes += [lower, (upper[0] + gap * v, upper[1] + gap * v)]
-    V, F = boxes_mesh(boxes)
-    return BoxModel("cube", V, F, v, up, gap)
+                b0[axis], b1[axis] = -h, h
+                b0[o1], b1[o1] = p_
+                b0[o2], b1[o2] = q
+                C = b0 + _CUBE_V * (b1 - b0)
+                if axis == 1 and p_ == lo and q == lo:  # back bar (x, z low): rim half
+                    top = C[:, 1] > 0
+                    C[top, 1] = y_cut(C[top, 2], C[top, 0])
+                elif axis == 1 and p_ == hi and q == hi:  # front bar (x, z high): extended
+                    bot = C[:, 1] < 0
+                    C[bot, 1] = y_cut(C[bot, 2], C[bot, 0])
+                corners.append(C)
+    V, F = hexahedra_mesh(corners)
+    view = np.array([1.0, -1.0, 1.0]) / math.sqrt(3.0)
+    up = np.array([0.0, 0.0, 1.0]) - view[2] * view
+    return BoxModel("cube", V, F, view, up / np.linalg.norm(up), math.sqrt(3.0) * a)
