@@ -57,7 +57,10 @@ __all__ = ["ExactGeodesicSolver", "exact_geodesic"]
 
 _TWO_PI = 2.0 * np.pi
 _SADDLE_TOL = 1e-9  # angle excess (rad) above which a vertex is a saddle (pseudo-source)
-_REL = 1e-12  # relative slack in the pruning rules and the visibility test
+_REL = 1e-12  # relative slack in the pruning rules
+_VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the window": a ray through
+# a vertex along a straight chain of edges (flat vertices) is the border of two windows and its
+# crossing is rounded by ~eps / sin(sliver angle); a distance taken this way is off by <= 2 _VIS L
 
 
 # ----------------------------------------------------------------------------------------------
@@ -300,7 +303,7 @@ def _propagate(F, fl, fx, fy, twin, rev, hedge, n_edges, pseudo, vptr, vcorner, 
             cy = fy[h]
             if _useless(dist, ia, ib, ic, L, cx, cy, b0, b1, sx, sy, sig):
                 continue
-            tol = _REL * L
+            tol = _VIS * L
             # the window's ends may be the edge's vertices; the apex when visible
             if b0 <= tol:
                 dv = sig + np.hypot(sx, sy)

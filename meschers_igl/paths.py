@@ -9,8 +9,9 @@ a polyline whose segments each lie in one face, measured in that face's intrinsi
   bend at until they are geodesics (FlipOut's wedge condition), and tried on the other side of
   nearby cone vertices; the shortest wins.  :func:`shortest_path_through` (waypoints) and
   :func:`shortest_loops` (a closed geodesic per homology generator) build on it.
-* :func:`exact_geodesic_distance`: MMP (``igl.exact_geodesic``) on a covering unrolled as far
-  as needed (:mod:`meschers_igl.covering`).
+* :func:`exact_geodesic_distance`: window propagation on the intrinsic mesh
+  (:mod:`meschers_igl.exact_geodesic`), or MMP (``igl.exact_geodesic``) on a covering unrolled
+  as far as needed (:mod:`meschers_igl.covering`) as an independent oracle.
 * :func:`geodesic_distance`: the heat method, or ``method="exact"``.
 """
 
@@ -785,8 +786,16 @@ def _cone_detours(md: _MeshData, pieces: list[tuple], tries: int = 8) -> list[tu
 # ----------------------------------------------------------------------------------------------
 # distances
 # ----------------------------------------------------------------------------------------------
-def exact_geodesic_distance(m: Any, sources: Any, max_sheets: int = 64) -> np.ndarray:
-    """Exact intrinsic distance on a mescher (MMP on a covering unrolled as far as needed).
+def exact_geodesic_distance(
+    m: Any, sources: Any, max_sheets: int = 64, algorithm: str = "window"
+) -> np.ndarray:
+    """Exact intrinsic distance on a mescher.
+
+    ``algorithm="window"`` (default): window propagation on the intrinsic mesh, compiled
+    (:mod:`meschers_igl.exact_geodesic`; needs only the edge lengths, so no covering).
+    ``algorithm="covering"``: MMP (``igl.exact_geodesic``) on a covering unrolled as far as
+    needed, kept as an independent oracle; it is ~100-1000x slower.  The two agree to
+    round-off (tested).  The rest of this paragraph describes the covering route.
 
     A mescher is locally isometric to its covering (:mod:`meschers_igl.covering`): ``K`` copies
     of the mescher cut open, glued so that depth climbs by the period from one to the next.
@@ -804,7 +813,8 @@ def exact_geodesic_distance(m: Any, sources: Any, max_sheets: int = 64) -> np.nd
     m : Mescher
     sources : int or (k,) array_like of int
     max_sheets : int, default: 64
-        Give up (``MescherError``) beyond this many sheets.
+        ``"covering"`` only: give up (``MescherError``) beyond this many sheets.
+    algorithm : {"window", "covering"}, default: "window"
 
     Returns
     -------
@@ -814,9 +824,16 @@ def exact_geodesic_distance(m: Any, sources: Any, max_sheets: int = 64) -> np.nd
     Raises
     ------
     MescherError
-        Bad sources; a mescher whose periods are not multiples of one period (two independent
-        impossible loops need a lattice of sheets); more than ``max_sheets`` sheets needed.
+        Bad sources or algorithm; for ``"covering"``: a mescher whose periods are not multiples
+        of one period (two independent impossible loops need a lattice of sheets), more than
+        ``max_sheets`` sheets needed.
     """
+    if algorithm == "window":
+        from .exact_geodesic import exact_geodesic
+
+        return exact_geodesic(m, sources)
+    if algorithm != "covering":
+        raise MescherError(f'algorithm: expected "window" or "covering", found {algorithm!r}')
     import igl
 
     from .covering import covering_from_cut
@@ -881,12 +898,12 @@ def geodesic_distance(m: Any, sources: Any, method: str = "auto", **kwargs: Any)
     m : Mescher
     sources : int or (k,) array_like of int
     method : {"auto", "standard", "robust", "refined", "accurate", "exact"}, default: "auto"
-        ``"exact"``: :func:`exact_geodesic_distance` (MMP on a covering; equals
-        ``igl.exact_geodesic`` on an ordinary mesh).  Any other value: the heat method
+        ``"exact"``: :func:`exact_geodesic_distance` (window propagation on the intrinsic
+        mesh; equals ``igl.exact_geodesic`` on an ordinary mesh to round-off).  Any other value: the heat method
         (:class:`meschers_igl.heat.HeatGeodesicSolver`, whose docstring says what ``"auto"``
         chooses when).
     **kwargs
-        Passed to the heat solver, or ``max_sheets`` to the exact one.
+        Passed to the heat solver, or ``algorithm``/``max_sheets`` to the exact one.
 
     Returns
     -------

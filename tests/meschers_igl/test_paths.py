@@ -182,7 +182,7 @@ def test_exact_distance_unrolls_more_sheets_when_needed():
     d = exact_geodesic_distance(m, 0)
     np.testing.assert_allclose(d, covering_distance(m, 0, K=15), atol=1e-12)
     with pytest.raises(MescherError, match="max_sheets"):
-        exact_geodesic_distance(m, 0, max_sheets=3)
+        exact_geodesic_distance(m, 0, max_sheets=3, algorithm="covering")
 
 
 def test_exact_distance_disconnected_and_bad_input():
