@@ -387,26 +387,39 @@ def comparison(job: ModelJob, s: Subject) -> None:
         }
         return
     t = st.compare_time * s.scale * s.scale
-    res = compare(m, s.order, path=None, source=s.source, t_smooth=t,
-                  window_size=(st.cell, st.cell), solver=s.solver("standard"),
-                  smoothed=s.smoothed(t))  # fmt: skip
-    rec: dict = {"t_smooth": t, "numbers": res.numbers}
+    cut = straight_cut_or_none(m, s.order)
+    if cut is None:  # no straight cut alone on screen: the cut along mesh edges
+        res = compare(m, s.order, path=None, source=s.source, t_smooth=t,
+                      window_size=(st.cell, st.cell), solver=s.solver("standard"),
+                      smoothed=s.smoothed(t))  # fmt: skip
+        seam = "cut along mesh edges where integration disagrees"
+    else:
+        # the mescher with the faces under the cut line split (same picture, same periods): its
+        # cut model has a straight seam, as an artist cuts a bar; the first vertices are m's
+        order = None if s.order is None else s.order.follow(cut.mescher, cut.face_parent)
+        res = compare(cut.mescher, order, path=None, source=s.source, t_smooth=t,
+                      window_size=(st.cell, st.cell), cut_edges=cut.cut_edges)  # fmt: skip
+        seam = "cut along one straight screen line across a bar, where nothing else is drawn"
+    n = m.n_vertices  # m's vertices come first in the split mescher
+    rec: dict = {"t_smooth": t, "numbers": res.numbers, "seam": seam}
     vmap = res.vmap
     if s.exact is not None:
         # the cut model at its best: every copy of the source is a source, and a mescher
         # vertex gets the distance of its nearest copy (compare() reads the first copy)
-        d_cut = np.full(m.n_vertices, np.inf)
+        d_cut = np.full(int(vmap.max()) + 1, np.inf)
         np.minimum.at(d_cut, vmap, res.solvers["cut"].distance(np.flatnonzero(vmap == s.source)))
-        dist = {"mescher": res.distances["mescher"], "cut": d_cut, "bent": res.distances["bent"]}
+        dist = {"mescher": res.distances["mescher"][:n], "cut": d_cut[:n],
+                "bent": res.distances["bent"][:n]}  # fmt: skip
         rec["geodesic_error_vs_exact"] = {k: distance_error(v, s.exact) for k, v in dist.items()}
     rec["seam_gap_after_smoothing"] = {
         "cut": seam_gap(res.smoothed["cut"].xy, vmap) / s.scale,
         "mescher": 0.0,
         "bent": 0.0,
     }
+    mm = m if cut is None else cut.mescher  # the mescher compare() ran on
     rec["max_period_after_smoothing"] = {
-        "before": float(np.abs(m.periods()).max(initial=0.0)),
-        "mescher": float(np.abs(loop_periods(m, res.smoothed["mescher"].zeta)).max(initial=0.0)),
+        "before": float(np.abs(mm.periods()).max(initial=0.0)),
+        "mescher": float(np.abs(loop_periods(mm, res.smoothed["mescher"].zeta)).max(initial=0.0)),
         "bent": 0.0,  # its zeta is exact by construction: no period survives
     }
     job.record["comparison"] = rec
@@ -419,7 +432,7 @@ def comparison(job: ModelJob, s: Subject) -> None:
                    "metric is not the object's.")  # fmt: skip
     mp = rec["max_period_after_smoothing"]
     job.figure(res.figure(), f"{s.name}_compare.png", "Mescher vs cut vs bent (paper Fig. 10)",
-        "Rows: the mescher, its cut embedding (cut along the homology generators) and its bent embedding; "
+        f"Rows: the mescher, its cut embedding ({seam}) and its bent embedding; "
         "columns: render, relit, smoothed with the same t (both xy and depth), heat-method geodesic distance "
         "from the same vertex. Numbers: dL, the mean luminance difference (0 = black to 1 = white) to the cut "
         "model (render, relit) or to the smoothed mescher (smoothed), and the mean distance difference to the "
@@ -427,6 +440,19 @@ def comparison(job: ModelJob, s: Subject) -> None:
         f"crack at the seam of {rec['seam_gap_after_smoothing']['cut']:.2%} of the object's size; the mescher "
         f"has no seam and keeps its period ({format_value(mp['mescher'], mp['before'])} of "
         f"{format_value(mp['before'])}), the bent model has none to keep.{geo_txt}")  # fmt: skip
+
+
+def straight_cut_or_none(m: Any, order: Any = None) -> Any:
+    """:func:`meschers_igl.embedding.straight_cut` of ``m`` (chosen so its cut model looks like
+    ``m`` in ``order``), or None where no single straight cut alone on screen opens every
+    period."""
+    from meschers_igl import MescherError
+    from meschers_igl.embedding import straight_cut
+
+    try:
+        return straight_cut(m, order)
+    except MescherError:
+        return None
 
 
 #: The steps after subdivision, in order: (record key, progress label, function).

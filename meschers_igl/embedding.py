@@ -10,13 +10,16 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
 from . import topology as topo
 from .errors import MescherError
-from .validate import as_index_array
+from .validate import as_count, as_index_array
 
 
 def bent_embedding(m) -> tuple[np.ndarray, np.ndarray]:
@@ -107,3 +110,379 @@ def cut_embedding(m, cut_edges=None, tol: float | None = None):
         )
     V = np.column_stack([np.asarray(m.xy)[vmap], depth])
     return V, lab.reshape(-1, 3).astype(np.int64), vmap
+
+
+@dataclass(frozen=True)
+class StraightCut:
+    """A cut along one straight screen line, as an artist cuts a bar (see :func:`straight_cut`).
+
+    Attributes
+    ----------
+    mescher : Mescher
+        The mescher with the faces the cut crosses split along it (exact: new vertices on the
+        crossed edges, depths interpolated linearly in each face, so the periods are unchanged).
+        Its first ``m.n_vertices`` vertices are ``m``'s, at the same screen positions.
+    cut_edges : (k,) int64
+        Edges of ``mescher`` along the cut: ``cut_embedding(mescher, cut_edges)``.
+    face_parent : (#F',) int64
+        Face of ``m`` each face of ``mescher`` lies in (for :meth:`DepthOrder.follow`).
+    point, normal : (2,) float64
+        The cut line ``{p : normal . (p - point) = 0}`` on screen (``normal`` a unit vector).
+    segment : (2, 2) float64
+        Screen end points of the cut: the part of the line that crosses the cut bar.
+    jump : float
+        Depth jump across the cut: the period it opens.
+    """
+
+    mescher: Any
+    cut_edges: np.ndarray
+    face_parent: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    segment: np.ndarray
+    jump: float
+
+
+def _level_set(m, s: np.ndarray, ef: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Connected pieces of the level set ``s == 0`` of a vertex function (no vertex on it).
+
+    Returns
+    -------
+    crossed : (#E,) bool
+        Edges whose end points lie on both sides.
+    t : (#E,) float64
+        Where a crossed edge meets the level set (0 at its tail, 1 at its head; NaN elsewhere).
+    comp_face : (#F,) int64
+        Piece of each crossed face (two faces are in one piece when they share a crossed
+        edge); -1 for faces not crossed.
+    n : int
+        Number of pieces.
+
+    ``ef`` is ``topology.edge_faces`` of ``m`` (computed once by the caller).
+    """
+    E, nf = m.edges, m.n_faces
+    s0, s1 = s[E[:, 0]], s[E[:, 1]]
+    crossed = (s0 > 0) != (s1 > 0)
+    t = np.full(len(E), np.nan)
+    t[crossed] = s0[crossed] / (s0[crossed] - s1[crossed])
+    both = crossed & (ef[:, 1] >= 0)
+    A = sp.csr_matrix((np.ones(int(both.sum())), (ef[both, 0], ef[both, 1])), shape=(nf, nf))
+    _, lab = csgraph.connected_components(A, directed=False)
+    faces = np.unique(ef[crossed].reshape(-1))
+    faces = faces[faces >= 0]
+    comp_face = np.full(nf, -1, dtype=np.int64)
+    uniq, inv = np.unique(lab[faces], return_inverse=True)
+    comp_face[faces] = inv
+    return crossed, t, comp_face, int(uniq.size)
+
+
+def _free_pieces(m, normal: np.ndarray, c: float, Gamma, P: np.ndarray, tol: float, ef,
+                 tiny: float) -> list:  # fmt: skip
+    """Pieces of the screen line ``normal . xy == c`` where one cut opens every period and
+    nothing else of the figure is on screen.
+
+    A piece (a closed curve around a bar, or an arc from boundary to boundary) is *alone* when
+    no face crossed by another piece meets its screen segment: then, cut there, the two sides
+    never share a pixel with anything but themselves, and front and back layers of the bar are
+    cut on the same screen line (no sliver).  It opens every period when the generator loops'
+    periods are one multiple ``jump`` of their signed intersection numbers with it (the period
+    class is dual to the piece), so the surface cut along it integrates.
+
+    Returns
+    -------
+    list of ``(lo, hi, jump, piece, s, t, comp_face)``, ``lo``/``hi`` the piece's
+    segment in the coordinate along the line, ``s`` the level function.  Vertices within
+    ``tiny`` of the line count as on its positive side (the level set is then taken just beside
+    them, so it still crosses edges only; :func:`_split_along` snaps those crossings back onto
+    the vertices).
+    """
+    xy = np.asarray(m.xy)
+    s = xy @ normal - c
+    s[np.abs(s) <= tiny] = tiny
+    crossed, t, comp_face, nc = _level_set(m, s, ef)
+    if nc == 0:
+        return []
+    E, fe = m.edges, np.asarray(m.face_edges)
+    along = xy @ np.array([-normal[1], normal[0]])
+    tt = np.nan_to_num(t)
+    u = np.where(crossed, along[E[:, 0]] * (1.0 - tt) + along[E[:, 1]] * tt, np.nan)
+    hit = np.flatnonzero(comp_face >= 0)
+    uf = u[fe[hit]]  # (#crossed faces, 3): two crossed edges each
+    flo, fhi = np.nanmin(uf, axis=1), np.nanmax(uf, axis=1)
+    fcomp = comp_face[hit]
+    lo, hi = np.full(nc, np.inf), np.full(nc, -np.inf)
+    np.minimum.at(lo, fcomp, flo)
+    np.maximum.at(hi, fcomp, fhi)
+    pieces = np.arange(nc)[:, None]
+    overlap = (flo[None, :] <= hi[:, None]) & (fhi[None, :] >= lo[:, None]) & (fcomp != pieces)
+    alone = ~overlap.any(axis=1)
+    # signed crossings of each generator loop with each piece: In[i, k]
+    ce = np.flatnonzero(crossed)
+    sign = np.sign(s[E[ce, 1]] - s[E[ce, 0]])
+    C = sp.csr_matrix((sign, (ce, comp_face[ef[ce, 0]])), shape=(len(E), nc))
+    In = np.asarray((Gamma @ C).todense()).reshape(len(P), nc)
+    norm2 = (In * In).sum(axis=0)
+    jump = (In * P[:, None]).sum(axis=0) / np.maximum(norm2, 1.0)
+    resid = np.abs(P[:, None] - jump[None, :] * In).max(axis=0, initial=0.0)
+    good = alone & (norm2 > 0) & (resid <= tol) & (np.abs(jump) > tol)
+    return [(lo[k], hi[k], jump[k], k, s, t, comp_face) for k in np.flatnonzero(good)]
+
+
+def _split_along(m, s: np.ndarray, t: np.ndarray, on_line: np.ndarray, faces: np.ndarray):
+    """Split ``faces`` along the level set ``s == 0`` (exact edge splits).
+
+    Each face has one corner ``a`` alone on its side; with ``b, c`` the next corners, it
+    becomes ``(a, p_ab, p_ac)`` and the quad ``(p_ab, b, c, p_ac)`` cut along its shorter
+    diagonal.  Depths are interpolated linearly in the face, which is exact (a face is flat in
+    its own corner depths).  A crossing at a vertex on the line (``on_line``) is that vertex:
+    the triangles that collapse are dropped, so a line through vertices splits fewer faces and
+    puts no new vertex on an edge where the surface folds (a bar's corner), whose area-weighted
+    normal would then differ from its neighbours'.  New vertices are numbered after ``m``'s.
+
+    Returns ``(mescher, cut_edges, face_parent)``.
+    """
+    F, xy = np.asarray(m.F), np.asarray(m.xy)
+    fe = np.asarray(m.face_edges)
+    Z = np.asarray(m.corner_depths())
+    E, nv = m.edges, m.n_vertices
+    pos = s[F[faces]] > 0  # (k, 3)
+    lone = np.argmax((pos != np.roll(pos, -1, axis=1)) & (pos != np.roll(pos, 1, axis=1)), axis=1)
+    r = (lone[:, None] + np.arange(3)) % 3  # corners a, b, c of each face
+    rows = np.arange(faces.size)[:, None]
+    a, b, c = (F[faces][rows, r]).T
+    za, zb, zc = (Z[faces][rows, r]).T
+    e_ab, e_ac = fe[faces, r[:, 2]], fe[faces, r[:, 1]]  # the edge opposite c is (a, b)
+    cut_e = np.unique(np.concatenate([e_ab, e_ac]))
+    # a crossing at a vertex on the line is that vertex; the others are new vertices
+    vid = np.full(m.n_edges, -1, dtype=np.int64)
+    snap_tail, snap_head = on_line[E[cut_e, 0]], on_line[E[cut_e, 1]]
+    fresh = cut_e[~snap_tail & ~snap_head]
+    vid[cut_e] = np.where(snap_tail, E[cut_e, 0], E[cut_e, 1])
+    vid[fresh] = nv + np.arange(fresh.size)
+    tf = t[fresh][:, None]
+    xy2 = np.concatenate([xy, xy[E[fresh, 0]] * (1.0 - tf) + xy[E[fresh, 1]] * tf])
+
+    def at(e, tail, z_tail, z_head):  # the crossing on edge e, its depth from the face
+        w = np.where(E[e, 0] == tail, t[e], 1.0 - t[e])
+        w = np.where(on_line[tail], 0.0, np.where(on_line[E[e].sum(1) - tail], 1.0, w))
+        return vid[e], z_tail + w * (z_head - z_tail)
+
+    p_ab, z_ab = at(e_ab, a, za, zb)
+    p_ac, z_ac = at(e_ac, a, za, zc)
+    # the quad's shorter diagonal gives the better-shaped pair of triangles
+    short = (np.linalg.norm(xy2[p_ab] - xy2[c], axis=1)
+             <= np.linalg.norm(xy2[b] - xy2[p_ac], axis=1))[:, None]  # fmt: skip
+    tris = [
+        (np.stack([a, p_ab, p_ac], 1), np.stack([za, z_ab, z_ac], 1)),
+        (np.where(short, np.stack([p_ab, b, c], 1), np.stack([p_ab, b, p_ac], 1)),
+         np.where(short, np.stack([z_ab, zb, zc], 1), np.stack([z_ab, zb, z_ac], 1))),
+        (np.where(short, np.stack([p_ab, c, p_ac], 1), np.stack([b, c, p_ac], 1)),
+         np.where(short, np.stack([z_ab, zc, z_ac], 1), np.stack([zb, zc, z_ac], 1))),
+    ]  # fmt: skip
+    keep = np.ones(len(F), dtype=bool)
+    keep[faces] = False
+    Fn = np.concatenate([T for T, _ in tris])
+    Zn = np.concatenate([z for _, z in tris])
+    pn = np.tile(faces, 3)
+    ok = (Fn[:, 0] != Fn[:, 1]) & (Fn[:, 1] != Fn[:, 2]) & (Fn[:, 2] != Fn[:, 0])
+    F2 = np.concatenate([F[keep], Fn[ok]])
+    Z2 = np.concatenate([Z[keep], Zn[ok]])
+    parent = np.concatenate([np.flatnonzero(keep), pn[ok]])
+    m2 = type(m).from_corner_depths(F2, xy2, Z2)
+    seam = p_ab != p_ac
+    cut, _ = topo.edge_lookup(m2.edges, len(xy2), p_ab[seam], p_ac[seam])
+    return m2, np.unique(cut), parent
+
+
+def straight_cut(
+    m,
+    order=None,
+    *,
+    directions: int = 12,
+    offsets: int = 48,
+    tries: int = 6,
+    tol: float | None = None,
+) -> StraightCut:
+    """Where an artist would cut the mescher: one straight screen line across one bar.
+
+    A cut model made by hand (ParadoxToolkit's, the gallery's) cuts the impossible loop across a
+    bar in a plane that contains the view direction: seen from the view the cut is a straight
+    line, front and back of the bar are cut on the same line, and the two open ends meet on
+    screen without a sliver (the gallery's :func:`~meschers_igl.gallery.polycube.slant_cut`
+    tilts a box model's cut onto such a plane).  A mescher's screen positions are fixed, so
+    here the plane is a screen line ``normal . xy == c``: its level set on the surface is a set
+    of closed curves; one of them, alone on screen, that opens every period is the cut.
+
+    Lines across the figure's main screen edge directions and in ``directions`` evenly spaced
+    directions, at ``offsets`` positions each, are searched.  In each direction the candidate
+    pieces at consecutive positions that cross the same bar form a run (a stretch of bar free
+    of anything else); a cut goes through a run's middle, moved onto the nearest vertex of the
+    bar (a bar's grid then puts the cut through vertices on its corners, so no face on a fold
+    is split).  Without ``order`` the longest run wins (cut square to the bar, in its longest
+    free stretch).  With ``order``, the ``tries`` longest runs at different places are cut and the one whose cut
+    model, z-buffered, shows what the mescher shows in that order (:func:`cut_mismatch`) wins:
+    the jump must fall where the figure's impossibility hides it (the impossible cube's back
+    bar is cut between its crossing and the top, not below the crossing).  Candidates are
+    found with integer intersection numbers (no mesh is cut to try one).
+
+    Parameters
+    ----------
+    m : Mescher
+        An impossible mescher (a non-zero period).
+    order : DepthOrder, optional
+        ``m``'s depth order, to choose the cut whose cut model shows the same picture.
+    directions, offsets : int
+        Search grid: evenly spaced directions over 180 degrees, positions across the screen box.
+    tries : int
+        Places cut and compared when ``order`` is given.
+    tol : float, optional
+        Period agreement tolerance (default ``1e-6 * m.scale()``).
+
+    Returns
+    -------
+    StraightCut
+        ``cut_embedding(cut.mescher, cut.cut_edges)`` is the cut model.
+
+    Raises
+    ------
+    MescherError
+        When ``m`` has no period, or no single straight cut alone on screen opens all of them
+        (several period classes that no one bar carries, a bar crossed everywhere by others):
+        :func:`cut_embedding`'s cut along mesh edges still works there.
+    """
+    from .hodge import loop_matrix
+
+    directions = as_count(directions, "directions", minimum=1)
+    offsets = as_count(offsets, "offsets", minimum=1)
+    tries = as_count(tries, "tries", minimum=1)
+    tol = 1e-6 * m.scale() if tol is None else float(tol)
+    Gamma = loop_matrix(m.homology_generators(), m.n_edges)
+    P = np.asarray(Gamma @ np.asarray(m.zeta))
+    if not (P.size and np.abs(P).max() > tol):
+        raise MescherError("m: expected an impossible mescher (a non-zero period) to cut, found "
+                           "every period 0; cut_embedding(m) needs no seam")  # fmt: skip
+    xy = np.asarray(m.xy)
+    ef = topo.edge_faces(np.asarray(m.face_edges), m.n_edges)
+    tiny = 1e-9 * m.scale()
+    # directions: across the figure's main screen edge directions (bars are cut square to
+    # them), then evenly spaced ones
+    ev = xy[m.edges[:, 1]] - xy[m.edges[:, 0]]
+    ang = np.mod(np.arctan2(ev[:, 1], ev[:, 0]), np.pi)
+    length = np.linalg.norm(ev, axis=1)
+    bins = np.round(np.degrees(ang)).astype(np.int64) % 180
+    hist = np.bincount(bins, weights=length, minlength=180)
+    main = np.argsort(hist)[::-1][:directions]
+    main = main[hist[main] >= 0.05 * hist.sum()]
+    thetas = [
+        float(np.average(ang[bins == b], weights=length[bins == b])) + np.pi / 2 for b in main
+    ]
+    thetas += list(np.pi * np.arange(directions) / directions)
+    runs_all = []  # see _run
+    for th in thetas:  # a few hundred lines in all, each vectorized over the mesh
+        normal = np.array([np.cos(th), np.sin(th)])
+        proj = xy @ normal
+        step = (proj.max() - proj.min()) / (offsets + 1)
+        runs: list[list] = []  # open runs: [lo, hi, count, first c, last c, summed cut length]
+        for j in range(1, offsets + 1):
+            c = proj.min() + j * step
+            nxt, going_on = [], set()
+            for lo, hi, *_ in _free_pieces(m, normal, c, Gamma, P, tol, ef, tiny):
+                k = next((k for k, r in enumerate(runs) if r[0] <= hi and r[1] >= lo), None)
+                if k is None:
+                    nxt.append([lo, hi, 1, c, c, hi - lo])
+                else:
+                    r = runs[k]
+                    going_on.add(k)
+                    nxt.append([lo, hi, r[2] + 1, r[3], c, r[5] + hi - lo])
+            runs_all += [_run(r, normal) for k, r in enumerate(runs) if k not in going_on]
+            runs = nxt
+        runs_all += [_run(r, normal) for r in runs]
+    if not runs_all:
+        raise MescherError("m: expected a bar that one straight cut can open alone on screen, "
+                           "found none; use cut_embedding(m) (a cut along mesh edges)")  # fmt: skip
+    runs_all.sort(key=lambda r: r[:2], reverse=True)
+    if order is None:
+        return _cut_at(m, runs_all[0][2], runs_all[0][3], Gamma, P, tol, ef, tiny)
+    cuts = [_cut_at(m, r[2], r[3], Gamma, P, tol, ef, tiny) for r in _distinct(runs_all, tries)]
+    miss = [cut_mismatch(cut, order) for cut in cuts]
+    return cuts[int(np.argmin(np.round(miss, 4)))]  # ties: the longer run
+
+
+def _run(r: list, normal: np.ndarray) -> tuple:
+    """A finished run as ``(free length, -mean cut length, normal, middle offset, centre)``
+    (``centre``: roughly where on screen it cuts)."""
+    lo, hi, count, c0, c1, length_sum = r
+    c = 0.5 * (c0 + c1)
+    centre = normal * c + np.array([-normal[1], normal[0]]) * 0.5 * (lo + hi)
+    return (abs(c1 - c0), -length_sum / count, normal, c, centre)
+
+
+def _distinct(runs: list, k: int) -> list:
+    """The first ``k`` runs that cut at different places (centres farther apart than their
+    cuts are long): one stretch of bar is found in many directions."""
+    out: list = []
+    for r in runs:
+        if all(np.linalg.norm(r[4] - q[4]) > max(-r[1], -q[1]) for q in out):
+            out.append(r)
+            if len(out) == k:
+                break
+    return out
+
+
+def _cut_at(m, normal, c_mid, Gamma, P, tol, ef, tiny) -> StraightCut:
+    """The straight cut through the run's piece at ``c_mid``, moved onto a vertex."""
+    xy = np.asarray(m.xy)
+    pieces = _free_pieces(m, normal, c_mid, Gamma, P, tol, ef, tiny)
+    lo, hi, *_, piece, s, t, comp_face = min(pieces, key=lambda q: q[1] - q[0])
+    # through the vertex of the cut faces nearest the run's middle: where a bar's grid puts
+    # vertices on a line across it, the cut passes through them all (no new vertex on a fold,
+    # whose area-weighted normal would differ from its neighbours': a shading tick)
+    proj = xy[np.unique(np.asarray(m.F)[comp_face == piece])] @ normal
+    c = float(proj[np.argmin(np.abs(proj - c_mid))])
+    again = [q for q in _free_pieces(m, normal, c, Gamma, P, tol, ef, tiny)
+             if q[0] <= hi and q[1] >= lo]  # fmt: skip
+    if not again:  # that vertex's line meets something else: the run's middle
+        c, again = c_mid, pieces
+    lo, hi, jump, piece, s, t, comp_face = min(again, key=lambda q: q[1] - q[0])
+    on_line = np.abs(xy @ normal - c) <= tiny
+    m2, cut, parent = _split_along(m, s, t, on_line, np.flatnonzero(comp_face == piece))
+    d = np.array([-normal[1], normal[0]])
+    point = normal * c
+    u = np.asarray(m2.xy)[m2.edges[cut].ravel()] @ d  # the seam's extent along the line
+    segment = np.stack([point + u.min() * d, point + u.max() * d])
+    return StraightCut(m2, cut, parent, point, normal, segment, float(jump))
+
+
+def cut_mismatch(cut: StraightCut, order, size: int = 128) -> float:
+    """Share of the figure's pixels where the cut model shows another face than the mescher.
+
+    The cut model (:func:`cut_embedding` along ``cut.cut_edges``) is a real 3D model: its
+    picture is the painter's picture in the order of its own depths
+    (:meth:`DepthOrder.from_embedding`).  The mescher's picture is painted in ``order`` carried
+    to the split mescher (:meth:`DepthOrder.follow`).  Both are sampled with
+    :func:`meschers_igl.painter.visible_faces` (no GPU).
+
+    Parameters
+    ----------
+    cut : StraightCut
+    order : DepthOrder
+        The depth order of the mescher that was cut (before the split).
+    size : int
+        Pixels along the longer side.
+
+    Returns
+    -------
+    float
+        ``#{pixels whose visible faces differ} / #{pixels covered by either}``; 0 when the cut
+        model looks exactly like the mescher.
+    """
+    from .order import DepthOrder
+    from .painter import visible_faces
+
+    m2 = cut.mescher
+    V, F, _ = cut_embedding(m2, cut.cut_edges)
+    own = DepthOrder.from_embedding(m2, V[F][:, :, 2])
+    seen = visible_faces(m2, order.follow(m2, cut.face_parent), size=size)
+    shown = visible_faces(m2, own, size=size)
+    hit = (seen >= 0) | (shown >= 0)
+    return float(np.mean(seen[hit] != shown[hit])) if hit.any() else 0.0
