@@ -34,6 +34,9 @@ __all__ = ["model_face_axes", "perceived_frame", "perceive_manhattan", "snap_to_
 MAX_SNAP = np.radians(40.0)
 #: Adjacent faces whose normals differ by less than this share a plane (not a crease).
 CREASE = np.radians(1.0)
+#: A face whose unit normal's z component is at most this does not face the viewer (a wall
+#: seen edge-on, a back face).
+FACING = 1e-6
 
 
 def _normals(xy: np.ndarray, F: np.ndarray, Z: np.ndarray) -> np.ndarray:
@@ -126,13 +129,14 @@ def perceived_frame(xy: Any, F: Any, Z: Any) -> np.ndarray:
     return E
 
 
-def _axis_from_edges(xy, F, n, E, adjacent_only: bool = False) -> np.ndarray:
+def _axis_from_edges(xy, F, n, E, adjacent_only: bool = False, hidden=None) -> np.ndarray:
     """(#F,) the perceived normal axis of each face, read from its plane's outline.
 
     Faces with equal normals form a plane region; the region's outline (half-edges whose
     partner lies in another region or nowhere -- not the diagonals inside it) runs along the
     two families spanning the face, so its perceived normal is the family with the least
-    outline length, whatever the true (e.g. sheared) normal is."""
+    outline length, whatever the true (e.g. sheared) normal is.  ``hidden(he, twin)`` (optional)
+    marks half-edges to leave out of the outline: where something in front cuts the face."""
     import scipy.sparse as sp
     import scipy.sparse.csgraph as csgraph
     from scipy.spatial import cKDTree
@@ -164,6 +168,8 @@ def _axis_from_edges(xy, F, n, E, adjacent_only: bool = False) -> np.ndarray:
     pos = np.minimum(pos, fwd.size - 1)
     twin = np.where(fwd[srt][pos] == rev, srt[pos], -1)
     outline = (twin < 0) | (g_he[np.maximum(twin, 0)] != g_he)
+    if hidden is not None:  # occlusion edges say nothing about the face's own sides
+        outline &= ~hidden(he, twin)
     d = xy[he[:, 1]] - xy[he[:, 0]]
     L = np.linalg.norm(d, axis=1)
     sin = np.abs(d[:, 0, None] * D[:, 1] - d[:, 1, None] * D[:, 0]) / np.maximum(L, 1e-300)[:, None]
@@ -180,12 +186,41 @@ def model_face_axes(C: Any, F: Any, E: Any) -> np.ndarray:
     the outline of the model polygon it belongs to (adjacent coplanar faces), -1 if undecided.
 
     The model's own polygons (a sheared box face is still a parallelogram whose sides run along
-    two edge families) are free of the clipping lines of the visible map."""
+    two edge families) are free of the clipping lines of the visible map.  Not quite in a model
+    made by Boolean union (a relief whose blocks are extruded to a flat back): a block's wall,
+    running from its silhouette back through the face of a block behind it, cuts that face in
+    3D, along a direction that need not be one of the face's two sides.  Such an edge -- the
+    face meets a face that does not face the viewer (a wall or a back face) rising in front of
+    its plane (a concave edge) -- is where an occluder stands on the face, and is left out of
+    the outline, as a person discounts an occluding contour.
+
+    Parameters
+    ----------
+    C : (#V, 3) float
+        Model vertices in the camera frame (z toward the viewer).
+    F : (#F, 3) int
+        Triangles, oriented outward.
+    E : (3, 3) float
+        The perceived frame (:func:`perceived_frame`).
+
+    Returns
+    -------
+    (#F,) int64 in {-1, 0, 1, 2}
+    """
     C, F, E = np.asarray(C, float), np.asarray(F, np.int64), np.asarray(E, float)
     T = C[F]
     n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    return _axis_from_edges(C[:, :2], F, n, E, adjacent_only=True)
+    scale = float(np.ptp(C, axis=0).max()) if C.size else 1.0
+
+    def hidden(he, twin):
+        f, g = np.arange(he.shape[0]) // 3, np.maximum(twin, 0) // 3
+        # the twin face's corner off the shared edge, measured from the face's plane
+        off = F[g].sum(axis=1) - he[:, 0] - he[:, 1]
+        rise = np.einsum("ij,ij->i", C[off] - C[he[:, 0]], n[f])
+        return (twin >= 0) & (n[f, 2] > FACING) & (n[g, 2] <= FACING) & (rise > 1e-9 * scale)
+
+    return _axis_from_edges(C[:, :2], F, n, E, adjacent_only=True, hidden=hidden)
 
 
 def perceive_manhattan(

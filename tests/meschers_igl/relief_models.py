@@ -137,3 +137,38 @@ def reutersvard_relief(k: int = 4, a: float = 1.0, lam: float = 0.3, with_axes: 
     if axes.size != len(polys):
         raise AssertionError("face axes do not match the welded faces")  # a builder bug
     return V, polys, float(np.linalg.norm(T)), axes
+
+
+def flat_backed_relief(k: int = 4, a: float = 1.0, lam: float = 0.3, back: float = 0.5):
+    """The same relief as a modelling tool makes it: each cube extruded along the view to one
+    flat back plane (a prism: the cube's front faces, walls parallel to the view, the back) and
+    the twelve prisms joined by Boolean union (PyMeshLab's, as exported: triangles, duplicate
+    vertices, zero-area slivers where the union conforms).  A thick annulus with a flat back,
+    ``back`` behind the nearest-to-back cube corner; its front is the torus relief's front.
+
+    Returns
+    -------
+    V : (#V, 3), F : (#F, 3) int64, perceived_period : float
+    """
+    import pymeshlab
+    from scipy.spatial import ConvexHull
+
+    blocks, T, _ = relief_blocks(k, a, lam)
+    v = ISO_VIEW
+    z_back = min(float((b[0] @ v).min()) for b in blocks) - back
+    ms = pymeshlab.MeshSet()
+    acc = None
+    for Vb, _ in blocks:
+        # a convex block over a flat back: the hull of its corners and their shadows on the back
+        P = np.vstack([Vb, Vb - ((Vb @ v) - z_back)[:, None] * v[None, :]])
+        Fh = ConvexHull(P).simplices.copy()
+        Tr = P[Fh]
+        out = np.einsum("ij,ij->i", np.cross(Tr[:, 1] - Tr[:, 0], Tr[:, 2] - Tr[:, 0]),
+                        Tr.mean(axis=1) - P.mean(axis=0))  # fmt: skip
+        Fh[out < 0] = Fh[out < 0][:, ::-1]  # outward
+        ms.add_mesh(pymeshlab.Mesh(P, Fh))
+        if acc is not None:
+            ms.generate_boolean_union(first_mesh=acc, second_mesh=ms.current_mesh_id())
+        acc = ms.current_mesh_id()
+    mesh = ms.current_mesh()
+    return mesh.vertex_matrix(), mesh.face_matrix().astype(np.int64), float(np.linalg.norm(T))
