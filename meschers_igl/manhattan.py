@@ -214,11 +214,12 @@ def model_face_axes(C: Any, F: Any, E: Any) -> np.ndarray:
     scale = float(np.ptp(C, axis=0).max()) if C.size else 1.0
 
     def hidden(he, twin):
-        f, g = np.arange(he.shape[0]) // 3, np.maximum(twin, 0) // 3
-        # the twin face's corner off the shared edge, measured from the face's plane
-        off = F[g].sum(axis=1) - he[:, 0] - he[:, 1]
+        f, g, has = np.arange(he.shape[0]) // 3, np.maximum(twin, 0) // 3, twin >= 0
+        # the twin face's corner off the shared edge (the twin's corner opposite its
+        # half-edge), measured from the face's plane; no twin: the edge's own tail (no rise)
+        off = np.where(has, F[g, np.maximum(twin, 0) % 3], he[:, 0])
         rise = np.einsum("ij,ij->i", C[off] - C[he[:, 0]], n[f])
-        return (twin >= 0) & (n[f, 2] > FACING) & (n[g, 2] <= FACING) & (rise > 1e-9 * scale)
+        return has & (n[f, 2] > FACING) & (n[g, 2] <= FACING) & (rise > 1e-9 * scale)
 
     return _axis_from_edges(C[:, :2], F, n, E, adjacent_only=True, hidden=hidden)
 

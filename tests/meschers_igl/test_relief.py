@@ -211,6 +211,19 @@ def test_the_flat_backed_relief_as_an_stl_soup():
     assert p.size == 1 and abs(p[0] - gap) <= 1e-6 * gap
 
 
+@pytest.mark.xfail(strict=True, reason="meshlab_filters/see_model: PyMeshLab removes one "
+                   "zero-area face, the solid is then 'open' and see_model turns it by the sign "
+                   "of its (near-zero) summed normal z: seen inside out, periods 0")  # fmt: skip
+def test_the_flat_backed_relief_as_an_obj_file(tmp_path):
+    from meshlab_filters import model_to_mescher as from_file
+
+    V, F, gap = flat_backed_relief(K, A, LAM)
+    path = write_obj(tmp_path / "flat_backed.obj", V, F.tolist())
+    m, _, _ = from_file(path, view=ISO_VIEW, up=ISO_UP, perceive="manhattan")
+    p = _nonzero_periods(m, gap)
+    assert p.size == 1 and abs(p[0] - gap) <= 1e-6 * gap
+
+
 # ------------------------------------------------------------------------------ rendering
 pv = pytest.importorskip("pyvista")
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
