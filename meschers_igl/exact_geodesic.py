@@ -206,6 +206,28 @@ def _trim(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cover -
 
 
 @numba.njit(cache=True, nogil=True)
+def _trim_by_ends(da, db, L, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
+    """Cut the parts of ``[b0, b1]`` where the route along the edge from ``A`` (a prefix: rule
+    1's difference decreases in ``q``) or from ``B`` (a suffix) is strictly shorter."""
+    y2 = sy * sy
+    tol = _REL * (sig + L + np.sqrt(sx * sx + y2))
+    if np.isfinite(da) and sig + np.sqrt((b0 - sx) ** 2 + y2) - da - b0 > tol:
+        k = da - sig
+        den = 2.0 * (sx + k)
+        if den > 0.0:
+            q = (sx * sx + y2 - k * k) / den - tol
+            b0 = max(b0, min(q, b1))
+    if np.isfinite(db) and sig + np.sqrt((b1 - sx) ** 2 + y2) - db - (L - b1) > tol:
+        k = db - sig
+        ax = L - sx
+        den = 2.0 * (ax + k)
+        if den > 0.0:
+            q = L - ((ax * ax + y2 - k * k) / den - tol)
+            b1 = min(b1, max(q, b0))
+    return b0, b1
+
+
+@numba.njit(cache=True, nogil=True)
 def _propagate(F, fl, fx, fy, twin, rev, hedge, n_edges, pseudo, vptr, vcorner, sources):
     """Exact distances from ``sources`` (see the module docstring).  # pragma: no cover
 
@@ -403,6 +425,11 @@ def _propagate(F, fl, fx, fy, twin, rev, hedge, n_edges, pseudo, vptr, vcorner, 
                 dist, F[f, (c + 1) % 3], F[f, (c + 2) % 3], F[f, c],
                 L, fx[t], fy[t], b0, b1, sx, sy, sig,
             ):  # fmt: skip
+                continue
+            b0, b1 = _trim_by_ends(
+                dist[F[f, (c + 1) % 3]], dist[F[f, (c + 2) % 3]], L, b0, b1, sx, sy, sig
+            )
+            if b1 <= b0:
                 continue
             e = hedge[t]
             flip = rev[t]
