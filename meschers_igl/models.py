@@ -78,12 +78,15 @@ def model_to_mescher(
     *,
     tol: float | None = None,
     bridge: bool = True,
+    hidden: bool | str = "auto",
 ) -> tuple[Mescher, DepthOrder, ConversionReport]:
     """Any 3D model seen from a view: the mescher of what the viewer sees, its depth order and
     a conversion report.
 
-    :func:`meschers_igl.visible.see_model` builds the visible surface (false edges glued
-    crosswise, true occlusions kept apart, hidden gaps bridged); the mescher is
+    :func:`meschers_igl.visible.see_model` builds either the whole model opened at its
+    junctions and glued crosswise like a cut model (``hidden``: a closed surface that keeps
+    the hidden side, its order from the model's own depths) or the visible surface (false
+    edges glued crosswise, true occlusions kept apart, hidden gaps bridged); the mescher is
     ``Mescher.from_corner_depths`` of its per-face depths (edge values averaged, then projected
     onto locally integrable forms, paper Eq. 3-4) and the order holds the occlusion and bridge
     arcs.
@@ -99,6 +102,9 @@ def model_to_mescher(
         Relative tolerance (default 1e-5 of the bounding-box diagonal).
     bridge : bool, default: True
         Bridge hidden gaps (amodal completion).
+    hidden : {"auto", True, False}, default: "auto"
+        Keep the hidden side where the gluing is unambiguous (see
+        :func:`meschers_igl.visible.see_model`); ``False``: the visible surface only.
 
     Returns
     -------
@@ -107,6 +113,6 @@ def model_to_mescher(
     report : ConversionReport
         Junctions (screen position, depth gap), arcs, repairs, snapping, warnings, the view.
     """
-    vm = see_model(V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge)
+    vm = see_model(V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge, hidden=hidden)
     m = Mescher.from_corner_depths(vm.F, vm.xy, vm.Z)
     return m, DepthOrder(m.n_faces, vm.arcs, m=m), vm.report

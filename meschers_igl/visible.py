@@ -449,6 +449,7 @@ def see_model(
     *,
     tol: float | None = None,
     bridge: bool = True,
+    hidden: bool | str = "auto",
 ) -> VisibleModel:
     """The visible surface of a 3D model from an orthographic view, false edges glued.
 
@@ -472,6 +473,14 @@ def see_model(
         continuity; default :data:`REL_TOL`.
     bridge : bool, default: True
         Bridge hidden gaps (amodal completion).
+    hidden : {"auto", True, False}, default: "auto"
+        Keep the hidden side: the whole model, opened at its junctions and glued crosswise by
+        the cut-model path (:func:`close_junctions`, :func:`meschers_igl.cutmesh.glue_cut_mesh`),
+        a closed surface like a cut model's, with its own depths and the order of its
+        overlapping faces.  ``"auto"``: when junctions are found (paired caps, hidden gaps,
+        coinciding cut loops) and the gluing is a manifold, else (and with ``perceive``) the
+        visible surface; ``True``: refuse when it cannot be built; ``False``: always the
+        visible surface.
 
     Returns
     -------
@@ -520,6 +529,17 @@ def see_model(
     report.view, report.up = R[2].copy(), R[1].copy()
     _pinch_warning(F, report)
     _manifold_notes(F, report)
+    if hidden not in ("auto", True, False):
+        raise MescherError(f"hidden: expected 'auto', True or False, found {hidden!r}")
+    if hidden is True and perceive is not None:
+        raise MescherError(
+            f"hidden: expected False or 'auto' with perceive={perceive!r} (perceived depths are "
+            "read on the visible surface), found True"
+        )
+    if hidden is not False and perceive is None:
+        closed = _closed_surface(V, F, R, tol_abs, rel, bridge, report, strict=hidden is True)
+        if closed is not None:
+            return closed
 
     C = V @ R.T
     N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
@@ -981,3 +1001,305 @@ def _hidden(P, pla, plb, T, Z, tol) -> bool:
         if z <= max(_plane_depth(x, pla), _plane_depth(x, plb)) + tol:
             return False
     return True
+
+
+# ------------------------------------------------------------------------------ closed surface
+#: Unit normals closer than this (1 - cos) count as equal or opposite when caps are paired.
+CAP_NORMAL_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class _Cap:
+    """A planar patch bounded by one loop (a bar's end face): its faces, loop and normal."""
+
+    faces: np.ndarray
+    loop: np.ndarray
+    normal: np.ndarray
+
+
+def _planar_patches(V: np.ndarray, F: np.ndarray, TT: np.ndarray, tol: float) -> np.ndarray:
+    """(#F,) label of the coplanar patch of each face (faces joined across shared edges)."""
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    g = TT.reshape(-1)
+    ok = g >= 0
+    f, g = f[ok], g[ok]
+    same = (np.einsum("ij,ij->i", n[f], n[g]) >= 1.0 - CAP_NORMAL_TOL) & (
+        np.abs(np.einsum("ij,ij->i", V[F[g, 0]] - V[F[f, 0]], n[f])) <= tol
+    )
+    A = sp.coo_matrix((np.ones(int(same.sum())), (f[same], g[same])), shape=(F.shape[0],) * 2)
+    return csgraph.connected_components(A, directed=False)[1]
+
+
+def _caps(V, F, TT, patch, tol) -> list:
+    """Patches bounded by a single loop whose normal has an opposite among the patches (the
+    candidates for the two ends of a broken bar); others are never caps."""
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    k = int(patch.max()) + 1
+    first = np.full(k, F.shape[0])
+    np.minimum.at(first, patch, np.arange(F.shape[0]))
+    pn = n[first]
+    key = np.round(pn / 1e-6).astype(np.int64)
+    have = {tuple(r) for r in key.tolist()}
+    cand = np.flatnonzero([tuple(-x for x in r) in have for r in key.tolist()])  # per patch
+    # boundary half-edges of each patch: its faces' half-edges whose neighbour is elsewhere
+    fe = np.repeat(np.arange(F.shape[0]), 3)
+    nb = TT.reshape(-1)
+    bd = (nb < 0) | (patch[np.maximum(nb, 0)] != patch[fe])
+    corner = np.tile(np.arange(3), F.shape[0])
+    tail, head = F[fe, corner], F[fe, (corner + 1) % 3]
+    in_cand = np.isin(patch[fe], cand) & bd
+    out = []
+    pe = patch[fe[in_cand]]
+    order = np.argsort(pe, kind="stable")
+    pe, t, h = pe[order], tail[in_cand][order], head[in_cand][order]
+    if pe.size == 0:
+        return out
+    starts = np.flatnonzero(np.r_[True, pe[1:] != pe[:-1]])
+    for s, e in zip(starts.tolist(), np.r_[starts[1:], pe.size].tolist()):  # candidate caps
+        nxt = dict(zip(t[s:e].tolist(), h[s:e].tolist()))
+        if len(nxt) != e - s:
+            continue  # a vertex with two outgoing boundary edges: not a simple loop
+        loop = [t[s]]
+        while len(loop) <= e - s and nxt[loop[-1]] != loop[0]:
+            loop.append(nxt[loop[-1]])
+        if len(loop) != e - s:
+            continue  # more than one loop (a patch with a hole)
+        p = int(pe[s])
+        out.append(_Cap(np.flatnonzero(patch == p), np.asarray(loop, np.int64), pn[p]))
+    return out
+
+
+def _match_loops(A: np.ndarray, B: np.ndarray, tol: float):
+    """Correspondence ``B[perm] == A + T`` of two loops congruent by a translation, or None."""
+    if A.shape != B.shape:
+        return None
+    T = B.mean(axis=0) - A.mean(axis=0)
+    d, perm = cKDTree(B).query(A + T)
+    if np.max(d) > tol or np.unique(perm).size != perm.size:
+        return None
+    return perm, T
+
+
+def _side_direction(V, F, TT, cap: _Cap, tol: float):
+    """The common direction of the side faces next to a cap (a prism's lateral edges), or None."""
+    fs = cap.faces
+    nbs = TT[fs].reshape(-1)
+    nbs = np.unique(nbs[(nbs >= 0) & ~np.isin(nbs, fs)])
+    n = np.cross(V[F[nbs, 1]] - V[F[nbs, 0]], V[F[nbs, 2]] - V[F[nbs, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    # two side planes that are not parallel meet along the bar's direction
+    c = np.cross(n[0], n)
+    k = int(np.argmax(np.linalg.norm(c, axis=1)))
+    if np.linalg.norm(c[k]) < 1e-6:
+        return None
+    d = c[k] / np.linalg.norm(c[k])
+    if np.max(np.abs(n @ d)) > 1e-6:
+        return None  # the side faces do not share one direction: not a bar's end
+    return d if d @ cap.normal > 0 else -d
+
+
+def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
+    """Are the 3D ``points`` (on a bridge) behind model faces nearer than both pieces?
+
+    Faces of the pieces' own parts (``own``, (#F,) bool) count only when they are nearer by
+    more than ``margin`` (a bar's width): two blocks a hair apart cover the hair between them
+    with their own faces, which hides nothing a viewer would complete.
+    """
+    from .geometry2d import barycentric
+
+    P = points @ R.T
+    T = C[F[front]]
+    slack = np.where(own[front], margin, 0.0)
+    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
+    for x, z in zip(P[:, :2], P[:, 2]):  # a dozen sample points
+        cand = np.flatnonzero(np.all((lo <= x + tol) & (hi >= x - tol), axis=1))
+        if cand.size == 0:
+            return False
+        B = barycentric(np.repeat(x[None], cand.size, 0), T[cand, :, :2])
+        inside = np.all(B >= -1e-9, axis=1)
+        if not inside.any():
+            return False
+        zf = (B[inside] * T[cand[inside], :, 2]).sum(axis=1) - slack[cand[inside]]
+        if zf.max() <= max(z, z + depth_gap) + tol:
+            return False
+    return True
+
+
+def close_junctions(V, F, R, tol: float, bridge: bool = True):
+    """Open a closed model at its junctions so that the cut-model gluing closes it crosswise.
+
+    Pairs of *caps* (planar patches bounded by one loop, normals opposite, loops congruent by a
+    translation ``T``) are the two ends of a bar the artist broke:
+
+    * **false edge**: ``T`` is along the view (the caps coincide on screen, each containing the
+      view direction, e.g. a capped U-tribar): both caps are removed; the two open loops
+      coincide on screen and are glued crosswise by the cut-model path, ``|T|`` is the period;
+    * **hidden gap** (``bridge``): ``T = l d + g v`` with ``d`` the bar's direction (the common
+      direction of the faces beside each cap, pointing from one cap to the other) and the
+      bridge between them hidden behind nearer faces: both caps are removed and the bar is
+      continued from the first cap by ``l d`` (a tube of the same cross-section, the first
+      piece's depth); its end loop coincides on screen with the second cap's loop, ``g``
+      apart in depth (the period), or is the second loop itself when ``g`` is 0 (an occluded
+      continuation).
+
+    Parameters
+    ----------
+    V : (#V, 3) float64, F : (#F, 3) int64
+        A cleaned model (welded, oriented outward).
+    R : (3, 3) float64
+        ``view_frame(view, up)``.
+    tol : float
+        Absolute tolerance.
+    bridge : bool
+        Also bridge hidden gaps.
+
+    Returns
+    -------
+    V2 : (#V2, 3) float64
+        ``V`` with the tube ends appended.
+    F2 : (#F2, 3) int64
+        Faces of the opened model (caps removed, tubes added).
+    source : (#F2,) int64
+        Face of ``F`` each face comes from, -1 for tube faces.
+    junctions : list of Junction
+    """
+    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    patch = _planar_patches(V, F, TT, tol)
+    caps = _caps(V, F, TT, patch, tol)
+    v = R[2]
+    C = V @ R.T
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    ok = TT.reshape(-1) >= 0
+    A = sp.coo_matrix((np.ones(int(ok.sum())), (f[ok], TT.reshape(-1)[ok])), (F.shape[0],) * 2)
+    part = csgraph.connected_components(A, directed=False)[1]
+    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    front = N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300)
+    used, drop, junctions = set(), [], []
+    newV, newF = [], []
+    nV = V.shape[0]
+    for i, a in enumerate(caps):  # a few dozen caps in an artist's model
+        for j in range(i + 1, len(caps)):
+            b = caps[j]
+            if i in used or j in used or a.loop.size != b.loop.size:
+                continue
+            if a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
+                continue
+            match = _match_loops(V[a.loop], V[b.loop], tol)
+            if match is None:
+                continue
+            perm, T = match
+            gap = float(T @ v)
+            if np.linalg.norm(T - gap * v) <= tol and abs(gap) > tol:
+                # both caps contain the view and coincide on screen: a false edge
+                if abs(a.normal @ v) > 1e-6:
+                    continue
+                used |= {i, j}
+                drop += [a.faces, b.faces]
+                pos = C[a.loop, :2].mean(axis=0)
+                junctions.append(Junction("false edge", pos, abs(gap), int(a.loop.size)))
+                continue
+            if not bridge:
+                continue
+            # a hidden gap: T = l d + g v, the caps facing each other along the bar
+            for first, second, sgn in ((a, b, 1.0), (b, a, -1.0)):
+                d = _side_direction(V, F, TT, first, tol)
+                if d is None:
+                    continue
+                d2 = _side_direction(V, F, TT, second, tol)
+                if d2 is None or d2 @ d > -1.0 + 1e-9:
+                    continue
+                Tf = sgn * T  # from first to second
+                M = np.stack([d, v], axis=1)
+                (ell, g), *_ = np.linalg.lstsq(M, Tf, rcond=None)
+                if ell <= tol or np.linalg.norm(M @ [ell, g] - Tf) > tol:
+                    continue
+                if first.normal @ d <= 0:
+                    continue
+                loop = first.loop
+                P0 = V[loop]
+                c0 = P0.mean(axis=0)
+                axis = c0 + np.array([[0.25], [0.5], [0.75]]) * ell * d
+                S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
+                # the bridge must run through empty space (not through a block in between)
+                # and be hidden (libigl's generalized winding number: inside a solid ~ 1)
+                if np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5):
+                    continue
+                own = np.isin(part, part[[first.faces[0], second.faces[0]]])
+                width = float(np.ptp(P0, axis=0).max())
+                if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
+                    continue
+                # second loop vertex matched to each first loop vertex
+                if first is a:
+                    partner = b.loop[perm]
+                else:
+                    inv = np.empty_like(perm)
+                    inv[perm] = np.arange(perm.size)
+                    partner = a.loop[inv]
+                if abs(g) <= tol:
+                    ends = partner  # the pieces are one bar: join them directly
+                    kind = "occluded continuation"
+                else:
+                    ends = nV + np.arange(loop.size)
+                    nV += loop.size
+                    newV.append(P0 + ell * d)
+                    kind = "hidden gap"
+                nxt = np.roll(np.arange(loop.size), -1)
+                p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
+                newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
+                used |= {i, j}
+                drop += [a.faces, b.faces]
+                pos = C[second.loop, :2].mean(axis=0)  # where the bridge is glued
+                junctions.append(Junction(kind, pos, abs(g), int(loop.size)))
+                break
+    if not junctions:
+        return V, F, np.arange(F.shape[0]), []
+    keep = np.ones(F.shape[0], dtype=bool)
+    keep[np.concatenate(drop)] = False
+    tubes = np.vstack(newF) if newF else np.zeros((0, 3), np.int64)
+    V2 = np.vstack([V, *newV]) if newV else V
+    F2 = np.vstack([F[keep], tubes]).astype(np.int64)
+    source = np.concatenate([np.flatnonzero(keep), np.full(tubes.shape[0], -1)])
+    return V2, F2, source, junctions
+
+
+def _closed_surface(V, F, R, tol, rel, bridge, report, strict):
+    """The whole model opened at its junctions and glued crosswise (``hidden=True``), or None."""
+    from types import SimpleNamespace
+
+    from .cutmesh import glue_cut_mesh
+    from .order import DepthOrder
+
+    V2, F2, source, junctions = close_junctions(V, F, R, tol, bridge)
+    try:
+        g = glue_cut_mesh(V2, F2, view=R[2], up=R[1], tol=rel)
+    except MescherError as err:
+        if strict:
+            raise
+        msg = f"the closed surface could not be glued ({err}); the visible surface instead"
+        report.warnings.append(msg)
+        return None
+    for p in g["pairings"]:  # cut loops the model came with (a cut model)
+        pos = g["xy"][g["vmap"][p.loop_a]].mean(axis=0)
+        if not any(np.linalg.norm(pos - j.position) <= 10 * tol for j in junctions):
+            junctions.append(Junction("false edge", pos, abs(p.depth_gap), int(p.loop_a.size)))
+    if not junctions:
+        if strict:
+            raise MescherError(
+                "hidden: expected junctions to glue (caps that pair up, hidden gaps, cut loops "
+                "that coincide on screen), found none"
+            )
+        return None
+    Z = (V2 @ R.T)[F2][:, :, 2]
+    order = DepthOrder.from_embedding(SimpleNamespace(F=g["F"], xy=g["xy"]), Z)
+    report.junctions = junctions
+    report.arcs = np.asarray(order.arcs)
+    report.n_arcs = order.n_arcs
+    report.source_face = source
+    report.repairs.append(
+        f"kept the hidden side: {len(junctions)} junction(s) opened and glued crosswise, "
+        f"{int(np.count_nonzero(source < 0))} bridge face(s)"
+    )
+    return VisibleModel(F=g["F"], xy=g["xy"], Z=Z, arcs=report.arcs, report=report)

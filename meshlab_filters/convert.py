@@ -110,6 +110,7 @@ def model_to_mescher(
     perceive: str | None = None,
     merge_tol: float = 0.0,
     tol: float | None = None,
+    hidden: bool | str = "auto",
 ):
     """Any artist model -- closed solids, separate blocks, reliefs, STL soups -- as seen from a
     view: (mescher, depth order, report).
@@ -132,6 +133,9 @@ def model_to_mescher(
         3D weld distance of the clean-up (only with a path).
     tol : float, optional
         Relative tolerance of the conversion.
+    hidden : {"auto", True, False}, default: "auto"
+        Keep the hidden side (a closed surface glued at its junctions) or build the visible
+        surface only (see :func:`meschers_igl.visible.see_model`).
 
     Returns
     -------
@@ -168,7 +172,9 @@ def model_to_mescher(
         cleanup.source = str(path_or_V_F)
     else:
         V, F = _mesh_pair(path_or_V_F)
-    m, order, report = core_model_to_mescher(V, F, view=view, up=up, perceive=perceive, tol=tol)
+    m, order, report = core_model_to_mescher(
+        V, F, view=view, up=up, perceive=perceive, tol=tol, hidden=hidden
+    )
     report.cleanup = cleanup
     report.repairs[:0] = pre
     if cleanup is not None:

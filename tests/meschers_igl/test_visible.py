@@ -16,6 +16,7 @@ from visible_models import (
     ISO_UP,
     ISO_VIEW,
     block_stairs,
+    hidden_gap_cube,
     hidden_gap_frame,
     sheared_tribar_torus,
     soup,
@@ -31,12 +32,32 @@ from meschers_igl.models import model_to_mescher
 from meschers_igl.operators import view_frame
 from meschers_igl.visible import see_model
 
-MODELS = {"u_tribar": u_tribar, "block_stairs": block_stairs, "hidden_gap_frame": hidden_gap_frame}
+MODELS = {"u_tribar": u_tribar, "block_stairs": block_stairs, "hidden_gap_frame": hidden_gap_frame,
+          "hidden_gap_cube": hidden_gap_cube}  # fmt: skip
+#: Euler characteristic of the closed surface (hidden side kept), from how each model is built:
+#: the U-tribar and the stairs (four blocks touching face to face: one U-shaped solid) are
+#: spheres (2) that lose two caps (0) and are glued along a loop (chi unchanged): a torus; the
+#: tribar frame is such a U (2) plus its crossing bar (2), less two caps, plus the bridging
+#: tube (an annulus, chi 0): 2; the cube frame (7 corners, 8 bars: genus 2, chi -2) plus its
+#: crossing bar (2), less two caps, plus the tube: -2 (genus 3 and a sphere).
+CLOSED_CHI = {"u_tribar": 0, "block_stairs": 0, "hidden_gap_frame": 2, "hidden_gap_cube": -2}
 
 
 def _nonzero_periods(m, gap):
     p = np.abs(m.periods())
     return np.sort(p[p > 1e-5 * gap])
+
+
+def _period_lattice(m, gap, name, how):
+    """Every period is an integer multiple of the gap and one is the gap itself: the loops
+    through the junction gain the gap, the others nothing (a genus-3 frame has two loops
+    through its broken bar in any homology basis, a torus one)."""
+    p = _nonzero_periods(m, gap)
+    assert p.size >= 1, (name, how, m.periods())
+    k = p / gap
+    assert np.allclose(k, np.round(k), rtol=0, atol=1e-6), (name, how, p, gap)
+    assert abs(p[0] - gap) <= 1e-6 * gap, (name, how, p, gap)
+    return p
 
 
 @pytest.fixture(scope="module", params=sorted(MODELS))
@@ -53,25 +74,69 @@ def converted(request, tmp_path_factory):
     Vs, Fs = soup(V, F)
     out["stl soup"] = from_file(write_stl(d / "m.stl", Vs, Fs), view=ISO_VIEW, up=ISO_UP)
     out["soup arrays"] = model_to_mescher(Vs, Fs, view=ISO_VIEW, up=ISO_UP)
+    out["visible arrays"] = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, hidden=False)
+    out["visible soup"] = model_to_mescher(Vs, Fs, view=ISO_VIEW, up=ISO_UP, hidden=False)
     return request.param, V, F, gap, out
 
 
 def test_period_is_the_depth_gap(converted):
     name, _, _, gap, out = converted
     for how, (m, _, report) in out.items():
-        p = _nonzero_periods(m, gap)
-        # exactly one loop gains depth, and it gains the gap the model was built with
-        assert p.size == 1, (name, how, m.periods())
-        assert abs(p[0] - gap) <= 1e-6 * gap, (name, how, p, gap)
+        if name == "hidden_gap_cube" and how.startswith("visible"):
+            continue  # test_visible_cube_frame_has_no_loop_through_its_gap
+        p = _period_lattice(m, gap, name, how)
+        if name != "hidden_gap_cube":
+            assert p.size == 1, (name, how, m.periods())  # a torus: one loop gains depth
         assert m.is_impossible()
         # the report names the junction with the same gap
         gaps = [j.depth_gap for j in report.junctions if j.depth_gap > 1e-5 * gap]
         assert len(gaps) == 1 and abs(gaps[0] - gap) <= 1e-6 * gap, (name, how, str(report))
 
 
+def test_closed_surface_keeps_the_hidden_side(converted):
+    """By default (hidden="auto") the whole model is kept, opened at its junction and glued
+    crosswise: a closed surface (no boundary) of the Euler characteristic the model's
+    construction gives, with the hidden side (faces turned away from the viewer)."""
+    from meschers_igl.topology import boundary_loops
+
+    name, V, F, gap, out = converted
+    for how in ("arrays", "obj quads", "stl soup", "soup arrays"):
+        m, order, report = out[how]
+        assert boundary_loops(np.asarray(m.F)) == [], (name, how)
+        assert m.euler_characteristic() == CLOSED_CHI[name], (name, how)
+        n = np.asarray(m.face_normals())
+        assert (n[:, 2] < -0.1).any() and (n[:, 2] > 0.1).any()
+        assert "kept the hidden side" in str(report)
+        # the bridge of a hidden gap lies behind the crossing bar
+        bridge = np.flatnonzero(report.source_face < 0)
+        if name.startswith("hidden_gap"):
+            assert bridge.size > 0 and np.isin(bridge, np.asarray(order.arcs)[:, 0]).all()
+        else:
+            assert bridge.size == 0
+
+
+def test_visible_cube_frame_has_no_loop_through_its_gap(converted):
+    """A limitation the closed surface lifts: on the visible surface alone, the cube frame's
+    far piece disappears behind the corner it is attached to (a concave corner seen from
+    outside), so no visible loop runs through the bridged gap and there is no period."""
+    name, _, _, gap, out = converted
+    if name != "hidden_gap_cube":
+        pytest.skip("the cube frame only")
+    m, _, report = out["visible arrays"]
+    assert any(j.kind == "hidden gap" and abs(j.depth_gap - gap) <= 1e-6 * gap
+               for j in report.junctions)  # fmt: skip
+    assert _nonzero_periods(m, gap).size == 0
+
+
 def test_arrays_and_files_agree(converted):
     _, _, _, gap, out = converted
-    ref, _, rep0 = out["arrays"]
+    for kind in ("", "visible "):
+        _arrays_and_files_agree({k: v for k, v in out.items() if k.startswith(kind)
+                                 and (kind or not k.startswith("visible"))}, kind + "arrays")  # fmt: skip
+
+
+def _arrays_and_files_agree(out, ref_name):
+    ref, _, rep0 = out[ref_name]
     area0 = ref.face_areas()[rep0.source_face >= 0].sum()
     for how, (m, _, rep) in out.items():
         # the same visible surface whichever door the model comes in through (STL stores
@@ -83,7 +148,7 @@ def test_arrays_and_files_agree(converted):
 
 def test_visible_surface_faces_the_viewer_and_keeps_the_models_normals(converted):
     name, V, F, _, out = converted
-    m, order, report = out["arrays"]
+    m, order, report = out["visible arrays"]
     n = np.asarray(m.face_normals())
     assert np.all(n[:, 2] > 0)  # only faces toward the viewer
     # each face keeps the normal of the model face it comes from (camera frame), bridges the
@@ -105,7 +170,11 @@ def test_visible_surface_faces_the_viewer_and_keeps_the_models_normals(converted
 
     sil = shapely.union_all(shapely.polygons(Vc[F][:, :, :2]))
     vis = shapely.union_all(shapely.polygons(np.asarray(m.xy)[np.asarray(m.F)[real]]))
-    assert np.isclose(vis.area, sil.area, rtol=1e-9)
+    # up to the overlay grid (1e-9 of the size) along the clipped pieces' boundaries
+    Tm = np.asarray(m.xy)[np.asarray(m.F)[real]]
+    perimeter = np.linalg.norm(Tm - np.roll(Tm, 1, axis=1), axis=2).sum()
+    grid = 1e-9 * np.linalg.norm(np.ptp(V, axis=0))
+    assert abs(vis.area - sil.area) <= perimeter * grid, (vis.area, sil.area)
     assert np.isclose(np.asarray(m.face_areas())[real].sum() > 0, True)
 
 
@@ -123,7 +192,9 @@ def test_true_occlusions_are_arcs_from_far_to_near(converted):
     name, _, _, _, out = converted
     m, order, report = out["arrays"]
     assert order.n_arcs == report.n_arcs and order.cycles(warn=False) == []
-    if name == "hidden_gap_frame":
+    m, order, report = out["visible arrays"]
+    assert order.n_arcs == report.n_arcs and order.cycles(warn=False) == []
+    if name.startswith("hidden_gap"):
         # the crossing bar is in front of both bar pieces and of the bridge behind it
         bridges = np.flatnonzero(report.source_face < 0)
         assert bridges.size > 0
@@ -264,7 +335,7 @@ def test_sheared_torus_is_possible_until_right_angles_are_perceived():
 def test_manhattan_leaves_right_angled_models_alone(name):
     V, P, gap = MODELS[name]()
     F = triangulate(P)
-    m0, _, _ = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP)
+    m0, _, _ = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, hidden=False)
     m, _, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, perceive="manhattan")
     assert report.snapped.max() < 1e-6  # already right-angled: nothing to snap
     assert np.allclose(np.abs(m.periods()), np.abs(m0.periods()), rtol=1e-9, atol=1e-9 * gap)
@@ -316,28 +387,34 @@ def test_bad_files_are_repaired_and_reported_or_refused(tmp_path):
 
 
 def test_shipped_cut_models_seen_from_their_view():
-    """Regression (a bridge polygon that was not simple raised on impossible_cube.obj): every
-    shipped ParadoxToolkit cut model converts; where the loop is visible, its period is the
-    depth gap the independent tool recorded.  Not yet: the impossible cube (its loop passes
-    behind crossing bars with no gap to bridge) and the block stairs/triangle (many separate
-    open parts, which the cut-model path does not glue either)."""
+    """All 18 shipped ParadoxToolkit cut models through from_model give the cut-model path's
+    surface and periods (issue 18): the hidden side is kept and the cut loops are glued
+    crosswise, so the impossible cubes (whose loop passes behind a corner, invisible on the
+    visible surface) and the block figures (12 separate boxes, impossible through their order
+    only) come out as the tool meant.  Regression: a bridge polygon that was not simple raised
+    on impossible_cube.obj; blocks a hair apart were bridged through the block between them."""
     from visible_models import read_obj
 
+    from meschers_igl.models import cut_model_to_mescher
     from meschers_igl.paradox import list_paradox_models, paradox_model
 
-    not_yet = ("impossible_cube", "penrose_stair", "penrose_triangle_block")
-    checked = 0
-    for name in list_paradox_models():
+    names = list_paradox_models()
+    assert len(names) == 18
+    for name in names:
         pm = paradox_model(name)
         V, F = read_obj(pm.obj)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", MescherWarning)
             m, order, report = model_to_mescher(V, F, view=pm.view, up=pm.up)
+            mc, oc = cut_model_to_mescher(V, F, view=pm.view, up=pm.up)
         assert order.cycles(warn=False) == []
-        if name.split("__")[0] in not_yet:
-            continue
         gaps = np.abs(pm.meta["verification"]["depth_gaps"])
-        p = _nonzero_periods(m, gaps.max())
-        assert p.size == gaps.size and np.allclose(p, np.sort(gaps), rtol=1e-5), (name, p, gaps)
-        checked += 1
-    assert checked == 9
+        p, pc = _nonzero_periods(m, gaps.max()), _nonzero_periods(mc, gaps.max())
+        assert p.size == pc.size and np.allclose(p, pc, rtol=1e-9), (name, p, pc)
+        chi = pm.meta["verification"]["glued_chi"]  # the tool's own count after gluing
+        assert m.euler_characteristic() == mc.euler_characteristic() == chi, name
+        if p.size:  # every period is the depth gap the tool recorded (or twice it)
+            assert np.allclose(p / gaps.max(), np.round(p / gaps.max()), atol=1e-5), (name, p)
+        r, rc = m.is_impossible(order=order), mc.is_impossible(order=oc)
+        assert bool(r) == bool(rc) and r.kind == rc.kind, (name, str(r), str(rc))
+        assert bool(r) == ("stair" not in name), name  # the tool's stairs are realisable

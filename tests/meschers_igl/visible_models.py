@@ -288,3 +288,64 @@ def sheared_tribar_torus(L=4.0, t=1.0):
     moved = [(Vb - gap * s(Vb)[:, None] * v, Pb) for (Vb, Pb), s in zip(blocks, s_of)]
     V, polys = weld_blocks(moved)
     return V, polys, gap
+
+
+def box_block(lo, hi):
+    """An axis-aligned box [lo, hi] as (V, polygons) (outward quads)."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    hs = np.array([np.r_[a, -(hi @ a)] for a in AXES] + [np.r_[-a, lo @ a] for a in AXES])
+    return convex_block(hs, 0.5 * (lo + hi))
+
+
+def hidden_gap_cube(L=6.0, t=1.0, hole=0.6, split=0.5):
+    """The impossible cube as a real closed frame whose impossible bar is broken behind a
+    crossing bar (issue 18's "closed genus-3 frame"), seen along (1, 1, 1).
+
+    A box frame has 12 square bars over the corners {0, L}^3; seen along the diagonal its near
+    corner N = (L, L, L) and far corner O = 0 coincide on screen.  The impossible cube replaces
+    N's three bars by one: the y bar from (L, 0, L) runs on through N's place (the "extension"),
+    and on screen it continues into the far y bar from (0, L, 0) toward O, which is one turn
+    deeper by N - O = L (1, 1, 1), a depth of L sqrt(3) along the view.  Here the two pieces
+    stop short (square caps, ``hole`` apart on screen, the far piece at y = L/2 + hole/2, the
+    near one at y = 3L/2 - hole/2) and a crossing bar nearer the viewer hides the gap; a viewer
+    completes one straight bar behind it (amodal completion).  (A box frame with all 12 bars
+    and one of them broken cannot hide an offset: its other 11 axis-aligned bars keep the two
+    pieces on one 3D line.  Which is why the impossible cube drops N.)
+
+    Corners are t-cubes, bars are boxes between them, welded where they touch: the frame is
+    one closed solid of genus 3 (7 corners, 9 bars); the crossing bar is a second closed part.
+    Returns (V, polygons, gap) with gap = L sqrt(3).
+    """
+    h = t / 2
+    corners = [np.array(c, float) * L for c in
+               [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, 0, 1), (0, 1, 1)]]  # fmt: skip
+    blocks = [box_block(c - h, c + h) for c in corners]
+    key = {tuple(np.round(c / L).astype(int)): c for c in corners}
+    bars = [((0, 0, 0), (1, 0, 0)), ((0, 0, 0), (0, 0, 1)), ((1, 0, 0), (1, 1, 0)),
+            ((1, 0, 0), (1, 0, 1)), ((0, 1, 0), (1, 1, 0)), ((0, 1, 0), (0, 1, 1)),
+            ((0, 0, 1), (1, 0, 1)), ((0, 0, 1), (0, 1, 1))]  # fmt: skip
+    for a, b in bars:  # a box between the two corner cubes
+        A, B = key[a], key[b]
+        d = (B - A) / L
+        lo, hi = np.minimum(A, B) - h, np.maximum(A, B) + h
+        lo, hi = lo + t * np.abs(d), hi - t * np.abs(d)
+        blocks.append(box_block(lo, hi))
+    y = AXES[1]
+    XZ, Y = key[(1, 0, 1)], key[(0, 1, 0)]
+    # the near piece: from the (L, 0, L) corner along +y, through N's place, capped
+    blocks.append(
+        box_block(XZ + h * y - h * (1 - y), XZ + ((1 + split) * L - hole / 2) * y + h * (1 - y))
+    )
+    # the far piece: from the (0, L, 0) corner along -y, capped
+    blocks.append(
+        box_block(Y - ((1 - split) * L - hole / 2) * y - h * (1 - y), Y - h * y + h * (1 - y))
+    )
+    frame = weld_blocks(blocks)
+    # the crossing bar: a square bar along z through the gap's screen middle, 2 L sqrt(3)
+    # nearer than the far piece (in front of everything), wide enough to hide the gap and the
+    # near piece's square cap
+    c = np.array([0.0, split * L, 0.0]) + 2.0 * L * np.sqrt(3.0) * ISO_VIEW
+    s, hz = hole + t, 0.6 * L
+    occ = box_block(c - np.array([s / 2, s / 2, hz]), c + np.array([s / 2, s / 2, hz]))
+    V, polys = separate_blocks([frame, occ])
+    return V, polys, float(L * np.sqrt(3.0))
