@@ -18,6 +18,14 @@ an axonometric drawing from the screen directions of its three edge families; so
    ``(a, b) = -(e_x, e_y) / e_z``; the caller projects onto locally integrable forms (paper
    Eq. 3-4, ``Mescher.from_corner_depths``).  Where the snapped normals do not integrate, the
    result is impossible.
+
+Reliefs.  A carved or printed relief that reads as an impossible box figure cannot have its
+faces in exactly three families of parallel planes: on a connected surface glued along edges of
+the three screen directions ``d_k``, per-family gradients ``g_k`` must satisfy ``(g_i - g_j) .
+d_k^perp = 0``, which leaves ``g_k = t G_k + g`` (``G_k`` the right-angled ones, ``g`` a tilt),
+and the loop integral is ``t`` times the perceived climb -- zero only for a flat relief.  So
+the carver shears the blocks a little each (the faces are *near* three families) and the edge
+reading above, not the normals, decides which axis each face is snapped to.
 """
 
 from __future__ import annotations
