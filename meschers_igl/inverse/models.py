@@ -138,27 +138,35 @@ def penrose_tribar(length: float = 5.0, width: float = 1.0) -> BoxModel:
 
 
 def penrose_stairs(
-    flights=(4, 4, 2, 2), rise: float = 2.0, width: float = 1.0, thickness: float = 0.6
+    flights=(4, 4, 2, 2), width: float = 1.0, thickness: float = 0.6, steep: float = 2.0
 ) -> BoxModel:
     """Penrose stairs: steps that climb all the way round and meet their own start.
 
-    Four flights of unit-cell steps along +x, +y, -x, -y (``flights`` cells each) climbing
-    ``rise`` in total, ``s = rise / N`` per step.  The return flights are shorter, so the real
-    path is an open spiral whose end is the start moved by ``rise (1, 1, 1)``: seen along
-    (1, 1, 1) that move is invisible and the picture is a closed ring of steps that climbs for
-    ever (each step a block ``thickness`` deep under its tread).  Going once around the ring
-    climbs ``sqrt(3) rise`` in depth: the period.  Needs ``flights[0] - flights[2] =
-    flights[1] - flights[3] = rise / width``.
+    Four flights of unit-cell steps along +x, +y, -x, -y (``flights`` cells each, ``N`` in all,
+    ``a - c = b - d`` with ``flights = (a, b, c, d)``), each step ``s`` higher than the one
+    before.  The return flights are shorter, so the real path is an open spiral whose end is
+    the start moved by ``D = (a - c) width (1, 1, steep)``; seen along ``D`` (the view
+    ``(1, 1, steep)``) that move is invisible and the picture is a closed ring of steps that
+    climbs for ever (each step a block ``thickness`` deep under its tread).  The height gained
+    per turn is ``N s = steep (a - c) width``; the depth gained going once around the ring is
+    ``|D| = (a - c) width sqrt(2 + steep^2)``: the period (``gap``).  ``steep = 1`` is the
+    isometric view; a steeper view gives taller steps (``s = steep (a - c) width / N``).
+
+    On the two flights that climb toward the viewer (+x, +y) the risers face away: each such
+    step shows only as a notch of the outline and a jog of the tread's edge, where the next
+    tread passes in front of the one below (both one shade).
     """
     a, b, c, d = (int(f) for f in flights)
-    w, T = float(width), float(thickness)
+    w, T, t = float(width), float(thickness), float(steep)
     N = a + b + c + d
-    if min(a, b, c, d) < 1 or not (a - c == b - d) or abs((a - c) * w - rise) > 1e-9:
+    if min(a, b, c, d) < 1 or not (a - c == b - d) or a <= c:
         raise MescherError(
-            f"flights, rise: expected flights[0] - flights[2] = flights[1] - flights[3] = "
-            f"rise / width, found {flights}, rise {rise}, width {w}"
+            f"flights: expected flights[0] - flights[2] = flights[1] - flights[3] > 0, found "
+            f"{flights}"
         )
-    s = float(rise) / N
+    if not t > 0:
+        raise MescherError(f"steep: expected a positive number, found {steep}")
+    s = t * (a - c) * w / N
     moves = [(1, 0)] * a + [(0, 1)] * b + [(-1, 0)] * c + [(0, -1)] * d
     boxes, x, y = [], 0.0, 0.0
     for k, (dx, dy) in enumerate(moves):
@@ -166,8 +174,10 @@ def penrose_stairs(
         boxes.append(((x, y, h - T), (x + w, y + w, h)))
         x, y = x + dx * w, y + dy * w
     V, F = boxes_mesh(boxes)
-    view, up = _iso_view()
-    return BoxModel("stairs", V, F, view, up, math.sqrt(3.0) * float(rise))
+    view = np.array([1.0, 1.0, t]) / math.sqrt(2.0 + t * t)
+    up = np.array([0.0, 0.0, 1.0]) - view[2] * view
+    gap = (a - c) * w * math.sqrt(2.0 + t * t)
+    return BoxModel("stairs", V, F, view, up / np.linalg.norm(up), gap)
 
 
 def impossible_cube(size: float = 10.0, width: float = 2.0) -> BoxModel:

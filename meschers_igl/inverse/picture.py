@@ -117,7 +117,7 @@ def _pixel_boxes(mask: np.ndarray):
     return shapely.box(-1.0 + j0 * px, 1.0 - (r + 1) * px, -1.0 + j1 * px, 1.0 - r * px)
 
 
-def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75):
+def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75, extra_lines=()):
     """The regions of a label image as polygons with straight, shared boundaries.
 
     The pixel boundaries between regions (and the background) are merged into lines between
@@ -130,6 +130,9 @@ def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75):
     labels : (H, W) int
         Region index per pixel, -1 for the background; the image spans ``[-1, 1]^2``.
     tolerance_px : float
+    extra_lines : sequence of shapely LineString
+        More boundaries inside regions (hidden occlusion lines, :func:`hidden_occlusions`):
+        they split the pieces they cross and become constraints too.
 
     Returns
     -------
@@ -151,7 +154,7 @@ def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75):
     edges = shapely.union_all([shapely.boundary(r) for r in regions])
     merged = shapely.line_merge(edges)
     lines = [g for g in getattr(merged, "geoms", [merged])]
-    lines = [_straighten(g, px, tolerance_px) for g in lines]
+    lines = [_straighten(g, px, tolerance_px) for g in lines] + list(extra_lines)
     # straightened neighbours may cross: node them again so that every piece closes
     lines = list(shapely.get_parts(shapely.union_all(lines)))
     pieces = list(shapely.get_parts(shapely.polygonize(lines)))
@@ -455,6 +458,174 @@ def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray)
     return np.ascontiguousarray(Vc[:, :2]), np.asarray(Fc, dtype=np.int64)
 
 
+def hidden_occlusions(
+    labels: np.ndarray,
+    xy: np.ndarray,
+    F: np.ndarray,
+    region: np.ndarray,
+    edges: np.ndarray,
+    ids: np.ndarray,
+    pairs: np.ndarray,
+    occluding: np.ndarray,
+    normals: np.ndarray,
+    reflex_deg: float = 20.0,
+    min_px: float = 2.0,
+    pivot_deg: float = 12.0,
+    margin: float = 0.15,
+):
+    """Occlusion lines that go on between two faces of the same shade, where no picture shows them.
+
+    Where the boundary between two regions ``A`` and ``R`` turns from an occlusion into a
+    crease at a junction ``E`` where ``A`` has a convex corner and ``R`` a reflex one (over
+    ``180 + reflex_deg`` degrees), ``A`` is the face in front and its object goes on with a
+    face of ``R``'s shade (a stair's next tread over the tread below, joined to ``A`` along the
+    crease).  That face's contour goes on too, invisible: along its other edge direction, the
+    screen projection of ``A``'s normal (which lies in ``R``'s plane).
+    ``A`` must also hold the occluding boundary in its plane better than ``R`` (an occluding
+    contour is an edge of the face in front).  The line is followed from ``E`` through ``R``'s
+    pixels to a notch of the figure's outline or of a hole, at least ``min_px`` pixels on.
+
+    Parameters
+    ----------
+    labels : (N, N) int
+        Shade region per pixel, -1 outside the figure (:class:`Segmentation`).
+    xy : (#V, 2) float
+    F : (#F, 3) int
+    region : (#F,) int
+        Region of each face.
+    edges : (#E, 2) int
+    ids, pairs : (B,) int, (B, 2) int
+        Region-boundary edges and their two regions (:func:`region_boundaries`).
+    occluding : (B,) bool
+        Which of them are occlusions (not along their crease).
+    normals : (3, 3) float
+        Region normals (:func:`normals_from_shading`).
+    reflex_deg : float
+    min_px : float
+    margin : float
+        The front side must fit the chain's direction better by this much (``|sin|``).
+    pivot_deg : float
+        The line ends at a notch of the outline or of a hole (a corner of the figure over
+        ``180 + reflex_deg`` degrees: the next tread's edge ends where the lower tread's edge
+        disappears behind it), the nearest one within this angle of its direction.
+
+    Returns
+    -------
+    list of (2, 2) float64 arrays
+        Each hidden line from its junction ``E`` to where it leaves the figure (screen units).
+    """
+    import scipy.sparse.csgraph as csgraph
+
+    N = labels.shape[0]
+    px = 2.0 / N
+    nv, K = len(xy), int(normals.shape[0])
+    axes2 = normals[:, :2] / np.maximum(
+        np.linalg.norm(normals[:, :2], axis=1, keepdims=True), 1e-12
+    )
+    # the angle each region takes around each vertex: corner angles summed per (vertex, region)
+    P3 = xy[F]
+    u = np.roll(P3, -1, axis=1) - P3
+    w = np.roll(P3, 1, axis=1) - P3
+    ang = np.abs(np.arctan2(u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0], (u * w).sum(-1)))
+    key = (F * K + region[:, None]).ravel()
+    around = np.bincount(key, weights=ang.ravel(), minlength=nv * K).reshape(nv, K)
+    reflex = np.pi + math.radians(reflex_deg)
+    # junctions: a vertex with an occlusion and a crease edge between the same two regions
+    ends = edges[ids]  # (B, 2)
+    pk = np.sort(pairs, axis=1)
+
+    def incident(sel):  # {(vertex, region, region)} of the boundary edges selected
+        p = np.repeat(pk[sel], 2, axis=0)
+        return set(zip(ends[sel].ravel().tolist(), p[:, 0].tolist(), p[:, 1].tolist()))
+
+    junctions = incident(occluding) & incident(~occluding)
+    # occlusion chains (connected occlusion edges between the same two regions): the front
+    # face holds its chain's direction in its plane (an occluding contour is the front face's
+    # edge); the chain's end-to-end direction is steadier than each pixel-sized edge's
+    occ_i = np.nonzero(occluding)[0]
+    front = {}  # (vertex, region pair) -> front region, at the ends of the chains
+    if occ_i.size:
+        ends_o = ends[occ_i]
+        pair_o = pk[occ_i]
+        pid = pair_o[:, 0] * K + pair_o[:, 1]
+        # join edges that share a vertex and a region pair: nodes are (vertex, pair)
+        node, inv = np.unique(np.stack([ends_o.ravel(), np.repeat(pid, 2)], 1), axis=0,
+                              return_inverse=True)  # fmt: skip
+        inv = inv.reshape(-1, 2)
+        G = sp.coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])), shape=(len(node),) * 2)
+        n_ch, ch = csgraph.connected_components(G, directed=False)
+        deg = np.bincount(inv.ravel(), minlength=len(node))
+        for c in range(n_ch):
+            nodes = np.nonzero(ch == c)[0]
+            tips = nodes[deg[nodes] == 1]
+            if tips.size != 2:
+                continue
+            va, vb = node[tips[0], 0], node[tips[1], 0]
+            dv = xy[vb] - xy[va]
+            if np.linalg.norm(dv) < 1e-12:
+                continue
+            dv = dv / np.linalg.norm(dv)
+            a_, b_ = divmod(int(node[tips[0], 1]), K)
+            fit = []
+            for side in (a_, b_):  # |sin| to the side's nearest in-plane axis
+                other = [k for k in range(K) if k != side]
+                fit.append(min(abs(dv[0] * axes2[k, 1] - dv[1] * axes2[k, 0]) for k in other))
+            if abs(fit[0] - fit[1]) < margin:
+                continue
+            f = a_ if fit[0] < fit[1] else b_
+            front[(int(va), a_, b_)] = f
+            front[(int(vb), a_, b_)] = f
+    # the figure's angle at each vertex: outline and hole corners are under 2 pi; notches reflex
+    total = around.sum(axis=1)
+    notch = np.nonzero((total < 2.0 * np.pi - 1e-6) & (total > reflex))[0]
+    starts = []
+    for v, a, b in sorted(junctions):  # a handful
+        A = front.get((v, a, b))
+        if A is None:
+            continue
+        R = b if A == a else a
+        if around[v, R] > reflex and around[v, A] < np.pi - math.radians(reflex_deg):
+            starts.append((v, A, R))
+    out = []
+    if notch.size == 0:
+        return out
+    cos_pivot = math.cos(math.radians(pivot_deg))
+    for v, a, r in starts:
+        E = xy[v]
+        to = xy[notch] - E
+        dist = np.linalg.norm(to, axis=1)
+        for sgn in (1.0, -1.0):
+            # the notch the hidden edge reaches: nearest within pivot_deg of the edge direction
+            cos = (to @ (sgn * axes2[a])) / np.maximum(dist, 1e-300)
+            ok = np.nonzero((cos > cos_pivot) & (dist >= min_px * px))[0]
+            if ok.size == 0:
+                continue
+            X = xy[notch[ok[np.argmin(dist[ok])]]]
+            # it crosses R's pixels only (the last 1.5 pixels reach the outline)
+            L = float(np.linalg.norm(X - E))
+            t = np.arange(0.5 * px, L - 1.5 * px, 0.5 * px)
+            Q = E[None] + t[:, None] * ((X - E) / L)[None]
+            j = np.clip(np.floor((Q[:, 0] + 1.0) / px).astype(np.int64), 0, N - 1)
+            i = np.clip(np.floor((1.0 - Q[:, 1]) / px).astype(np.int64), 0, N - 1)
+            if t.size and np.all(labels[i, j] == r):
+                out.append(np.stack([E, X]))
+    return out
+
+
+def _edges_on_lines(xy: np.ndarray, edges: np.ndarray, segments, tol: float) -> np.ndarray:
+    """Indices of the edges lying on any of the segments (both ends and the midpoint within tol)."""
+    import shapely
+
+    if not segments:
+        return np.zeros(0, dtype=np.int64)
+    ml = shapely.MultiLineString([np.asarray(s_) for s_ in segments])
+    pts = np.concatenate(
+        [xy[edges[:, 0]], xy[edges[:, 1]], 0.5 * (xy[edges[:, 0]] + xy[edges[:, 1]])]
+    )
+    near = shapely.dwithin(shapely.points(pts), ml, tol).reshape(3, -1).all(axis=0)
+    return np.nonzero(near)[0]
+
+
 def lift(
     xy: np.ndarray,
     F: np.ndarray,
@@ -519,6 +690,7 @@ def mescher_from_picture(
     max_area_px: float = 12.0,
     tolerance_px: float = 0.75,
     occlusion_deg: float = 15.0,
+    complete: bool = True,
 ) -> tuple[Mescher, np.ndarray, dict]:
     """The initialization of issue 14: segment, triangulate with holes, lift from shading.
 
@@ -537,6 +709,10 @@ def mescher_from_picture(
     max_area_px, tolerance_px : float
         Triangle size and boundary straightening, in pixels.
     occlusion_deg : float
+    complete : bool, default: True
+        Also cut along the occlusion lines the picture cannot show, between faces of one shade
+        (:func:`hidden_occlusions`; a stair's tread over the one below).  These run on to the
+        outline or a hole, where they really end.
 
     Returns
     -------
@@ -545,8 +721,11 @@ def mescher_from_picture(
         Shade region of each face.
     info : dict
         ``normals`` (3, 3) per region, ``shades`` (3,), ``misfit`` (frame fit),
-        ``occlusion_length`` (screen units of cut boundary), ``labels`` (H, W).
+        ``occlusion_length`` (screen units of cut boundary), ``labels`` (H, W),
+        ``hidden_lines`` (list of (2, 2) segments, :func:`hidden_occlusions`).
     """
+    import shapely
+
     seg = segment_picture(target, background)
     if len(seg.shades) != 3:
         raise MescherError(
@@ -559,10 +738,33 @@ def mescher_from_picture(
     edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
     normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
     occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
-    xy, F = cut_along(xy, F, edges, _off_outline(F, xy, edges, ids[occl]))
+    hidden = (
+        hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
+        if complete
+        else []
+    )
+    hidden_edges = np.zeros(0, dtype=np.int64)
+    if hidden:
+        # the hidden lines become constraints; each starts a quarter pixel back so that it
+        # crosses the boundary it starts on (noding), the stub outside R is not cut
+        # and runs 1.5 pixels past the last figure pixel, across the straightened outline
+        ext, ident = [], []
+        for seg_ in hidden:
+            u = (seg_[1] - seg_[0]) / np.linalg.norm(seg_[1] - seg_[0])
+            ext.append(shapely.LineString([seg_[0] - 0.25 * pixel * u, seg_[1] + 1.5 * pixel * u]))
+            ident.append(np.stack([seg_[0], seg_[1] + 1.5 * pixel * u]))
+        polys, preg, lines = region_polygons(seg.labels, tolerance_px, ext)
+        xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
+        edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
+        occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
+        hidden_edges = _edges_on_lines(xy, edges, ident, 1e-3 * pixel)
+    # visible occlusions stop short of the outline; hidden ones run on to it (they end there)
+    cut = np.union1d(_off_outline(F, xy, edges, ids[occl]), hidden_edges)
+    xy, F = cut_along(xy, F, edges, cut)
     m = lift(xy, F, normals[region])
     info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
-            "occlusion_length": float(lens[occl].sum()), "labels": seg.labels}  # fmt: skip
+            "occlusion_length": float(lens[occl].sum()), "labels": seg.labels,
+            "hidden_lines": hidden}  # fmt: skip
     return m, region, info
 
 
