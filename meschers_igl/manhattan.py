@@ -50,7 +50,8 @@ FACING = 1e-6
 def _normals(xy: np.ndarray, F: np.ndarray, Z: np.ndarray) -> np.ndarray:
     P = np.concatenate([xy[F], Z[:, :, None]], axis=2)
     n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
-    return n / np.linalg.norm(n, axis=1, keepdims=True)
+    # a zero-area face (a sliver of a clipped soup) keeps a zero normal rather than NaN
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
 
 
 def _crease_directions(xy, F, n):
