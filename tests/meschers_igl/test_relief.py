@@ -75,6 +75,17 @@ def test_the_relief_is_a_real_shallow_torus_of_cubes():
             assert res.status == 0 and -res.fun <= 1e-9, (i, j, -res.fun)
 
 
+def test_nine_cubes_cannot_be_carved_without_touching():
+    """Reutersvärd's own nine cubes (k = 3): the shear between the cubes before and after each
+    inner corner equals their depth separation, so the relief pinches (three cubes meet at one
+    vertex: chi = -2 with every edge in two faces); twelve cubes (k = 4) leave 1/9 of it."""
+    V, P, _ = reutersvard_relief(3, A, LAM)
+    F = triangulate(P)
+    E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    _, cnt = np.unique(E, axis=0, return_counts=True)
+    assert np.all(cnt == 2) and V.shape[0] - cnt.size + F.shape[0] == -2
+
+
 @pytest.fixture(scope="module")
 def converted(tmp_path_factory):
     """The relief through the library (welded arrays, its soup) and through files (OBJ quads,
