@@ -3,10 +3,13 @@
 Independent of the code under test: cubes as convex blocks (``visible_models.convex_block``),
 moved along the view by affine shears solved here, compressed in depth, welded by coordinates.
 
-The figure: Reutersvärd's triangle of nine touching cubes seen along (1, 1, 1) -- three cubes
-per step along x, then y, then z (``k`` steps per side), so the path returns to its start on
-screen ``T = k a (1, 1, 1)`` nearer the viewer.  A person assuming right angles reads cubes that
-climb ``|T| = sqrt(3) k a`` per turn; a carver cannot cut that, so the relief:
+The figure: Reutersvärd's triangle of ``3 k`` touching cubes (each shares a face with the next;
+twelve by default, ``k = 4``) seen along (1, 1, 1) -- ``k`` steps of one cube along x, then y,
+then z, so the path returns to its start on screen, ``T = k a (1, 1, 1)`` nearer the viewer.
+(Reutersvärd drew nine separate cubes; touching ones are what a person reads as one surface,
+and nine touching cubes cannot be carved: see :func:`reutersvard_relief`.)  A person assuming
+right angles reads cubes that climb ``|T| = sqrt(3) k a`` per turn; a carver cannot cut that,
+so the relief:
 
 1. **shears** each cube ``i`` along the view by ``-s_i(p) T`` with ``s_i`` affine and
    continuous across every face two cubes share (``s_{i+1} - s_i = c_i ((p - q_i) . n_i)``
@@ -31,9 +34,6 @@ from __future__ import annotations
 
 import numpy as np
 from visible_models import AXES, ISO_VIEW, convex_block, weld_blocks
-
-#: the three sides of the triangle, one axis each (steps of one cube)
-SIDES = (AXES[0], AXES[1], AXES[2])
 
 
 def cube_path(k: int = 4, a: float = 1.0):
