@@ -32,6 +32,14 @@ def _relief():
     return V, P, F, gap, np.repeat(axes, [len(p) - 2 for p in P])
 
 
+def _closed_euler(V, F) -> int:
+    """Euler characteristic of a closed surface (asserts every edge lies in two faces)."""
+    E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    _, cnt = np.unique(E, axis=0, return_counts=True)
+    assert np.all(cnt == 2)
+    return V.shape[0] - cnt.size + F.shape[0]
+
+
 def _nonzero_periods(m, gap):
     p = np.abs(m.periods())
     return np.sort(p[p > 1e-5 * gap])
@@ -41,9 +49,7 @@ def test_the_relief_is_a_real_shallow_torus_of_cubes():
     V, P, F, gap, ax = _relief()
     assert gap == pytest.approx(np.sqrt(3.0) * K * A, rel=1e-12)  # the path's climb
     # a closed torus: every edge in two faces, chi = 0
-    E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    _, cnt = np.unique(E, axis=0, return_counts=True)
-    assert np.all(cnt == 2) and V.shape[0] - cnt.size + F.shape[0] == 0
+    assert _closed_euler(V, F) == 0
     # shallow: the depth range is lam times that of the same cubes before compression
     V1, _, _ = reutersvard_relief(K, A, 1.0)
     assert np.ptp(V @ ISO_VIEW) == pytest.approx(LAM * np.ptp(V1 @ ISO_VIEW), rel=1e-12)
@@ -81,9 +87,7 @@ def test_nine_cubes_cannot_be_carved_without_touching():
     vertex: chi = -2 with every edge in two faces); twelve cubes (k = 4) leave 1/9 of it."""
     V, P, _ = reutersvard_relief(3, A, LAM)
     F = triangulate(P)
-    E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    _, cnt = np.unique(E, axis=0, return_counts=True)
-    assert np.all(cnt == 2) and V.shape[0] - cnt.size + F.shape[0] == -2
+    assert _closed_euler(V, F) == -2
 
 
 @pytest.fixture(scope="module")
@@ -193,9 +197,7 @@ def test_a_flat_backed_relief_made_by_boolean_union_reads_the_same():
     Blocks in front cut the faces behind them in 3D there; a person still reads each visible
     piece as the face of its cube, so the perceived mescher is the torus relief's."""
     V, F, gap = flat_backed_relief(K, A, LAM)
-    E = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
-    _, cnt = np.unique(E, axis=0, return_counts=True)
-    assert np.all(cnt == 2) and V.shape[0] - cnt.size + F.shape[0] == 0  # closed, genus 1
+    assert _closed_euler(V, F) == 0  # closed, genus 1
     with pytest.warns(MescherWarning, match="perceive='manhattan'"):
         m, _, _ = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP)
     assert not m.is_impossible()
