@@ -79,6 +79,7 @@ def model_to_mescher(
     tol: float | None = None,
     bridge: bool = True,
     hidden: bool | str = "auto",
+    view_start: Any = None,
 ) -> tuple[Mescher, DepthOrder, ConversionReport]:
     """Any 3D model seen from a view: the mescher of what the viewer sees, its depth order and
     a conversion report.
@@ -105,6 +106,8 @@ def model_to_mescher(
     hidden : {"auto", True, False}, default: "auto"
         Keep the hidden side where the gluing is unambiguous (see
         :func:`meschers_igl.visible.see_model`); ``False``: the visible surface only.
+    view_start : (3,) array_like, optional
+        With ``view="auto"``: a view near the intended one (within 10 degrees).
 
     Returns
     -------
@@ -113,6 +116,9 @@ def model_to_mescher(
     report : ConversionReport
         Junctions (screen position, depth gap), arcs, repairs, snapping, warnings, the view.
     """
-    vm = see_model(V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge, hidden=hidden)
+    vm = see_model(
+        V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge, hidden=hidden,
+        view_start=view_start,
+    )  # fmt: skip
     m = Mescher.from_corner_depths(vm.F, vm.xy, vm.Z)
     return m, DepthOrder(m.n_faces, vm.arcs, m=m), vm.report

@@ -49,9 +49,13 @@ from .operators import view_frame
 from .validate import as_faces, as_points
 
 __all__ = [
+    "BarEnds",
     "ConversionReport",
     "Junction",
     "VisibleModel",
+    "bar_end_pairs",
+    "close_junctions",
+    "find_model_view",
     "orient_outward",
     "see_model",
     "weld",
@@ -450,6 +454,7 @@ def see_model(
     tol: float | None = None,
     bridge: bool = True,
     hidden: bool | str = "auto",
+    view_start: Any = None,
 ) -> VisibleModel:
     """The visible surface of a 3D model from an orthographic view, false edges glued.
 
@@ -460,8 +465,9 @@ def see_model(
     F : (#F, 3) array_like of int
         Triangles (any orientation: each part is oriented outward by its signed volume).
     view : (3,) array_like or "auto", default: (0, 0, 1)
-        Direction from the model toward the camera; ``"auto"``: the view in which most vertex
-        pairs line up (:func:`meschers_igl.autoview.find_view`, reported in ``report.view``).
+        Direction from the model toward the camera; ``"auto"``: the view from which the
+        model's junctions line up (:func:`find_model_view`: vertex pairs that coincide, or
+        the pieces of a bar broken behind an occluder; reported in ``report.view``).
     up : (3,) array_like, default: (0, 1, 0)
         Screen up (with ``view="auto"``: world +z projected, as modelling tools do).
     perceive : {None, "manhattan"}, default: None
@@ -473,6 +479,8 @@ def see_model(
         continuity; default :data:`REL_TOL`.
     bridge : bool, default: True
         Bridge hidden gaps (amodal completion).
+    view_start : (3,) array_like, optional
+        With ``view="auto"``: a view near the intended one (searched within 10 degrees).
     hidden : {"auto", True, False}, default: "auto"
         Keep the hidden side: the whole model, opened at its junctions and glued crosswise by
         the cut-model path (:func:`close_junctions`, :func:`meschers_igl.cutmesh.glue_cut_mesh`),
@@ -519,12 +527,12 @@ def see_model(
     if n_flip:
         n_parts = int(part.max()) + 1
         report.repairs.append(f"re-oriented {n_flip} face(s) outward ({n_parts} part(s))")
+    if view_start is not None and not (isinstance(view, str) and view == "auto"):
+        raise MescherError(f"view_start: expected view='auto' with it, found view={view!r}")
     if isinstance(view, str):
         if view != "auto":
             raise MescherError(f"view: expected a direction (3,) or 'auto', found {view!r}")
-        from .autoview import find_view
-
-        view, up = find_view(V, F)
+        view, up = find_model_view(V, F, tol_abs, start=view_start)
     R = view_frame(view, up)
     report.view, report.up = R[2].copy(), R[1].copy()
     _pinch_warning(F, report)
@@ -1128,22 +1136,123 @@ def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
     return True
 
 
-def close_junctions(V, F, R, tol: float, bridge: bool = True):
+@dataclass(frozen=True)
+class BarEnds:
+    """Two caps that may be the ends of one broken bar (view-independent).
+
+    Attributes
+    ----------
+    first, second : _Cap
+    partner : (k,) int64
+        Vertex of ``second``'s loop congruent to each vertex of ``first``'s loop.
+    T : (3,) float
+        Translation from ``first``'s loop to ``second``'s.
+    d : (3,) float or None
+        The bar's direction at ``first`` (its side faces' common direction, pointing out of
+        the cap), None when the caps' sides do not run along one direction.
+    """
+
+    first: _Cap
+    second: _Cap
+    partner: np.ndarray
+    T: np.ndarray
+    d: np.ndarray | None
+
+
+def bar_end_pairs(V: np.ndarray, F: np.ndarray, tol: float, TT: np.ndarray | None = None) -> list:
+    """Pairs of caps -- planar patches bounded by one loop -- with opposite normals whose loops
+    are congruent by a translation: the candidates for the two ends of a broken bar, whatever
+    the view (:func:`close_junctions` decides from a view which of them are junctions; the
+    automatic view uses their planes).  Each unordered pair comes once per orientation whose
+    side directions face each other.
+
+    Returns
+    -------
+    list of BarEnds
+    """
+    if TT is None:
+        TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    caps = _caps(V, F, TT, _planar_patches(V, F, TT, tol), tol)
+    sides = [_side_direction(V, F, TT, c, tol) for c in caps]
+    out = []
+    for i, a in enumerate(caps):  # a few dozen caps in an artist's model
+        for j in range(i + 1, len(caps)):
+            b = caps[j]
+            if a.loop.size != b.loop.size or a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
+                continue
+            match = _match_loops(V[a.loop], V[b.loop], tol)
+            if match is None:
+                continue
+            perm, T = match
+            inv = np.empty_like(perm)
+            inv[perm] = np.arange(perm.size)
+            da, db = sides[i], sides[j]
+            facing = da is not None and db is not None and da @ db <= -1.0 + 1e-9
+            out.append(BarEnds(a, b, b.loop[perm], T, da if facing else None))
+            out.append(BarEnds(b, a, a.loop[inv], -T, db if facing else None))
+    return out
+
+
+def _junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
+    """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
+    ("hidden gap" | "occluded continuation", g, ell) or None."""
+    v = R[2]
+    gap = float(be.T @ v)
+    if np.linalg.norm(be.T - gap * v) <= tol and abs(gap) > tol:
+        # both caps contain the view and coincide on screen: a false edge
+        if abs(be.first.normal @ v) > 1e-6 or gap < 0:
+            return None  # (each unordered pair once: the one gaining depth)
+        return "false edge", gap, None
+    d = be.d
+    if not bridge or d is None or be.first.normal @ d <= 0:
+        return None
+    M = np.stack([d, v], axis=1)
+    (ell, g), *_ = np.linalg.lstsq(M, be.T, rcond=None)
+    if ell <= tol or np.linalg.norm(M @ [ell, g] - be.T) > tol:
+        return None
+    P0 = V[be.first.loop]
+    c0 = P0.mean(axis=0)
+    axis = c0 + np.array([[0.25], [0.5], [0.75]]) * ell * d
+    # the bridge must run through empty space (not through a block in between) and be hidden
+    # (libigl's generalized winding number: ~1 inside a solid)
+    if np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5):
+        return None
+    S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
+    own = np.isin(part, part[[be.first.faces[0], be.second.faces[0]]])
+    width = float(np.ptp(P0, axis=0).max())
+    if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
+        return None
+    return ("occluded continuation" if abs(g) <= tol else "hidden gap"), float(g), float(ell)
+
+
+def _parts_and_front(V, F, TT, R):
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    ok = TT.reshape(-1) >= 0
+    A = sp.coo_matrix((np.ones(int(ok.sum())), (f[ok], TT.reshape(-1)[ok])), (F.shape[0],) * 2)
+    part = csgraph.connected_components(A, directed=False)[1]
+    C = V @ R.T
+    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    front = N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300)
+    return part, C, front
+
+
+def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None = None):
     """Open a closed model at its junctions so that the cut-model gluing closes it crosswise.
 
-    Pairs of *caps* (planar patches bounded by one loop, normals opposite, loops congruent by a
-    translation ``T``) are the two ends of a bar the artist broke:
+    Pairs of *caps* (:func:`bar_end_pairs`: planar patches bounded by one loop, normals
+    opposite, loops congruent by a translation ``T``) are the two ends of a bar the artist
+    broke:
 
     * **false edge**: ``T`` is along the view (the caps coincide on screen, each containing the
       view direction, e.g. a capped U-tribar): both caps are removed; the two open loops
       coincide on screen and are glued crosswise by the cut-model path, ``|T|`` is the period;
     * **hidden gap** (``bridge``): ``T = l d + g v`` with ``d`` the bar's direction (the common
-      direction of the faces beside each cap, pointing from one cap to the other) and the
-      bridge between them hidden behind nearer faces: both caps are removed and the bar is
-      continued from the first cap by ``l d`` (a tube of the same cross-section, the first
-      piece's depth); its end loop coincides on screen with the second cap's loop, ``g``
-      apart in depth (the period), or is the second loop itself when ``g`` is 0 (an occluded
-      continuation).
+      direction of the faces beside each cap, pointing from one cap to the other), the bridge
+      between them through empty space and hidden behind nearer faces: both caps are removed
+      and the bar is continued from the first cap by ``l d`` (a tube of the same cross-section,
+      the first piece's depth); its end loop coincides on screen with the second cap's loop,
+      ``g`` apart in depth (the period), or is the second loop itself when ``g`` is 0 (an
+      occluded continuation).
 
     Parameters
     ----------
@@ -1155,6 +1264,8 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True):
         Absolute tolerance.
     bridge : bool
         Also bridge hidden gaps.
+    pairs : list of BarEnds, optional
+        :func:`bar_end_pairs` of the model, when already computed.
 
     Returns
     -------
@@ -1167,93 +1278,35 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True):
     junctions : list of Junction
     """
     TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
-    patch = _planar_patches(V, F, TT, tol)
-    caps = _caps(V, F, TT, patch, tol)
-    v = R[2]
-    C = V @ R.T
-    f = np.repeat(np.arange(F.shape[0]), 3)
-    ok = TT.reshape(-1) >= 0
-    A = sp.coo_matrix((np.ones(int(ok.sum())), (f[ok], TT.reshape(-1)[ok])), (F.shape[0],) * 2)
-    part = csgraph.connected_components(A, directed=False)[1]
-    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
-    front = N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300)
+    if pairs is None:
+        pairs = bar_end_pairs(V, F, tol, TT)
+    part, C, front = _parts_and_front(V, F, TT, R)
     used, drop, junctions = set(), [], []
     newV, newF = [], []
     nV = V.shape[0]
-    for i, a in enumerate(caps):  # a few dozen caps in an artist's model
-        for j in range(i + 1, len(caps)):
-            b = caps[j]
-            if i in used or j in used or a.loop.size != b.loop.size:
-                continue
-            if a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
-                continue
-            match = _match_loops(V[a.loop], V[b.loop], tol)
-            if match is None:
-                continue
-            perm, T = match
-            gap = float(T @ v)
-            if np.linalg.norm(T - gap * v) <= tol and abs(gap) > tol:
-                # both caps contain the view and coincide on screen: a false edge
-                if abs(a.normal @ v) > 1e-6:
-                    continue
-                used |= {i, j}
-                drop += [a.faces, b.faces]
-                pos = C[a.loop, :2].mean(axis=0)
-                junctions.append(Junction("false edge", pos, abs(gap), int(a.loop.size)))
-                continue
-            if not bridge:
-                continue
-            # a hidden gap: T = l d + g v, the caps facing each other along the bar
-            for first, second, sgn in ((a, b, 1.0), (b, a, -1.0)):
-                d = _side_direction(V, F, TT, first, tol)
-                if d is None:
-                    continue
-                d2 = _side_direction(V, F, TT, second, tol)
-                if d2 is None or d2 @ d > -1.0 + 1e-9:
-                    continue
-                Tf = sgn * T  # from first to second
-                M = np.stack([d, v], axis=1)
-                (ell, g), *_ = np.linalg.lstsq(M, Tf, rcond=None)
-                if ell <= tol or np.linalg.norm(M @ [ell, g] - Tf) > tol:
-                    continue
-                if first.normal @ d <= 0:
-                    continue
-                loop = first.loop
-                P0 = V[loop]
-                c0 = P0.mean(axis=0)
-                axis = c0 + np.array([[0.25], [0.5], [0.75]]) * ell * d
-                S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
-                # the bridge must run through empty space (not through a block in between)
-                # and be hidden (libigl's generalized winding number: inside a solid ~ 1)
-                if np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5):
-                    continue
-                own = np.isin(part, part[[first.faces[0], second.faces[0]]])
-                width = float(np.ptp(P0, axis=0).max())
-                if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
-                    continue
-                # second loop vertex matched to each first loop vertex
-                if first is a:
-                    partner = b.loop[perm]
-                else:
-                    inv = np.empty_like(perm)
-                    inv[perm] = np.arange(perm.size)
-                    partner = a.loop[inv]
-                if abs(g) <= tol:
-                    ends = partner  # the pieces are one bar: join them directly
-                    kind = "occluded continuation"
-                else:
-                    ends = nV + np.arange(loop.size)
-                    nV += loop.size
-                    newV.append(P0 + ell * d)
-                    kind = "hidden gap"
-                nxt = np.roll(np.arange(loop.size), -1)
-                p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
-                newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
-                used |= {i, j}
-                drop += [a.faces, b.faces]
-                pos = C[second.loop, :2].mean(axis=0)  # where the bridge is glued
-                junctions.append(Junction(kind, pos, abs(g), int(loop.size)))
-                break
+    for be in pairs:  # a few candidate pairs
+        ids = {id(be.first), id(be.second)}
+        if ids & used:
+            continue
+        found = _junction_at(V, F, C, R, be, tol, front, part, bridge)
+        if found is None:
+            continue
+        kind, gap, ell = found
+        used |= ids
+        drop += [be.first.faces, be.second.faces]
+        loop = be.first.loop
+        if kind != "false edge":
+            if kind == "occluded continuation":
+                ends = be.partner  # the pieces are one bar: join them directly
+            else:
+                ends = nV + np.arange(loop.size)
+                nV += loop.size
+                newV.append(V[loop] + ell * be.d)
+            nxt = np.roll(np.arange(loop.size), -1)
+            p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
+            newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
+        pos = C[be.second.loop, :2].mean(axis=0)  # where the two sides are glued
+        junctions.append(Junction(kind, pos, abs(gap), int(loop.size)))
     if not junctions:
         return V, F, np.arange(F.shape[0]), []
     keep = np.ones(F.shape[0], dtype=bool)
@@ -1303,3 +1356,149 @@ def _closed_surface(V, F, R, tol, rel, bridge, report, strict):
         f"{int(np.count_nonzero(source < 0))} bridge face(s)"
     )
     return VisibleModel(F=g["F"], xy=g["xy"], Z=Z, arcs=report.arcs, report=report)
+
+
+# ------------------------------------------------------------------------------ automatic view
+#: A hidden gap is looked for on circles passing within this angle of a start view.
+START_ANGLE = np.radians(10.0)
+
+
+def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50):
+    """The view on the circle where ``be``'s pieces line up that centres the part hiding the
+    gap (seen from ``v0``) on the gap: ``v`` along ``c_occ - p`` with ``c_occ`` the occluding
+    part's (area-weighted) centroid and ``p`` the gap's middle on the first piece's line."""
+    from .autoview import up_for_view
+    from .geometry2d import barycentric
+
+    w = np.cross(be.d, be.T)
+    w /= np.linalg.norm(w)
+    R = view_frame(v0, up_for_view(v0))
+    _, C, front = _parts_and_front(V, F, TT, R)
+    found = _junction_at(V, F, C, R, be, tol, front, part, True)
+    if found is None or found[0] == "false edge":
+        return None
+    ell = found[2]
+    c0 = V[be.first.loop].mean(axis=0)
+    mid = (c0 + 0.5 * ell * be.d) @ R.T
+    T = C[F[front]]
+    B = barycentric(np.repeat(mid[None, :2], T.shape[0], 0), T[:, :, :2])
+    inside = np.flatnonzero(np.all(B >= -1e-9, axis=1))
+    z = (B[inside] * T[inside, :, 2]).sum(axis=1)
+    occ = part[np.flatnonzero(front)[inside[np.argmax(z)]]]
+    Fo = F[part == occ]
+    Tw = V[Fo]
+    area = 0.5 * np.linalg.norm(np.cross(Tw[:, 1] - Tw[:, 0], Tw[:, 2] - Tw[:, 0]), axis=1)
+    c_occ = (area[:, None] * Tw.mean(axis=1)).sum(axis=0) / area.sum()
+    v = v0 / np.linalg.norm(v0)
+    for _ in range(iters):  # converges in a few steps (the gap's middle moves little)
+        M = np.stack([be.d, v], axis=1)
+        (ell, _), *_ = np.linalg.lstsq(M, be.T, rcond=None)
+        u = c_occ - (c0 + 0.5 * ell * be.d)
+        u -= (u @ w) * w
+        u /= np.linalg.norm(u)
+        if np.linalg.norm(u - v) < 1e-15:
+            break
+        v = u
+    R = view_frame(v, up_for_view(v))
+    _, C, front = _parts_and_front(V, F, TT, R)
+    found = _junction_at(V, F, C, R, be, tol, front, part, True)
+    return None if found is None or found[0] != "hidden gap" else v
+
+
+def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None):
+    """``view="auto"`` for any model: the view from which its junctions line up.
+
+    1. Coincidences (:func:`meschers_igl.autoview.find_view`, a vote over vertex pairs that
+       line up, refined to round-off): taken when a false edge (two caps coinciding on
+       screen) or a hidden gap is seen from it -- cut files and capped solids.
+    2. Hidden gaps: the two pieces of a broken bar (:func:`bar_end_pairs`, bar direction
+       ``d``, pieces ``T`` apart) line up on screen exactly for the views ``v`` in the plane
+       of ``d`` and ``T``: one circle of views.  Along it, the view is the one that centres the
+       part hiding the gap on the gap (``v`` along the line from the gap's middle to the
+       occluder's centroid, iterated with the gap's middle): where an artist puts the crossing
+       bar.  The circle is searched from ``start`` (circles within 10 degrees of it) or, from
+       the model alone, in 2-degree steps for a view where the gap is hidden.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float, F : (#F, 3) array_like of int
+        The model (cleaned: welded, oriented outward -- :func:`see_model` passes it so).
+    tol : float, optional
+        Absolute tolerance (default 1e-5 of the bounding-box diagonal).
+    start : (3,) array_like, optional
+        A view near the intended one (e.g. off by a few degrees).
+
+    Returns
+    -------
+    view, up : (3,) float64
+        Unit view (toward the camera) and screen up (world +z projected).
+
+    Raises
+    ------
+    MescherError
+        When no view lines up a junction (near ``start``, when given).
+    """
+    from .autoview import find_view, up_for_view
+
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
+    tol = REL_TOL * diag if tol is None else float(tol)
+    if start is not None:
+        start = as_points(np.reshape(start, (1, 3)), "start", 3)[0]
+        if np.linalg.norm(start) == 0:
+            raise MescherError("start: expected a non-zero direction, found (0, 0, 0)")
+        start = start / np.linalg.norm(start)
+    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    pairs = bar_end_pairs(V, F, tol, TT)
+    R0 = view_frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
+    part = _parts_and_front(V, F, TT, R0)[0]
+
+    def seen(v):
+        R = view_frame(v, up_for_view(v))
+        _, C, front = _parts_and_front(V, F, TT, R)
+        return any(_junction_at(V, F, C, R, be, tol, front, part, True) for be in pairs)
+
+    err = None
+    try:
+        v, up = find_view(V, F)
+    except MescherError as e:
+        v, err = None, e
+    if v is not None and seen(v) and (start is None or v @ start >= np.cos(START_ANGLE)):
+        return v, up
+    best = None
+    for be in pairs:  # a few candidate bar ends
+        if be.d is None or np.linalg.norm(np.cross(be.d, be.T)) <= tol:
+            continue
+        w = np.cross(be.d, be.T)
+        w /= np.linalg.norm(w)
+        e1 = be.d
+        e2 = np.cross(w, e1)
+        if start is not None:
+            if abs(start @ w) > np.sin(START_ANGLE):
+                continue
+            th0 = np.arctan2(start @ e2, start @ e1)
+            k = np.repeat(np.arange(1.0, 11.0), 2) * np.tile([-1.0, 1.0], 10)
+            steps = th0 + np.radians(np.r_[0.0, k])  # the start first, then 1 degree apart
+        else:
+            steps = np.radians(np.arange(0.0, 360.0, 2.0))
+        for th in steps:  # until a view hiding the gap is met
+            v0 = np.cos(th) * e1 + np.sin(th) * e2
+            v = _occluder_centred_view(V, F, TT, part, be, tol, v0)
+            if v is not None:
+                break
+        if v is None:
+            continue
+        score = 0.0 if start is None else -float(v @ start)
+        if best is None or score < best[0]:
+            best = (score, v)
+    if best is not None:
+        return best[1], up_for_view(best[1])
+    if start is not None:
+        raise MescherError(
+            f"view: expected a view within {np.degrees(START_ANGLE):.0f} degrees of "
+            f"{np.round(start, 6).tolist()} from which junctions line up, found none"
+        )
+    if err is not None:
+        raise err
+    return v, up

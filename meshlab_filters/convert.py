@@ -111,6 +111,7 @@ def model_to_mescher(
     merge_tol: float = 0.0,
     tol: float | None = None,
     hidden: bool | str = "auto",
+    view_start: Any = None,
 ):
     """Any artist model -- closed solids, separate blocks, reliefs, STL soups -- as seen from a
     view: (mescher, depth order, report).
@@ -136,6 +137,8 @@ def model_to_mescher(
     hidden : {"auto", True, False}, default: "auto"
         Keep the hidden side (a closed surface glued at its junctions) or build the visible
         surface only (see :func:`meschers_igl.visible.see_model`).
+    view_start : (3,) array_like, optional
+        With ``view="auto"``: a view near the intended one (within 10 degrees).
 
     Returns
     -------
@@ -173,8 +176,9 @@ def model_to_mescher(
     else:
         V, F = _mesh_pair(path_or_V_F)
     m, order, report = core_model_to_mescher(
-        V, F, view=view, up=up, perceive=perceive, tol=tol, hidden=hidden
-    )
+        V, F, view=view, up=up, perceive=perceive, tol=tol, hidden=hidden,
+        view_start=view_start,
+    )  # fmt: skip
     report.cleanup = cleanup
     report.repairs[:0] = pre
     if cleanup is not None:
