@@ -16,6 +16,7 @@ from visible_models import (
     ISO_UP,
     ISO_VIEW,
     block_stairs,
+    hidden_gap_cube,
     hidden_gap_frame,
     sheared_tribar_torus,
     u_tribar,
@@ -29,6 +30,10 @@ MODELS = {
     "block_stairs": (block_stairs, None, "Penrose stairs as four separate closed blocks."),
     "hidden_gap_frame": (hidden_gap_frame, None, "A tribar frame broken behind a crossing bar "
                          "(the gap is hidden; the pieces are bridged behind the occluder)."),
+    "hidden_gap_cube": (hidden_gap_cube, None, "The impossible cube as a real closed frame "
+                        "(genus 2) whose impossible bar is broken behind a crossing bar: the "
+                        "pieces line up on screen L sqrt(3) apart in depth; bridged behind the "
+                        "occluder, the frame closes into genus 3."),
     "sheared_tribar_torus": (sheared_tribar_torus, "manhattan", "A real closed torus sheared "
                              "along the view: it looks like a tribar only to a person who "
                              "assumes right angles (perceive='manhattan')."),
