@@ -569,3 +569,123 @@ def test_progress_bar_and_callback_see_every_step_and_the_psnr_checks(capsys):
     assert [s for s, _ in res.psnr] == [2, 4] and len(res.snapshots) == 2
     assert met.image_psnr(res.image, target) == pytest.approx(max(p for _, p in res.psnr))
     assert "inverse" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------- honest impossible figures
+
+
+def test_impossible_cube_pieces_meet_on_screen_a_cube_diagonal_apart():
+    size, width = 10.0, 2.0
+    model = mdl.impossible_cube(size, width)
+    C = model.V @ model.camera_frame().T
+    boxes = C.reshape(-1, 8, 3)
+    Vb = model.V.reshape(-1, 8, 3)
+    # ten bars; the two along y that were changed end on the cut plane x + 2y + z = w - 2h
+    assert len(boxes) == 10
+    h = 0.5 * (size + width)
+    on_cut = np.abs(Vb[..., 0] + 2 * Vb[..., 1] + Vb[..., 2] - (width - 2 * h)) < 1e-9
+    changed = np.nonzero(on_cut.sum(axis=1) == 4)[0]
+    assert len(changed) == 2
+    ends = [boxes[k][on_cut[k]] for k in changed]
+    # the plane holds the view: both end faces are seen edge-on (their normal is off the view)
+    assert abs(np.array([1.0, 2.0, 1.0]) @ model.view) < 1e-12
+    # the two ends are the same screen segment, sqrt(3) size apart in depth (a cube diagonal)
+    a, b = (e[np.lexsort(e[:, :2].round(9).T)] for e in ends)
+    np.testing.assert_allclose(a[:, :2], b[:, :2], atol=1e-9)
+    np.testing.assert_allclose(np.abs(a[:, 2] - b[:, 2]), math.sqrt(3) * size, atol=1e-9)
+    assert model.gap == pytest.approx(math.sqrt(3) * size)
+
+
+def test_impossible_cube_is_the_paradox_toolkit_model():
+    igl = pytest.importorskip("igl")
+    from meschers_igl.paradox import paradox_model
+
+    p = paradox_model("impossible_cube")
+    V, _ = igl.read_triangle_mesh(str(p.obj))
+    model = mdl.impossible_cube(p.meta["parameters"]["size"], p.meta["parameters"]["thickness"])
+    # every corner of our ten bars is a vertex of the Blender add-on's mesh (float32 there)
+    d = np.linalg.norm(model.V[:, None] - V[None], axis=2).min(axis=1)
+    assert d.max() < 1e-3
+    np.testing.assert_allclose(model.view, p.view, atol=1e-4)
+    assert model.gap == pytest.approx(p.meta["verification"]["depth_gaps"][0], abs=1e-3)
+
+
+@pytest.mark.parametrize("steep", [1.0, 2.0])
+def test_penrose_stairs_close_on_screen_after_one_turn(steep):
+    flights, w, T = (4, 4, 2, 2), 1.0, 0.6
+    model = mdl.penrose_stairs(flights, w, T, steep)
+    lo = model.V.reshape(-1, 8, 3).min(axis=1)  # each step's block
+    N = sum(flights)
+    s = lo[1, 2] - lo[0, 2]
+    np.testing.assert_allclose(np.diff(lo[:, 2]), s, atol=1e-12)  # every step the same rise
+    # the step after the last (one more -y move) is the first moved by D along the view
+    nxt = lo[-1] + np.array([0.0, -w, s])
+    D = nxt - lo[0]
+    assert D[2] == pytest.approx(N * s)  # the height gained per turn
+    assert D[2] == pytest.approx(steep * (flights[0] - flights[2]) * w)
+    np.testing.assert_allclose(np.cross(D, model.view), 0.0, atol=1e-12)
+    assert model.gap == pytest.approx(np.linalg.norm(D))  # depth gained per turn
+
+
+def _model_screen(model, extent=0.8):
+    """Camera frame scaled as ``zbuffer_picture`` places the model (screen units, y up)."""
+    C = model.V @ model.camera_frame().T
+    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
+    scale = 2.0 * extent / float((hi - lo).max())
+    return lambda P: ((P @ model.camera_frame().T)[:, :2] - 0.5 * (lo + hi)) * scale
+
+
+@pytest.mark.render
+def test_cube_picture_gives_the_cubes_period():
+    pytest.importorskip("pyvista")
+    from meschers.inverse_cli import zbuffer_picture
+
+    model = mdl.impossible_cube()
+    image, scale = zbuffer_picture(model, 128, light=(0.6, -0.1, 1.0), ambient=0.2)
+    m, _, info = pic.mescher_from_picture(image, (0.6, -0.1, 1.0), 0.2)
+    assert m.is_impossible() and not info["hidden_lines"]
+    assert abs(met.figure_period(m) - model.gap * scale) < 0.05 * model.gap * scale
+    assert np.abs(m.d12 @ np.asarray(m.zeta)).max() < 1e-10
+
+
+@pytest.mark.render
+def test_hidden_tread_edges_are_found_on_the_stairs():
+    pytest.importorskip("pyvista")
+    from meschers.inverse_cli import zbuffer_picture
+
+    model = mdl.penrose_stairs()
+    light = (0.6, -0.1, 1.0)
+    image, scale = zbuffer_picture(model, 128, light=light, ambient=0.2)
+    m, _, info = pic.mescher_from_picture(image, light, 0.2)
+    m0, _, info0 = pic.mescher_from_picture(image, light, 0.2, complete=False)
+    # the true hidden edges: where a step moves +x or +y, the next tread's back edge (its
+    # riser faces away from the viewer) passes in front of the tread below
+    lo = model.V.reshape(-1, 8, 3).min(axis=1)
+    top = model.V.reshape(-1, 8, 3).max(axis=1)
+    true = []
+    for k in range(len(lo) - 1):
+        move = lo[k + 1, :2] - lo[k, :2]
+        if move.max() > 0:  # +x or +y: the edge of box k+1 facing box k
+            ax = int(np.argmax(move))
+            p = np.array([lo[k + 1, 0], lo[k + 1, 1], top[k + 1, 2]])
+            q = p.copy()
+            q[1 - ax] += 1.0
+            true.append((p, q))
+    to_screen = _model_screen(model)
+    T = [to_screen(np.stack(pq)) for pq in true]
+    assert len(T) == 8
+    px = 2.0 / 128
+    found = info["hidden_lines"]
+    assert len(found) >= 5 and not info0["hidden_lines"]
+    for seg in found:  # each found line lies on a true hidden edge, within 1.5 pixels
+        pts = seg[0] + np.linspace(0.1, 0.9, 5)[:, None] * (seg[1] - seg[0])
+        dist = []
+        for a, b in T:
+            t = np.clip((pts - a) @ (b - a) / ((b - a) @ (b - a)), 0, 1)
+            dist.append(np.linalg.norm(pts - (a + t[:, None] * (b - a)), axis=1).max())
+        assert min(dist) < 1.5 * px
+    # cutting them brings the picture's period toward the true one (depth gained per turn)
+    gap = model.gap * scale
+    assert abs(met.figure_period(m) - gap) < 0.2 * gap
+    assert abs(met.figure_period(m) - gap) < 0.5 * abs(met.figure_period(m0) - gap)
+    assert np.abs(m.d12 @ np.asarray(m.zeta)).max() < 1e-10
