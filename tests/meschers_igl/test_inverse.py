@@ -635,6 +635,13 @@ def _model_screen(model, extent=0.8):
     return lambda P: ((P @ model.camera_frame().T)[:, :2] - 0.5 * (lo + hi)) * scale
 
 
+def _assert_frame(normals, axes, deg):
+    """Each row of ``normals`` within ``deg`` degrees of one of ``axes`` (either sign), all used."""
+    cos = np.abs(np.asarray(normals) @ np.asarray(axes).T)
+    assert sorted(cos.argmax(axis=1).tolist()) == [0, 1, 2]
+    assert np.degrees(np.arccos(np.clip(cos.max(axis=1), -1, 1))).max() < deg
+
+
 @pytest.mark.render
 def test_cube_picture_gives_the_cubes_period():
     pytest.importorskip("pyvista")
@@ -643,6 +650,7 @@ def test_cube_picture_gives_the_cubes_period():
     model = mdl.impossible_cube()
     image, scale = zbuffer_picture(model, 128, light=(0.6, -0.1, 1.0), ambient=0.2)
     m, _, info = pic.mescher_from_picture(image, (0.6, -0.1, 1.0), 0.2)
+    _assert_frame(info["normals"], model.axes_in_camera(), 1.0)
     assert m.is_impossible() and not info["hidden_lines"]
     assert abs(met.figure_period(m) - model.gap * scale) < 0.05 * model.gap * scale
     assert np.abs(m.d12 @ np.asarray(m.zeta)).max() < 1e-10
@@ -658,6 +666,8 @@ def test_hidden_tread_edges_are_found_on_the_stairs():
     image, scale = zbuffer_picture(model, 128, light=light, ambient=0.2)
     m, _, info = pic.mescher_from_picture(image, light, 0.2)
     m0, _, info0 = pic.mescher_from_picture(image, light, 0.2, complete=False)
+    # not isometric: three unequal shades, and the frame the shading gives is the model's
+    _assert_frame(info["normals"], model.axes_in_camera(), 1.0)
     # the true hidden edges: where a step moves +x or +y, the next tread's back edge (its
     # riser faces away from the viewer) passes in front of the tread below
     lo = model.V.reshape(-1, 8, 3).min(axis=1)
