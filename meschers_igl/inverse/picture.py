@@ -18,7 +18,10 @@ Issue 14's initialization, in four steps, none of which renders:
    projection of their crease ``n_i x n_j``.  Each triangle then asks for the depth gradient of
    its plane, ``grad z = -(n_x, n_y) / n_z``, on its three edges, and ``zeta = d01 z + H c`` is
    fitted to those wishes by least squares: closed by construction, with the periods ``c`` the
-   picture implies.
+   picture implies.  Before the lift the mesh is cut along occlusions: region boundaries that
+   do not run along their crease, and (:func:`hidden_occlusions`) the occluding edges no
+   picture shows because both sides have one shade (a stair's tread over the tread below),
+   followed from where a visible occlusion turns into a crease to a notch of the outline.
 """
 
 from __future__ import annotations
