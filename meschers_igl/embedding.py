@@ -165,18 +165,22 @@ def _level_set(m, s: np.ndarray, ef: np.ndarray) -> tuple[np.ndarray, np.ndarray
     crossed = (s0 > 0) != (s1 > 0)
     t = np.full(len(E), np.nan)
     t[crossed] = s0[crossed] / (s0[crossed] - s1[crossed])
-    both = crossed & (ef[:, 1] >= 0)
-    A = sp.csr_matrix((np.ones(int(both.sum())), (ef[both, 0], ef[both, 1])), shape=(nf, nf))
-    _, lab = csgraph.connected_components(A, directed=False)
-    faces = np.unique(ef[crossed].reshape(-1))
-    faces = faces[faces >= 0]
+    # components over the crossed faces only (a few hundred of them), not the whole mesh
+    ab = ef[crossed]
+    faces, idx = np.unique(ab, return_inverse=True)
+    idx = idx.reshape(ab.shape)
+    if faces.size and faces[0] < 0:  # boundary edges: drop the missing face
+        faces, idx = faces[1:], idx - 1
+    k = faces.size
+    both = (idx >= 0).all(axis=1)
+    A = sp.csr_matrix((np.ones(int(both.sum())), (idx[both, 0], idx[both, 1])), shape=(k, k))
+    n, lab = csgraph.connected_components(A, directed=False)
     comp_face = np.full(nf, -1, dtype=np.int64)
-    uniq, inv = np.unique(lab[faces], return_inverse=True)
-    comp_face[faces] = inv
-    return crossed, t, comp_face, int(uniq.size)
+    comp_face[faces] = lab
+    return crossed, t, comp_face, int(n)
 
 
-def _free_pieces(m, normal: np.ndarray, c: float, Gamma, P: np.ndarray, tol: float, ef,
+def _free_pieces(m, normal: np.ndarray, c: float, loops: tuple, P: np.ndarray, tol: float, ef,
                  tiny: float) -> list:  # fmt: skip
     """Pieces of the screen line ``normal . xy == c`` where one cut opens every period and
     nothing else of the figure is on screen.
@@ -186,7 +190,8 @@ def _free_pieces(m, normal: np.ndarray, c: float, Gamma, P: np.ndarray, tol: flo
     never share a pixel with anything but themselves, and front and back layers of the bar are
     cut on the same screen line (no sliver).  It opens every period when the generator loops'
     periods are one multiple ``jump`` of their signed intersection numbers with it (the period
-    class is dual to the piece), so the surface cut along it integrates.
+    class is dual to the piece), so the surface cut along it integrates.  ``loops`` is
+    ``(edges (k,), G (#generators, k))``: the generator loops' edges and their signed incidence.
 
     Returns
     -------
@@ -204,8 +209,9 @@ def _free_pieces(m, normal: np.ndarray, c: float, Gamma, P: np.ndarray, tol: flo
         return []
     E, fe = m.edges, np.asarray(m.face_edges)
     along = xy @ np.array([-normal[1], normal[0]])
-    tt = np.nan_to_num(t)
-    u = np.where(crossed, along[E[:, 0]] * (1.0 - tt) + along[E[:, 1]] * tt, np.nan)
+    ce = np.flatnonzero(crossed)
+    u = np.full(len(E), np.nan)
+    u[ce] = along[E[ce, 0]] * (1.0 - t[ce]) + along[E[ce, 1]] * t[ce]
     hit = np.flatnonzero(comp_face >= 0)
     uf = u[fe[hit]]  # (#crossed faces, 3): two crossed edges each
     flo, fhi = np.nanmin(uf, axis=1), np.nanmax(uf, axis=1)
@@ -217,10 +223,11 @@ def _free_pieces(m, normal: np.ndarray, c: float, Gamma, P: np.ndarray, tol: flo
     overlap = (flo[None, :] <= hi[:, None]) & (fhi[None, :] >= lo[:, None]) & (fcomp != pieces)
     alone = ~overlap.any(axis=1)
     # signed crossings of each generator loop with each piece: In[i, k]
-    ce = np.flatnonzero(crossed)
-    sign = np.sign(s[E[ce, 1]] - s[E[ce, 0]])
-    C = sp.csr_matrix((sign, (ce, comp_face[ef[ce, 0]])), shape=(len(E), nc))
-    In = np.asarray((Gamma @ C).todense()).reshape(len(P), nc)
+    le, G = loops
+    sign = np.where(crossed[le], np.sign(s[E[le, 1]] - s[E[le, 0]]), 0.0)
+    C = np.zeros((le.size, nc))
+    C[np.arange(le.size), np.maximum(comp_face[ef[le, 0]], 0)] = sign
+    In = G @ C
     norm2 = (In * In).sum(axis=0)
     jump = (In * P[:, None]).sum(axis=0) / np.maximum(norm2, 1.0)
     resid = np.abs(P[:, None] - jump[None, :] * In).max(axis=0, initial=0.0)
@@ -298,8 +305,8 @@ def straight_cut(
     m,
     order=None,
     *,
-    directions: int = 12,
-    offsets: int = 48,
+    directions: int = 8,
+    offsets: int = 40,
     tries: int = 6,
     tol: float | None = None,
 ) -> StraightCut:
@@ -318,8 +325,8 @@ def straight_cut(
     pieces at consecutive positions that cross the same bar form a run (a stretch of bar free
     of anything else); a cut goes through a run's middle, moved onto the nearest vertex of the
     bar (a bar's grid then puts the cut through vertices on its corners, so no face on a fold
-    is split).  Without ``order`` the longest run wins (cut square to the bar, in its longest
-    free stretch).  With ``order``, the ``tries`` longest runs at different places are cut and the one whose cut
+    is split).  Without ``order`` the longest run wins, lines across the figure's main edge
+    directions first (a bar cut square, in its longest free stretch).  With ``order``, the ``tries`` longest runs at different places are cut and the one whose cut
     model, z-buffered, shows what the mescher shows in that order (:func:`cut_mismatch`) wins:
     the jump must fall where the figure's impossibility hides it (the impossible cube's back
     bar is cut between its crossing and the top, not below the crossing).  Candidates are
@@ -356,29 +363,31 @@ def straight_cut(
     offsets = as_count(offsets, "offsets", minimum=1)
     tries = as_count(tries, "tries", minimum=1)
     tol = 1e-6 * m.scale() if tol is None else float(tol)
-    Gamma = loop_matrix(m.homology_generators(), m.n_edges)
+    Gamma = loop_matrix(m.homology_generators(), m.n_edges).tocsr()
     P = np.asarray(Gamma @ np.asarray(m.zeta))
+    le = np.unique(Gamma.tocoo().col)  # the loops' edges: intersection numbers need only these
+    loops = (le, Gamma[:, le].toarray())
     if not (P.size and np.abs(P).max() > tol):
         raise MescherError("m: expected an impossible mescher (a non-zero period) to cut, found "
                            "every period 0; cut_embedding(m) needs no seam")  # fmt: skip
     xy = np.asarray(m.xy)
     ef = topo.edge_faces(np.asarray(m.face_edges), m.n_edges)
     tiny = 1e-9 * m.scale()
-    # directions: across the figure's main screen edge directions (bars are cut square to
-    # them), then evenly spaced ones
+    # line normals along the figure's main screen edge directions (a bar is cut square to
+    # its edges), then evenly spaced ones
     ev = xy[m.edges[:, 1]] - xy[m.edges[:, 0]]
     ang = np.mod(np.arctan2(ev[:, 1], ev[:, 0]), np.pi)
     length = np.linalg.norm(ev, axis=1)
     bins = np.round(np.degrees(ang)).astype(np.int64) % 180
     hist = np.bincount(bins, weights=length, minlength=180)
-    main = np.argsort(hist)[::-1][:directions]
+    main = np.argsort(hist)[::-1][:6]
     main = main[hist[main] >= 0.05 * hist.sum()]
-    thetas = [
-        float(np.average(ang[bins == b], weights=length[bins == b])) + np.pi / 2 for b in main
-    ]
+    thetas = [float(np.average(ang[bins == b], weights=length[bins == b])) for b in main]
+    n_main = len(thetas)
     thetas += list(np.pi * np.arange(directions) / directions)
     runs_all = []  # see _run
-    for th in thetas:  # a few hundred lines in all, each vectorized over the mesh
+    for i_th, th in enumerate(thetas):  # a few hundred lines, each vectorized over the mesh
+        square = i_th < n_main  # across the bar's edges: preferred
         normal = np.array([np.cos(th), np.sin(th)])
         proj = xy @ normal
         step = (proj.max() - proj.min()) / (offsets + 1)
@@ -386,7 +395,7 @@ def straight_cut(
         for j in range(1, offsets + 1):
             c = proj.min() + j * step
             nxt, going_on = [], set()
-            for lo, hi, *_ in _free_pieces(m, normal, c, Gamma, P, tol, ef, tiny):
+            for lo, hi, *_ in _free_pieces(m, normal, c, loops, P, tol, ef, tiny):
                 k = next((k for k, r in enumerate(runs) if r[0] <= hi and r[1] >= lo), None)
                 if k is None:
                     nxt.append([lo, hi, 1, c, c, hi - lo])
@@ -394,27 +403,28 @@ def straight_cut(
                     r = runs[k]
                     going_on.add(k)
                     nxt.append([lo, hi, r[2] + 1, r[3], c, r[5] + hi - lo])
-            runs_all += [_run(r, normal) for k, r in enumerate(runs) if k not in going_on]
+            runs_all += [_run(r, normal, square) for k, r in enumerate(runs) if k not in going_on]
             runs = nxt
-        runs_all += [_run(r, normal) for r in runs]
+        runs_all += [_run(r, normal, square) for r in runs]
     if not runs_all:
         raise MescherError("m: expected a bar that one straight cut can open alone on screen, "
                            "found none; use cut_embedding(m) (a cut along mesh edges)")  # fmt: skip
-    runs_all.sort(key=lambda r: r[:2], reverse=True)
+    runs_all.sort(key=lambda r: r[:3], reverse=True)
     if order is None:
-        return _cut_at(m, runs_all[0][2], runs_all[0][3], Gamma, P, tol, ef, tiny)
-    cuts = [_cut_at(m, r[2], r[3], Gamma, P, tol, ef, tiny) for r in _distinct(runs_all, tries)]
+        return _cut_at(m, runs_all[0][3], runs_all[0][4], loops, P, tol, ef, tiny)
+    cuts = [_cut_at(m, r[3], r[4], loops, P, tol, ef, tiny) for r in _distinct(runs_all, tries)]
     miss = [cut_mismatch(cut, order) for cut in cuts]
     return cuts[int(np.argmin(np.round(miss, 4)))]  # ties: the longer run
 
 
-def _run(r: list, normal: np.ndarray) -> tuple:
-    """A finished run as ``(free length, -mean cut length, normal, middle offset, centre)``
-    (``centre``: roughly where on screen it cuts)."""
+def _run(r: list, normal: np.ndarray, square: bool) -> tuple:
+    """A finished run as ``(square, free length, -mean cut length, normal, middle offset,
+    centre)``: ``square`` when the line is across the figure's main edge directions,
+    ``centre`` roughly where on screen it cuts; tuples sort best last."""
     lo, hi, count, c0, c1, length_sum = r
     c = 0.5 * (c0 + c1)
     centre = normal * c + np.array([-normal[1], normal[0]]) * 0.5 * (lo + hi)
-    return (abs(c1 - c0), -length_sum / count, normal, c, centre)
+    return (square, abs(c1 - c0), -length_sum / count, normal, c, centre)
 
 
 def _distinct(runs: list, k: int) -> list:
@@ -422,24 +432,24 @@ def _distinct(runs: list, k: int) -> list:
     cuts are long): one stretch of bar is found in many directions."""
     out: list = []
     for r in runs:
-        if all(np.linalg.norm(r[4] - q[4]) > max(-r[1], -q[1]) for q in out):
+        if all(np.linalg.norm(r[5] - q[5]) > max(-r[2], -q[2]) for q in out):
             out.append(r)
             if len(out) == k:
                 break
     return out
 
 
-def _cut_at(m, normal, c_mid, Gamma, P, tol, ef, tiny) -> StraightCut:
+def _cut_at(m, normal, c_mid, loops, P, tol, ef, tiny) -> StraightCut:
     """The straight cut through the run's piece at ``c_mid``, moved onto a vertex."""
     xy = np.asarray(m.xy)
-    pieces = _free_pieces(m, normal, c_mid, Gamma, P, tol, ef, tiny)
+    pieces = _free_pieces(m, normal, c_mid, loops, P, tol, ef, tiny)
     lo, hi, *_, piece, s, t, comp_face = min(pieces, key=lambda q: q[1] - q[0])
     # through the vertex of the cut faces nearest the run's middle: where a bar's grid puts
     # vertices on a line across it, the cut passes through them all (no new vertex on a fold,
     # whose area-weighted normal would differ from its neighbours': a shading tick)
     proj = xy[np.unique(np.asarray(m.F)[comp_face == piece])] @ normal
     c = float(proj[np.argmin(np.abs(proj - c_mid))])
-    again = [q for q in _free_pieces(m, normal, c, Gamma, P, tol, ef, tiny)
+    again = [q for q in _free_pieces(m, normal, c, loops, P, tol, ef, tiny)
              if q[0] <= hi and q[1] >= lo]  # fmt: skip
     if not again:  # that vertex's line meets something else: the run's middle
         c, again = c_mid, pieces
