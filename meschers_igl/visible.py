@@ -242,13 +242,48 @@ def orient_outward(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, int, np.nd
     vol6 = np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2]))
     k = int(comp.max()) + 1
     vol = np.bincount(comp, weights=vol6, minlength=k)
-    # a part is closed when every edge has two faces
+    # a part is closed when every edge has two faces; an open part that is nearly closed (a
+    # solid with a small hole: a cut box, a face lost in a repair) is oriented by the volume
+    # it encloses with its holes capped
     open_face = _open_faces(Fo)
     is_open = np.bincount(comp, weights=open_face, minlength=k) > 0
-    flip = (vol[comp] < 0) & ~is_open[comp]
+    solid = solid_like_parts(V, Fo, comp)
+    vol = vol + _cap_volumes(V, Fo, comp, k)
+    flip = (vol[comp] < 0) & (~is_open | solid)[comp]
     Fo[flip] = Fo[flip][:, [0, 2, 1]]
     changed = int(np.count_nonzero(np.any(Fo != F, axis=1)))
     return Fo, changed, comp
+
+
+def _cap_volumes(V: np.ndarray, F: np.ndarray, comp: np.ndarray, k: int) -> np.ndarray:
+    """(k,) six times the signed volume of fans closing each part's boundary loops (0 for a
+    closed part): a fan from a loop's centroid traverses each boundary edge against its face."""
+    from .topology import boundary_loops
+
+    out = np.zeros(k)
+    if not _open_faces(F).any():
+        return out
+    vpart = np.zeros(int(F.max()) + 1, dtype=np.int64)
+    vpart[F.reshape(-1)] = np.repeat(comp, 3)
+    for loop in boundary_loops(F):  # one per hole, few
+        c = V[loop].mean(axis=0)
+        a, b = V[loop], V[np.roll(loop, -1)]
+        out[vpart[loop[0]]] += np.einsum("j,ij->", c, np.cross(b, a))
+    return out
+
+
+def solid_like_parts(V: np.ndarray, F: np.ndarray, comp: np.ndarray) -> np.ndarray:
+    """(#parts,) bool: parts that enclose a volume once their holes are capped -- isoperimetric
+    quotient ``36 pi vol^2 / area^3`` above 0.05 (a cube: 0.52; a sheet or a relief: ~0)."""
+    k = int(comp.max()) + 1
+    T = V[F]
+    vol = (np.bincount(comp, weights=np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])),
+                       minlength=k) + _cap_volumes(V, F, comp, k)) / 6.0  # fmt: skip
+    area = 0.5 * np.bincount(
+        comp, weights=np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1),
+        minlength=k,
+    )
+    return 36.0 * np.pi * vol**2 > 0.05 * np.maximum(area, 1e-300) ** 3
 
 
 # ------------------------------------------------------------------------------ planar map
@@ -555,6 +590,7 @@ def see_model(
     open_face = _open_faces(F)
     k = int(part.max()) + 1
     is_open = np.bincount(part, weights=open_face, minlength=k) > 0
+    is_open &= ~solid_like_parts(V, F, part)  # nearly closed: oriented by its volume already
     away = is_open & (np.bincount(part, weights=N[:, 2], minlength=k) < 0)
     if away.any():
         turn = away[part]
@@ -607,7 +643,7 @@ def see_model(
         Fb, sb, Zb = Fa, src, Z
         if bridge:
             Fb, sb, Zb, is_bridge, glue, arcs, bridges = _bridge(
-                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs, C[F][:, :, :2]
+                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs, C[F][:, :, :2], (C, F)
             )
         if perceive == "manhattan":
             from .manhattan import model_face_axes, perceive_manhattan, perceived_frame
@@ -851,7 +887,7 @@ def _chains(xy, Fa, hs):
     return out
 
 
-def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm):
+def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=None):
     """Amodal completion: bridge occluded pieces that line up across an occluder.
 
     Occluded edges (far side of a true occlusion where the far surface continues) are grouped
@@ -905,18 +941,32 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm):
             gap = float(_plane_depth(c, pl[sb]) - _plane_depth(c, pl[sa]))
             if not _hidden(xy[poly], pl[sa], pl[sb], T, Z, tol):
                 continue
+            plane = sa  # the strip continues A's plane (glued to B across the gap) ...
+            if model is not None:
+                # ... and must run through empty space, not through a block lying between the
+                # pieces or through the occluder (libigl's generalized winding number, camera
+                # coordinates); else it continues B's plane, if that one is free
+                P = c[None]  # the strip's middle (its rim touches the pieces' surfaces)
+                plane = None
+                for s_ in (sa, sb):
+                    P3 = np.c_[P, _plane_depth(P, pl[s_])]
+                    if np.all(np.abs(igl.winding_number(model[0], model[1], P3)) <= 0.5):
+                        plane = s_
+                        break
+                if plane is None:
+                    continue
             if best is None or L0 < best[0]:
-                best = (L0, ib, poly, sb, gap)
+                best = (L0, ib, poly, sb, gap, plane)
         if best is None:
             continue
-        _, ib, poly, sb, gap = best
+        _, ib, poly, sb, gap, plane = best
         P = xy[poly]
         tri = _polygon_triangles(P)
         if tri is None:
             continue
         used |= {ia, ib}
         new_faces += [[poly[i] for i in t] for t in tri]
-        new_src += [sa] * len(tri)
+        new_src += [plane] * len(tri)
         kind = "hidden gap" if abs(gap) > tol else "occluded continuation"
         bridges.append(Junction(kind, P.mean(axis=0), abs(gap), len(poly) // 2))
     if not new_faces:

@@ -486,3 +486,26 @@ def test_shipped_solids_are_their_builders_output_and_give_their_gaps(tmp_path):
         m, order, report = from_file(str(root / f"{name}.obj"), view=meta["view"], up=meta["up"])
         _period_lattice(m, gap, name, "shipped file")
         assert order.cycles(warn=False) == []
+
+
+def test_nearly_closed_part_is_oriented_by_its_volume():
+    """A box missing one face (a cut box, or a solid a repair opened), given inside out: its
+    summed normal z is ~0 from every view, so it is oriented by the volume it encloses with its
+    hole capped (a fan), not by the view."""
+    from visible_models import AXES, convex_block
+
+    from meschers_igl.visible import orient_outward, solid_like_parts
+
+    hs = np.array([np.r_[a, -1.0] for a in AXES] + [np.r_[-a, -1.0] for a in AXES])
+    Vb, Pb = convex_block(hs, np.zeros(3))
+    F = triangulate(Pb[1:])[:, ::-1]  # one face gone, the rest inside out
+    Fo, n_flip, part = orient_outward(Vb, F)
+    assert n_flip == F.shape[0] and solid_like_parts(Vb, Fo, part).all()
+    T = Vb[Fo]
+    c = T.mean(axis=1)
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    assert np.all(np.einsum("ij,ij->i", n, c) > 0)  # every face points away from the centre
+    # a flat sheet is not solid-like: it is left to face the viewer
+    Vs = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.0]])
+    Fs = np.array([[0, 1, 2], [1, 3, 2]])
+    assert not solid_like_parts(Vs, Fs, np.zeros(2, np.int64)).any()
