@@ -16,8 +16,8 @@ requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL
 
 
 def test_shipped_solids_are_named_and_in_the_default_study():
-    assert list_solids() == ["block_stairs", "hidden_gap_frame", "reutersvard_relief",
-                             "sheared_tribar_torus", "u_tribar"]  # fmt: skip
+    assert list_solids() == ["block_stairs", "hidden_gap_cube", "hidden_gap_frame",
+                             "reutersvard_relief", "sheared_tribar_torus", "u_tribar"]  # fmt: skip
     specs = expand_models(["solid:u_tribar"])
     assert [s.kind for s in specs] == ["solid"]
     assert {s.name for s in default_models() if s.kind == "solid"} == set(list_solids())
