@@ -47,7 +47,9 @@ def _crossing(L: float, view, up) -> tuple[float, float]:
     return float(t * L), float((f0 + u * (f1 - f0))[2] - (e0 + t * (e1 - e0))[2])
 
 
-def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int = 10):
+def impossible_cube(
+    size: float = 10.0, bar_width: float = 1.0, resolution: int = 10, straight_bars: bool = False
+):
     """Escher's impossible cube (the one held in *Belvedere*, 1958).
 
     Seen along ``(1, 0.8, 0.4)``, the back vertical bar at the origin crosses the front top bar
@@ -57,9 +59,21 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     moves away from the bottom bars), so at the crossing the back bar passes in front of the
     front bar.  The depth jumps by ``a`` at the cut: the mescher's period.
 
+    The easing is a shear along the view: the eased stretch's faces turn toward the camera and
+    shade darker than the bar (a dark band).  It cannot hide: a period needs the depth to climb
+    by ``a`` on every path from one side of the cut to the other, and in this view the path
+    through the bottom x bar crosses no other bar, so some visible stretch must shear.
+
+    With ``straight_bars`` the back bar's piece between the cut above the crossing and a second
+    cut just above the bottom corner is moved *rigidly* by ``a`` along the view (both cuts in
+    planes containing the view, seen edge-on, nothing drawn over them): every face keeps its
+    bar's normal, as a person sees the figure.  The two jumps cancel around every loop, so this
+    mescher has no period: like the Window it is impossible through its depth order only (the
+    back bar in front of the front top bar), ``is_impossible(order=...)`` of kind ``"order"``.
+
     Returns
     -------
-    V, F, view, up, expected_period (``a``)
+    V, F, view, up, expected_period (``a``; 0 with ``straight_bars``)
     """
     L = as_positive(size, "size")
     w = as_positive(bar_width, "bar_width")
@@ -72,6 +86,8 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     flat_start = zc - 2.0 * w
     a = d + 2.5 * w
     r = (-w / 2, -w / 2), (w / 2, w / 2)
+    if straight_bars:
+        return _rigid_back_bar(L, w, n, P, a)
     V, F, side = box_union_surface(cube_frame_boxes(L, w), L / n, splits=[(2, P, *r)])
     in_bar = (np.abs(V[:, 0]) <= w / 2 + 1e-12) & (np.abs(V[:, 1]) <= w / 2 + 1e-12)
     z = V[:, 2]
@@ -90,6 +106,35 @@ def impossible_cube(size: float = 10.0, bar_width: float = 1.0, resolution: int 
     phi = np.where(lower, np.clip(phi, 0.0, a), 0.0)
     v = view_frame(CUBE_VIEW, CUBE_UP)[2]
     return V + phi[:, None] * v, F, CUBE_VIEW, CUBE_UP, a
+
+
+def _rigid_back_bar(L: float, w: float, n: int, P: float, a: float):
+    """The impossible cube whose back bar piece between heights ``Pb`` and ``P`` is moved by
+    ``a`` along the view, rigidly (see :func:`impossible_cube`, ``straight_bars``)."""
+    Pb = 1.5 * w  # a bar's width above the bottom corner's top (w / 2)
+    r = (-w / 2, -w / 2), (w / 2, w / 2)
+    V, F, side = box_union_surface(cube_frame_boxes(L, w), L / n, splits=[(2, P, *r), (2, Pb, *r)])
+    in_bar = (np.abs(V[:, 0]) <= w / 2 + 1e-12) & (np.abs(V[:, 1]) <= w / 2 + 1e-12)
+    z, eps = V[:, 2], 1e-12
+    # the piece: below the upper cut (its lower copy) and above the lower cut (its upper copy)
+    piece = in_bar & (((z > Pb + eps) & (z < P - eps)) | ((np.abs(z - P) <= eps) & (side == 0))
+                      | ((np.abs(z - Pb) <= eps) & (side == 2)))  # fmt: skip
+    above = in_bar & ((z > P + eps) | (side == 1))
+    below = in_bar & ((z < Pb - eps) | ((np.abs(z - Pb) <= eps) & (side == 0)))
+    # every cut in a plane containing the view (seen edge-on): each side tilts its own copy,
+    # fading within w (the piece's ends within w of each cut, the bottom stub down to the corner)
+    tilt = [
+        (above, slant_cut(V, 2, P, *r, +1, w, CUBE_VIEW)),
+        (piece & (z > 0.5 * (P + Pb)), slant_cut(V, 2, P, *r, -1, w, CUBE_VIEW)),
+        (piece & (z <= 0.5 * (P + Pb)), slant_cut(V, 2, Pb, *r, +1, w, CUBE_VIEW)),
+        (below, slant_cut(V, 2, Pb, *r, -1, w / 2, CUBE_VIEW)),
+    ]
+    out = V.copy()
+    for mask, moved in tilt:
+        out[mask] = moved[mask]
+    v = view_frame(CUBE_VIEW, CUBE_UP)[2]
+    out[piece] += a * v  # rigid: the faces keep their normals
+    return out, F, CUBE_VIEW, CUBE_UP, 0.0
 
 
 def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, resolution: int = 12):

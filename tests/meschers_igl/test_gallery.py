@@ -339,3 +339,48 @@ def test_every_tread_of_the_stairs_is_seen():
     assert len(levels) == 2 * (5 + 3)
     # the two steps at the cut have slanted ends (smaller / larger treads): 60% of the median
     assert per_step.min() >= 0.6 * np.median(per_step), per_step
+
+
+def test_impossible_cube_with_straight_bars():
+    """``straight_bars``: the back bar's piece moves rigidly along the view, so every face keeps
+    its bar's normal (no sheared dark band); the two cuts are seen edge-on, no back face shows;
+    the jumps cancel (no period) and the figure is impossible through its order, with the back
+    bar drawn over the front top bar where they cross (painter's oracle)."""
+    from meschers_igl.gallery.frames import CUBE_UP, CUBE_VIEW, _crossing
+    from meschers_igl.painter import visible_faces
+
+    g = get_model("impossible_cube", straight_bars=True)
+    m, order = g.mescher, g.order
+    assert np.unique(np.round(m.face_normals(), 9), axis=0).shape[0] == 6
+    assert np.abs(m.periods()).max() < 1e-9 * m.scale() and g.expected_period == 0.0
+    verdict = m.is_impossible(order=order)
+    assert verdict and verdict.kind == "order"
+    assert _backface_share(m, order) <= 1e-3
+    m1, o1 = m.subdivide(1, scheme="midpoint", order=order)
+    assert _backface_share(m1, o1) <= 1e-3
+    C = g.V @ view_frame(g.view, g.up).T
+    loops = boundary_loops(g.F)
+    assert len(loops) == 4  # two cuts, two ends each
+    for lp in loops:
+        s = np.linalg.svd(C[lp, :2] - C[lp, :2].mean(0), compute_uv=False)
+        assert s[1] <= 1e-9 * s[0]
+    # just right of the crossing the back bar shows its +y side and the front top bar its +x
+    # side: the +y side is seen (back bar in front); with the order of the real frame (the
+    # bent embedding's depths) the +x side is
+    from meschers_igl.order import DepthOrder
+
+    zc, _ = _crossing(10.0, CUBE_VIEW, CUBE_UP)
+    p = (view_frame(CUBE_VIEW, CUBE_UP) @ np.array([0.0, 0.0, zc]))[:2] + [0.4, 0.0]
+    box = (p[0] - 0.05, p[0] + 0.05, p[1] - 0.05, p[1] + 0.05)
+    for model in (g, get_model("impossible_cube")):  # and the default (sheared) cube
+        T = model.V[model.F]
+        n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+        n /= np.linalg.norm(n, axis=1)[:, None]
+        Vb, Fb = model.mescher.bent_embedding()
+        real = DepthOrder.from_embedding(model.mescher, Vb[Fb][:, :, 2])
+        for o, side in ((model.order, 1), (real, 0)):
+            seen = visible_faces(model.mescher, o, size=16, bounds=box)
+            assert (seen >= 0).all()
+            np.testing.assert_allclose(
+                n[seen.ravel()], np.eye(3)[side][None].repeat(seen.size, 0), atol=1e-9
+            )
