@@ -1116,6 +1116,8 @@ def _caps(V, F, TT, patch, tol) -> list:
     if pe.size == 0:
         return out
     starts = np.flatnonzero(np.r_[True, pe[1:] != pe[:-1]])
+    fo = np.argsort(patch, kind="stable")  # faces grouped by patch
+    fstart = np.searchsorted(patch[fo], np.arange(k + 1))
     for s, e in zip(starts.tolist(), np.r_[starts[1:], pe.size].tolist()):  # candidate caps
         nxt = dict(zip(t[s:e].tolist(), h[s:e].tolist()))
         if len(nxt) != e - s:
@@ -1126,7 +1128,7 @@ def _caps(V, F, TT, patch, tol) -> list:
         if len(loop) != e - s:
             continue  # more than one loop (a patch with a hole)
         p = int(pe[s])
-        out.append(_Cap(np.flatnonzero(patch == p), np.asarray(loop, np.int64), pn[p]))
+        out.append(_Cap(fo[fstart[p] : fstart[p + 1]], np.asarray(loop, np.int64), pn[p]))
     return out
 
 
@@ -1193,8 +1195,6 @@ class BarEnds:
     Attributes
     ----------
     first, second : _Cap
-    partner : (k,) int64
-        Vertex of ``second``'s loop congruent to each vertex of ``first``'s loop.
     T : (3,) float
         Translation from ``first``'s loop to ``second``'s.
     d : (3,) float or None
@@ -1204,17 +1204,35 @@ class BarEnds:
 
     first: _Cap
     second: _Cap
-    partner: np.ndarray
     T: np.ndarray
     d: np.ndarray | None
 
 
-def bar_end_pairs(V: np.ndarray, F: np.ndarray, tol: float, TT: np.ndarray | None = None) -> list:
+#: Without a view, at most this many cap pairs are compared (all pairs of caps with opposite
+#: normals and equal loops); a model with more (thousands of equal boxes) gets no hidden-gap
+#: search for view="auto" (with a view, the pairs are found on screen, in linear time).
+MAX_CAP_PAIRS = 20000
+
+
+def bar_end_pairs(
+    V: np.ndarray, F: np.ndarray, tol: float, TT: np.ndarray | None = None, R: Any = None
+) -> list:
     """Pairs of caps -- planar patches bounded by one loop -- with opposite normals whose loops
-    are congruent by a translation: the candidates for the two ends of a broken bar, whatever
-    the view (:func:`close_junctions` decides from a view which of them are junctions; the
-    automatic view uses their planes).  Each unordered pair comes once per orientation whose
-    side directions face each other.
+    are congruent by a translation: the candidates for the two ends of a broken bar.  Each
+    unordered pair comes once per orientation.
+
+    Parameters
+    ----------
+    V : (#V, 3) float64, F : (#F, 3) int64
+    tol : float
+        Absolute tolerance.
+    TT : (#F, 3) int64, optional
+        ``igl.triangle_triangle_adjacency(F)[0]``.
+    R : (3, 3) float64, optional
+        A view frame: only pairs that can be junctions from it are returned, found on screen
+        (caps that coincide, or that lie on one screen line along their bar) in linear time.
+        Without it (the automatic view), every pair with opposite normals and equal loops is
+        compared, up to :data:`MAX_CAP_PAIRS`.
 
     Returns
     -------
@@ -1223,29 +1241,70 @@ def bar_end_pairs(V: np.ndarray, F: np.ndarray, tol: float, TT: np.ndarray | Non
     if TT is None:
         TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
     caps = _caps(V, F, TT, _planar_patches(V, F, TT, tol), tol)
-    sides = [_side_direction(V, F, TT, c, tol) for c in caps]
+    if len(caps) < 2:
+        return []
+    size = np.array([c.loop.size for c in caps])
+    nkey = np.round(np.array([c.normal for c in caps]) / 1e-6).astype(np.int64)
+    cen = np.array([V[c.loop].mean(axis=0) for c in caps])
+    sides: dict[int, Any] = {}
+
+    def side(i):
+        if i not in sides:
+            sides[i] = _side_direction(V, F, TT, caps[i], tol)
+        return sides[i]
+
+    if R is None:
+        groups: dict[tuple, list] = {}
+        for i, key in enumerate(map(tuple, np.c_[size, nkey].tolist())):  # one per cap
+            groups.setdefault(key, []).append(i)
+        cand = []
+        for i in range(len(caps)):  # caps, and their opposite group
+            cand += [(i, j) for j in groups.get((size[i], *(-nkey[i]).tolist()), []) if j > i]
+            if len(cand) > MAX_CAP_PAIRS:
+                return []
+    else:
+        R = np.asarray(R, dtype=np.float64)
+        s2 = cen @ R[:2].T
+        cand = cKDTree(s2).query_pairs(tol, output_type="ndarray").tolist()
+        # caps on one screen line along their bar: key (direction angle, offset of the line)
+        rows, keys = [], []
+        for i in range(len(caps)):  # one per cap
+            d = side(i)
+            if d is None:
+                continue
+            u = R[:2] @ d
+            if np.linalg.norm(u) <= 1e-9:
+                continue
+            u /= np.linalg.norm(u)
+            if u[0] < 0 or (u[0] == 0 and u[1] < 0):
+                u = -u
+            rows.append(i)
+            keys.append([np.arctan2(u[1], u[0]), u[0] * s2[i, 1] - u[1] * s2[i, 0]])
+        if rows:
+            K = np.asarray(keys) * [np.linalg.norm(np.ptp(s2, axis=0)) + 1.0, 1.0]
+            lp = cKDTree(K).query_pairs(10 * tol, output_type="ndarray")
+            cand += np.asarray(rows)[lp].tolist()
     out = []
-    for i, a in enumerate(caps):  # a few dozen caps in an artist's model
-        for j in range(i + 1, len(caps)):
-            b = caps[j]
-            if a.loop.size != b.loop.size or a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
-                continue
-            match = _match_loops(V[a.loop], V[b.loop], tol)
-            if match is None:
-                continue
-            perm, T = match
-            inv = np.empty_like(perm)
-            inv[perm] = np.arange(perm.size)
-            da, db = sides[i], sides[j]
-            facing = da is not None and db is not None and da @ db <= -1.0 + 1e-9
-            out.append(BarEnds(a, b, b.loop[perm], T, da if facing else None))
-            out.append(BarEnds(b, a, a.loop[inv], -T, db if facing else None))
+    for i, j in sorted({(min(p), max(p)) for p in cand}):  # the candidate pairs
+        a, b = caps[i], caps[j]
+        if size[i] != size[j] or a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
+            continue
+        match = _match_loops(V[a.loop], V[b.loop], tol)
+        if match is None:
+            continue
+        T = match[1]
+        da, db = side(i), side(j)
+        facing = da is not None and db is not None and da @ db <= -1.0 + 1e-9
+        out.append(BarEnds(a, b, T, da if facing else None))
+        out.append(BarEnds(b, a, -T, db if facing else None))
     return out
 
 
 def _junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
     """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
-    ("hidden gap" | "occluded continuation", g, ell) or None."""
+    ("hidden gap", g, ell) or None.  Pieces in line in 3D (``g`` = 0) are no junction: joining
+    them behind an occluder would change the topology without a period (a grid of blocks
+    would be joined into a lattice)."""
     v = R[2]
     gap = float(be.T @ v)
     if np.linalg.norm(be.T - gap * v) <= tol and abs(gap) > tol:
@@ -1258,7 +1317,7 @@ def _junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
         return None
     M = np.stack([d, v], axis=1)
     (ell, g), *_ = np.linalg.lstsq(M, be.T, rcond=None)
-    if ell <= tol or np.linalg.norm(M @ [ell, g] - be.T) > tol:
+    if ell <= tol or abs(g) <= tol or np.linalg.norm(M @ [ell, g] - be.T) > tol:
         return None
     P0 = V[be.first.loop]
     c0 = P0.mean(axis=0)
@@ -1272,7 +1331,7 @@ def _junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
     width = float(np.ptp(P0, axis=0).max())
     if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
         return None
-    return ("occluded continuation" if abs(g) <= tol else "hidden gap"), float(g), float(ell)
+    return "hidden gap", float(g), float(ell)
 
 
 def _parts_and_front(V, F, TT, R):
@@ -1301,8 +1360,7 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
       between them through empty space and hidden behind nearer faces: both caps are removed
       and the bar is continued from the first cap by ``l d`` (a tube of the same cross-section,
       the first piece's depth); its end loop coincides on screen with the second cap's loop,
-      ``g`` apart in depth (the period), or is the second loop itself when ``g`` is 0 (an
-      occluded continuation).
+      ``g`` apart in depth: the period.  Pieces in line in 3D (``g`` = 0) are left apart.
 
     Parameters
     ----------
@@ -1329,7 +1387,7 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     """
     TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
     if pairs is None:
-        pairs = bar_end_pairs(V, F, tol, TT)
+        pairs = bar_end_pairs(V, F, tol, TT, R)
     part, C, front = _parts_and_front(V, F, TT, R)
     used, drop, junctions = set(), [], []
     newV, newF = [], []
@@ -1345,13 +1403,10 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
         used |= ids
         drop += [be.first.faces, be.second.faces]
         loop = be.first.loop
-        if kind != "false edge":
-            if kind == "occluded continuation":
-                ends = be.partner  # the pieces are one bar: join them directly
-            else:
-                ends = nV + np.arange(loop.size)
-                nV += loop.size
-                newV.append(V[loop] + ell * be.d)
+        if kind == "hidden gap":
+            ends = nV + np.arange(loop.size)
+            nV += loop.size
+            newV.append(V[loop] + ell * be.d)
             nxt = np.roll(np.arange(loop.size), -1)
             p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
             newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
