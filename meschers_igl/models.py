@@ -6,8 +6,11 @@ Two kinds of 3D model reach meschers (paper Sec. 3.5):
   (:func:`cut_model_to_mescher`: glue the seam with :func:`meschers_igl.cutmesh.glue_cut_mesh`,
   order the faces that overlap on screen by the model's own depths);
 * **any model** -- closed solids, separate blocks, reliefs -- seen from a view
-  (:func:`model_to_mescher`: what the viewer sees, false edges glued crosswise, see
-  :mod:`meschers_igl.visible`).
+  (:func:`model_to_mescher`: by default the whole model opened at its junctions -- caps that
+  coincide on screen, bars broken behind an occluder -- and glued crosswise like a cut model,
+  a closed surface; else, or with ``hidden=False``, what the viewer sees, false edges glued
+  crosswise; see :mod:`meschers_igl.visible`).  A cut file gives the cut-model path's
+  mescher either way.
 
 ``meshlab_filters``, the PyVista accessor and the command line all call these, so a cut model
 becomes the same mescher and the same order whichever door it comes in through.

@@ -28,6 +28,23 @@ is no import circle with :mod:`meschers_igl.mescher`):
    strip between them hidden behind nearer faces) are bridged by faces of the same normal behind
    the occluder; their depth offset becomes a period.
 
+**Keeping the hidden side** (``hidden="auto"``, the default, when junctions are found): the
+whole model, not only what is visible, opened at its junctions and glued crosswise like a cut
+model (:func:`close_junctions`).  A junction is a pair of *caps* -- planar patches bounded by
+one loop, opposite normals, congruent by a translation (:func:`bar_end_pairs`): a false edge
+when they coincide on screen (both contain the view), a hidden gap when they are the two ends
+of a bar broken behind an occluder (the pieces line up on screen, the bridge between them runs
+through empty space and is hidden).  The caps are removed, a hidden gap is bridged by a tube
+continuing the first piece, and :func:`meschers_igl.cutmesh.glue_cut_mesh` glues the open
+loops that coincide on screen; the order of overlapping faces comes from the model's own
+depths.  The result is a closed surface like the cut-model path's (for a cut file it *is* the
+cut-model path's), and loops that pass behind the model (the impossible cube's, behind a
+corner) keep their period.
+
+``view="auto"`` (:func:`find_model_view`): the view in which vertex pairs coincide
+(:func:`meschers_igl.autoview.find_view`), or, for a hidden gap, the view on the circle of
+views lining up its pieces that centres the occluder on the gap.
+
 Returns plain arrays and a :class:`ConversionReport`.
 """
 
@@ -111,7 +128,8 @@ class ConversionReport:
     view, up : (3,) float
         The view used (``view="auto"`` reports the one it found).
     source_face : (#F,) int64
-        Input face (after clean-up) each mescher face comes from (-1 for bridge faces).
+        Input face (after clean-up) each mescher face comes from (-1 for bridge faces: the
+        visible path's strips, the closed path's tubes).
     arcs : (k, 2) int64
         The depth-order arcs ``i -> j`` (face ``i`` behind face ``j``).
     cleanup : object or None
