@@ -217,3 +217,24 @@ def test_export_errors(tmp_path, ring):
     Vb, Fb = m.bent_embedding()
     mesh = _reopen(export_bent_embedding(m, tmp_path / "ok.ply"))
     assert np.array_equal(mesh.vertex_matrix(), Vb) and np.array_equal(mesh.face_matrix(), Fb)
+
+
+def test_model_to_mescher_keeps_the_hidden_side_of_a_cut_file_or_not():
+    """A cut file through the any-model door: by default the cut-model path's closed surface
+    (the same faces and periods as cut_model_to_mescher); hidden=False the visible surface
+    only (every face toward the viewer, open), with the same period."""
+    from meschers_igl import MescherError
+    from meschers_igl.paradox import paradox_model
+    from meshlab_filters import model_to_mescher
+
+    pm = paradox_model("penrose_triangle")
+    mc, _ = cut_model_to_mescher(pm.obj, view=pm.view, up=pm.up)
+    m, order, rep = model_to_mescher(pm.obj, view=pm.view, up=pm.up)
+    assert m.n_faces == mc.n_faces and m.euler_characteristic() == mc.euler_characteristic()
+    assert np.allclose(np.sort(np.abs(m.periods())), np.sort(np.abs(mc.periods())))
+    assert "kept the hidden side" in str(rep)
+    mv, _, repv = model_to_mescher(pm.obj, view=pm.view, up=pm.up, hidden=False)
+    assert np.all(np.asarray(mv.face_normals())[:, 2] > 0) and mv.n_faces != m.n_faces
+    assert np.isclose(np.abs(mv.periods()).max(), np.abs(mc.periods()).max(), rtol=1e-6)
+    with pytest.raises(MescherError, match="hidden"):
+        model_to_mescher(pm.obj, view=pm.view, up=pm.up, hidden="sometimes")
