@@ -625,6 +625,12 @@ def test_penrose_stairs_close_on_screen_after_one_turn(steep):
     assert D[2] == pytest.approx(steep * (flights[0] - flights[2]) * w)
     np.testing.assert_allclose(np.cross(D, model.view), 0.0, atol=1e-12)
     assert model.gap == pytest.approx(np.linalg.norm(D))  # depth gained per turn
+    with pytest.raises(MescherError, match="steep"):
+        mdl.penrose_stairs(steep=0.0)
+    with pytest.raises(MescherError, match="flights"):
+        mdl.penrose_stairs((4, 3, 2, 2))
+    with pytest.raises(MescherError, match="size, width"):
+        mdl.impossible_cube(3.0, 2.0)
 
 
 def _model_screen(model, extent=0.8):
