@@ -20,6 +20,7 @@ comparison mescher / cut / bent (paper Fig. 10, :func:`pyvista_views.compare.com
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -387,7 +388,9 @@ def comparison(job: ModelJob, s: Subject) -> None:
         }
         return
     t = st.compare_time * s.scale * s.scale
+    t0 = time.perf_counter()
     cut = straight_cut_or_none(m, s.order)
+    t_cut = time.perf_counter() - t0
     if cut is None:  # no straight cut alone on screen: the cut along mesh edges
         res = compare(m, s.order, path=None, source=s.source, t_smooth=t,
                       window_size=(st.cell, st.cell), solver=s.solver("standard"),
@@ -401,7 +404,7 @@ def comparison(job: ModelJob, s: Subject) -> None:
                       window_size=(st.cell, st.cell), cut_edges=cut.cut_edges)  # fmt: skip
         seam = "cut along one straight screen line across a bar, where nothing else is drawn"
     n = m.n_vertices  # m's vertices come first in the split mescher
-    rec: dict = {"t_smooth": t, "numbers": res.numbers, "seam": seam}
+    rec: dict = {"t_smooth": t, "numbers": res.numbers, "seam": seam, "seam_search_s": t_cut}
     vmap = res.vmap
     if s.exact is not None:
         # the cut model at its best: every copy of the source is a source, and a mescher
