@@ -256,10 +256,14 @@ def _propagate(  # pragma: no cover - compiled
     cap = 1024
     wh = np.empty(cap, np.int64)
     wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
-    state = np.empty(cap, np.int8)  # 0 queued, 1 propagated, 2 dead
-    nxt = np.empty(cap, np.int64)  # next window on the same edge
+    state = np.empty(cap, np.int8)  # 0 queued (and on its edge's list), 2 dead
+    nxt = np.empty(cap, np.int64)  # doubly linked list of the queued windows of each edge
+    prv = np.empty(cap, np.int64)
     head = np.full(n_edges, -1, np.int64)
-    nw = 0
+    free = np.empty(cap, np.int64)  # slots of popped windows, reused: memory ~ the wavefront
+    nfree = 0
+    nw = 0  # slots used so far
+    created = 0
     hk = np.empty(1024, np.float64)
     hv = np.empty(1024, np.int64)
     nh = 0
@@ -319,10 +323,20 @@ def _propagate(  # pragma: no cover - compiled
         else:
             # ---- a window enters face f through half-edge h
             w = item
+            free[nfree] = w
+            nfree += 1
             if state[w] != 0:
                 continue
-            state[w] = 1
+            # off its edge's list: only queued windows trim newcomers (measured: the popped
+            # ones removed no more windows, and the lists stay short)
             h = wh[w]
+            e = hedge[h]
+            if prv[w] >= 0:
+                nxt[prv[w]] = nxt[w]
+            else:
+                head[e] = nxt[w]
+            if nxt[w] >= 0:
+                prv[nxt[w]] = prv[w]
             b0 = wb[w, 0]
             b1 = wb[w, 1]
             sx = wb[w, 2]
@@ -447,17 +461,9 @@ def _propagate(  # pragma: no cover - compiled
             e = hedge[t]
             flip = rev[t]
             sy2 = sy * sy
-            prev = -1
             o = head[e]
             while o >= 0:
                 on = nxt[o]
-                if state[o] == 2:  # unlink dead windows on the way
-                    if prev < 0:
-                        head[e] = on
-                    else:
-                        nxt[prev] = on
-                    o = on
-                    continue
                 olo = wb[o, 0]
                 ohi = wb[o, 1]
                 ox = wb[o, 2]
@@ -471,16 +477,20 @@ def _propagate(  # pragma: no cover - compiled
                     b0, b1 = _trim(b0, b1, sx, sy2, sig, olo, ohi, ox, oy2, osg, L)
                     if b1 <= b0:
                         break
-                    if True:
-                        nlo, nhi = _trim(olo, ohi, ox, oy2, osg, b0, b1, sx, sy2, sig, L)
-                        if nhi <= nlo:
-                            state[o] = 2
-                        elif nlo != olo or nhi != ohi:
-                            if not same and flip:
-                                nlo, nhi = L - nhi, L - nlo
-                            wb[o, 0] = nlo
-                            wb[o, 1] = nhi
-                prev = o
+                    nlo, nhi = _trim(olo, ohi, ox, oy2, osg, b0, b1, sx, sy2, sig, L)
+                    if nhi <= nlo:
+                        state[o] = 2  # dead: off the list; its slot is freed when popped
+                        if prv[o] >= 0:
+                            nxt[prv[o]] = on
+                        else:
+                            head[e] = on
+                        if on >= 0:
+                            prv[on] = prv[o]
+                    elif nlo != olo or nhi != ohi:
+                        if not same and flip:
+                            nlo, nhi = L - nhi, L - nlo
+                        wb[o, 0] = nlo
+                        wb[o, 1] = nhi
                 o = on
             if b1 <= b0:
                 continue
@@ -488,16 +498,22 @@ def _propagate(  # pragma: no cover - compiled
                 kk = sig + abs(sy)
             else:
                 kk = sig + min(np.hypot(b0 - sx, sy), np.hypot(b1 - sx, sy))
-            if nw == wh.size:
-                wh, nxt = _grow(wh, nxt)
-                state2 = np.empty(wh.size, np.int8)
-                state2[:nw] = state[:nw]
-                state = state2
-                wb2 = np.empty((wh.size, 5), np.float64)
-                wb2[:nw] = wb[:nw]
-                wb = wb2
-            w = nw
-            nw += 1
+            if nfree > 0:
+                nfree -= 1
+                w = free[nfree]
+            else:
+                if nw == wh.size:
+                    wh, nxt = _grow(wh, nxt)
+                    prv, free = _grow(prv, free)
+                    state2 = np.empty(wh.size, np.int8)
+                    state2[:nw] = state[:nw]
+                    state = state2
+                    wb2 = np.empty((wh.size, 5), np.float64)
+                    wb2[:nw] = wb[:nw]
+                    wb = wb2
+                w = nw
+                nw += 1
+            created += 1
             wh[w] = t
             wb[w, 0] = b0
             wb[w, 1] = b1
@@ -506,12 +522,15 @@ def _propagate(  # pragma: no cover - compiled
             wb[w, 4] = sig
             state[w] = 0
             nxt[w] = head[e]
+            prv[w] = -1
+            if head[e] >= 0:
+                prv[head[e]] = w
             head[e] = w
             if nh == hk.size:
                 hk, hv = _grow(hk, hv)
             _heap_push(hk, hv, nh, kk, w)
             nh += 1
-    return dist, nw
+    return dist, created
 
 
 # ----------------------------------------------------------------------------------------------

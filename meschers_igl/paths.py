@@ -27,6 +27,7 @@ import scipy.sparse.csgraph as csgraph
 
 from . import intrinsic, topology
 from .errors import MescherError
+from .exact_geodesic import exact_geodesic
 from .heat import HeatGeodesicSolver
 from .validate import as_index_array
 
@@ -794,8 +795,9 @@ def exact_geodesic_distance(
     ``algorithm="window"`` (default): window propagation on the intrinsic mesh, compiled
     (:mod:`meschers_igl.exact_geodesic`; needs only the edge lengths, so no covering).
     ``algorithm="covering"``: MMP (``igl.exact_geodesic``) on a covering unrolled as far as
-    needed, kept as an independent oracle; it is ~100-1000x slower.  The two agree to
-    round-off (tested).  The rest of this paragraph describes the covering route.
+    needed, kept as an independent oracle; a query is 4.5x (ordinary torus) to 33x
+    (impossible torus) slower at 20k faces.  The two agree to round-off (tested).  The rest of
+    this docstring describes the covering route.
 
     A mescher is locally isometric to its covering (:mod:`meschers_igl.covering`): ``K`` copies
     of the mescher cut open, glued so that depth climbs by the period from one to the next.
@@ -829,8 +831,6 @@ def exact_geodesic_distance(
         ``max_sheets`` sheets needed.
     """
     if algorithm == "window":
-        from .exact_geodesic import exact_geodesic
-
         return exact_geodesic(m, sources)
     if algorithm != "covering":
         raise MescherError(f'algorithm: expected "window" or "covering", found {algorithm!r}')
@@ -899,9 +899,9 @@ def geodesic_distance(m: Any, sources: Any, method: str = "auto", **kwargs: Any)
     sources : int or (k,) array_like of int
     method : {"auto", "standard", "robust", "refined", "accurate", "exact"}, default: "auto"
         ``"exact"``: :func:`exact_geodesic_distance` (window propagation on the intrinsic
-        mesh; equals ``igl.exact_geodesic`` on an ordinary mesh to round-off).  Any other value: the heat method
-        (:class:`meschers_igl.heat.HeatGeodesicSolver`, whose docstring says what ``"auto"``
-        chooses when).
+        mesh; equals ``igl.exact_geodesic`` on an ordinary mesh to round-off).  Any other
+        value: the heat method (:class:`meschers_igl.heat.HeatGeodesicSolver`, whose docstring
+        says what ``"auto"`` chooses when).
     **kwargs
         Passed to the heat solver, or ``algorithm``/``max_sheets`` to the exact one.
 
