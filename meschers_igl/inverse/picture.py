@@ -715,7 +715,10 @@ def mescher_from_picture(
     complete : bool, default: True
         Also cut along the occlusion lines the picture cannot show, between faces of one shade
         (:func:`hidden_occlusions`; a stair's tread over the one below).  These run on to the
-        outline or a hole, where they really end.
+        outline or a hole, where they really end.  They are read from jogs a few pixels long:
+        on the Penrose stairs at 128 x 128 seen from (1, 1, 2) (rises of 3.5 pixels) the six
+        found lie on the model's hidden edges (two more, where a flight turns, are missed);
+        seen isometrically (rises of 2.5 pixels) the two found are wrong (down the walls).
 
     Returns
     -------
