@@ -183,34 +183,31 @@ def _trim(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cover -
             r[nr] = x1
             nr += 1
     r[nr] = b
-    # pieces [r[i], r[i+1]]: o wins on a piece when it wins at its midpoint and ends
+    # pieces [r[i], r[i+1]] have one sign: o wins on a piece when it wins, by more than the
+    # round-off slack, at its midpoint and at its ends that are not roots (g = 0 at a root)
     tol = _REL * (ws + osg + L)
+    won = np.zeros(3, np.bool_)
+    for i in range(nr):
+        ok = True
+        for q in range(3):
+            if (q == 0 and i > 0) or (q == 2 and i < nr - 1):
+                continue
+            x = r[i] + 0.5 * q * (r[i + 1] - r[i])
+            g = osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
+            if g >= -tol:
+                ok = False
+                break
+        won[i] = ok
     i = 0
     if a <= lo:
-        while i < nr:
-            won = True
-            for x in (r[i], 0.5 * (r[i] + r[i + 1]), r[i + 1]):
-                g = osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
-                if g >= -tol:
-                    won = False
-                    break
-            if not won:
-                break
+        while i < nr and won[i]:
             lo = r[i + 1]
             i += 1
     if i == nr:
         return (hi, hi) if b >= hi else (lo, hi)
-    j = nr
     if b >= hi:
-        while j > i:
-            won = True
-            for x in (r[j - 1], 0.5 * (r[j - 1] + r[j]), r[j]):
-                g = osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
-                if g >= -tol:
-                    won = False
-                    break
-            if not won:
-                break
+        j = nr
+        while j > i and won[j - 1]:
             hi = r[j - 1]
             j -= 1
     return lo, hi
