@@ -298,7 +298,8 @@ def solid_like_parts(V: np.ndarray, F: np.ndarray, comp: np.ndarray) -> np.ndarr
     vol = (np.bincount(comp, weights=np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])),
                        minlength=k) + _cap_volumes(V, F, comp, k)) / 6.0  # fmt: skip
     area = 0.5 * np.bincount(
-        comp, weights=np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1),
+        comp,
+        weights=np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1),
         minlength=k,
     )
     return 36.0 * np.pi * vol**2 > 0.05 * np.maximum(area, 1e-300) ** 3
