@@ -6,8 +6,9 @@ Fit a mescher to a picture (paper Sec. 4.5): a soft rasterizer renders the flatt
 and PyTorch moves ``xy`` and ``zeta = d01 z + H c`` in alternating steps, so every iterate is
 a mescher (``d12 zeta = 0``). Starting from an ordinary torus, the fit has to *learn* a period to
 draw a Penrose triangle. This example is tiny (32 x 32 pixels, 100 steps) to stay fast: the
-torus only starts to turn into the triangle. ``meschers inverse penrose`` runs the full fit
-(1200 steps at 128 x 128).
+torus only starts to turn into the triangle. ``meschers inverse penrose --init torus`` runs the
+full fit from a torus; the default start, ``mescher_from_picture``, reads the faces, holes and
+depths from the picture itself (README, "Inverse rendering": ``meschers inverse tribar``).
 
 PyTorch is optional (``pip install "meschers[inverse]"``); without it this example says so and
 stops.

@@ -73,6 +73,9 @@ def zbuffer_picture(
     """
     import pyvista as pv
 
+    from pyvista_views.headless import configure_headless
+
+    configure_headless()  # EGL/OSMesa without a display, before the first window
     res = as_count(resolution, "resolution", minimum=8)
     R = model.camera_frame()
     C = model.V @ R.T
