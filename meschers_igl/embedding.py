@@ -329,7 +329,8 @@ def straight_cut(
     directions first (a bar cut square, in its longest free stretch).  With ``order``, the ``tries`` longest runs at different places are cut and the one whose cut
     model, z-buffered, shows what the mescher shows in that order (:func:`cut_mismatch`) wins:
     the jump must fall where the figure's impossibility hides it (the impossible cube's back
-    bar is cut between its crossing and the top, not below the crossing).  Candidates are
+    bar is cut between its crossing and the top, not below the crossing); among equals, the
+    one whose split turns the vertex normals least.  Candidates are
     found with integer intersection numbers (no mesh is cut to try one).
 
     Parameters
@@ -391,18 +392,18 @@ def straight_cut(
         normal = np.array([np.cos(th), np.sin(th)])
         proj = xy @ normal
         step = (proj.max() - proj.min()) / (offsets + 1)
-        runs: list[list] = []  # open runs: [lo, hi, count, first c, last c, summed cut length]
+        runs: list[list] = []  # open runs: [lo, hi, members [(c, lo, hi)], summed cut length]
         for j in range(1, offsets + 1):
             c = proj.min() + j * step
             nxt, going_on = [], set()
             for lo, hi, *_ in _free_pieces(m, normal, c, loops, P, tol, ef, tiny):
                 k = next((k for k, r in enumerate(runs) if r[0] <= hi and r[1] >= lo), None)
                 if k is None:
-                    nxt.append([lo, hi, 1, c, c, hi - lo])
+                    nxt.append([lo, hi, [(c, lo, hi)], hi - lo])
                 else:
                     r = runs[k]
                     going_on.add(k)
-                    nxt.append([lo, hi, r[2] + 1, r[3], c, r[5] + hi - lo])
+                    nxt.append([lo, hi, [*r[2], (c, lo, hi)], r[3] + hi - lo])
             runs_all += [_run(r, normal, square) for k, r in enumerate(runs) if k not in going_on]
             runs = nxt
         runs_all += [_run(r, normal, square) for r in runs]
@@ -411,20 +412,27 @@ def straight_cut(
                            "found none; use cut_embedding(m) (a cut along mesh edges)")  # fmt: skip
     runs_all.sort(key=lambda r: r[:3], reverse=True)
     if order is None:
-        return _cut_at(m, runs_all[0][3], runs_all[0][4], loops, P, tol, ef, tiny)
-    cuts = [_cut_at(m, r[3], r[4], loops, P, tol, ef, tiny) for r in _distinct(runs_all, tries)]
-    miss = [cut_mismatch(cut, order) for cut in cuts]
-    return cuts[int(np.argmin(np.round(miss, 4)))]  # ties: the longer run
+        return _cut_at(m, *runs_all[0][3:5], loops, P, tol, ef, tiny)
+    cuts = [_cut_at(m, *r[3:5], loops, P, tol, ef, tiny) for r in _distinct(runs_all, tries)]
+    # the cut model that looks like the mescher; among equals, the split that moves the
+    # (area-weighted) vertex normals least, then the longer run
+    miss = np.round([cut_mismatch(cut, order) for cut in cuts], 4)
+    n0 = np.asarray(m.vertex_normals())
+    turn = [np.round(1.0 - (np.asarray(c.mescher.vertex_normals())[: len(n0)] * n0).sum(1).min(), 3)
+            for c in cuts]  # fmt: skip
+    return cuts[int(np.lexsort((np.arange(len(cuts)), turn, miss))[0])]
 
 
 def _run(r: list, normal: np.ndarray, square: bool) -> tuple:
-    """A finished run as ``(square, free length, -mean cut length, normal, middle offset,
+    """A finished run as ``(square, free length, -mean cut length, normal, (c, lo, hi),
     centre)``: ``square`` when the line is across the figure's main edge directions,
-    ``centre`` roughly where on screen it cuts; tuples sort best last."""
-    lo, hi, count, c0, c1, length_sum = r
-    c = 0.5 * (c0 + c1)
+    ``(c, lo, hi, free)`` its middle line, that line's piece and the run's length, ``centre``
+    where on screen it cuts; tuples sort best last."""
+    members, length_sum = r[2], r[3]
+    c, lo, hi = members[(len(members) - 1) // 2]
     centre = normal * c + np.array([-normal[1], normal[0]]) * 0.5 * (lo + hi)
-    return (square, abs(c1 - c0), -length_sum / count, normal, c, centre)
+    free = members[-1][0] - members[0][0]
+    return (square, free, -length_sum / len(members), normal, (c, lo, hi, free), centre)
 
 
 def _distinct(runs: list, k: int) -> list:
@@ -439,16 +447,21 @@ def _distinct(runs: list, k: int) -> list:
     return out
 
 
-def _cut_at(m, normal, c_mid, loops, P, tol, ef, tiny) -> StraightCut:
-    """The straight cut through the run's piece at ``c_mid``, moved onto a vertex."""
+def _cut_at(m, normal, middle, loops, P, tol, ef, tiny) -> StraightCut:
+    """The straight cut through a run's middle piece ``middle = (c, lo, hi, free)`` (found on
+    the line ``normal . xy == c`` by the search, so it is there), moved onto vertices within
+    the middle third of the run."""
     xy = np.asarray(m.xy)
-    pieces = _free_pieces(m, normal, c_mid, loops, P, tol, ef, tiny)
+    c_mid, lo, hi, free = middle
+    pieces = [q for q in _free_pieces(m, normal, c_mid, loops, P, tol, ef, tiny)
+              if q[0] <= hi and q[1] >= lo]  # fmt: skip
     lo, hi, *_, piece, s, t, comp_face = min(pieces, key=lambda q: q[1] - q[0])
-    # through the vertex of the cut faces nearest the run's middle: where a bar's grid puts
-    # vertices on a line across it, the cut passes through them all (no new vertex on a fold,
-    # whose area-weighted normal would differ from its neighbours': a shading tick)
-    proj = xy[np.unique(np.asarray(m.F)[comp_face == piece])] @ normal
-    c = float(proj[np.argmin(np.abs(proj - c_mid))])
+    # through vertices of the cut faces near the run's middle, the line that splits the fewest
+    # edges where the surface folds (a bar's corners; every edge of a curved surface): a new
+    # vertex there gets an area-weighted normal unlike its neighbours' (a shading tick)
+    c = _through_vertices(
+        m, normal, c_mid, free / 6, np.flatnonzero(comp_face == piece), lo, hi, tiny
+    )
     again = [q for q in _free_pieces(m, normal, c, loops, P, tol, ef, tiny)
              if q[0] <= hi and q[1] >= lo]  # fmt: skip
     if not again:  # that vertex's line meets something else: the run's middle
@@ -461,6 +474,30 @@ def _cut_at(m, normal, c_mid, loops, P, tol, ef, tiny) -> StraightCut:
     u = np.asarray(m2.xy)[m2.edges[cut].ravel()] @ d  # the seam's extent along the line
     segment = np.stack([point + u.min() * d, point + u.max() * d])
     return StraightCut(m2, cut, parent, point, normal, segment, float(jump))
+
+
+def _through_vertices(m, normal, c_mid, reach, faces, lo, hi, tiny, k: int = 256) -> float:
+    """Offset of the line through a vertex of ``faces`` within ``reach`` of ``c_mid`` (the
+    ``k`` nearest) that splits the fewest fold edges (then the fewest edges, then the
+    nearest); ``c_mid`` when no vertex is that near."""
+    xy = np.asarray(m.xy)
+    F, E = np.asarray(m.F), m.edges
+    proj = np.unique(xy[np.unique(F[faces])] @ normal)
+    proj = proj[np.abs(proj - c_mid) <= reach]
+    cand = np.append(proj[np.argsort(np.abs(proj - c_mid))[:k]], c_mid)
+    fe = np.asarray(m.face_edges)
+    ef = topo.edge_faces(fe, m.n_edges)
+    N = np.asarray(m.face_normals())
+    fold = (ef[:, 1] < 0) | ((N[ef[:, 0]] * N[np.maximum(ef[:, 1], 0)]).sum(1) < 1 - 1e-9)
+    along = xy @ np.array([-normal[1], normal[0]])
+    # edges near the piece's segment (both ends within its span, padded by the longest edge)
+    pad = float(np.abs(along[E[:, 0]] - along[E[:, 1]]).max())
+    near = np.flatnonzero((np.minimum(along[E[:, 0]], along[E[:, 1]]) <= hi + pad)
+                          & (np.maximum(along[E[:, 0]], along[E[:, 1]]) >= lo - pad))  # fmt: skip
+    s = (xy[E[near]] @ normal)[None, :, :] - cand[:, None, None]  # (k, #near, 2)
+    strict = (np.abs(s) > tiny).all(axis=2) & ((s[..., 0] > 0) != (s[..., 1] > 0))
+    key = np.stack([(strict & fold[near]).sum(1), strict.sum(1), np.abs(cand - c_mid)], axis=1)
+    return float(cand[np.lexsort(key.T[::-1])[0]])
 
 
 def cut_mismatch(cut: StraightCut, order, size: int = 128) -> float:
