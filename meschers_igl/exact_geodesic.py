@@ -1,10 +1,8 @@
 """Exact geodesic distance by window propagation on the intrinsic mesh (compiled).
 
-Algorithm
----------
-Chen-Han window propagation with Xin & Wang's improvements ("ICH": Xin, Wang 2009, "Improving
-Chen and Han's algorithm on the discrete geodesic problem", ACM TOG 28(4)), run on the
-*intrinsic* mesh: faces, their edge lengths and which faces share an edge.  Nothing else is
+**Algorithm.** Chen-Han window propagation with Xin & Wang's improvements ("ICH": Xin, Wang
+2009, "Improving Chen and Han's algorithm on the discrete geodesic problem", ACM TOG 28(4)),
+run on the *intrinsic* mesh: faces, their edge lengths and which faces share an edge.  Nothing else is
 needed, so it runs on an impossible mescher as it is (a mescher is locally Euclidean: unfolding a
 window across an edge uses the two faces' edge lengths only), with no covering.
 
@@ -21,7 +19,7 @@ neighbours along edges.  Windows and pseudo-source events go through one priorit
 by the least distance they can give, so the vertex distances used for pruning are nearly final
 when a window is taken out.
 
-Pruning.  Each rule removes a part of a window only where a known path is *strictly* shorter
+**Pruning.** Each rule removes a part of a window only where a known path is *strictly* shorter
 (by more than a 1e-12 relative slack), so the windows carrying a shortest path are never
 removed and the result stays exact:
 
@@ -33,22 +31,21 @@ removed and the result stays exact:
    ``d(C) >= sigma`` the set where ``C`` wins is the convex side of a hyperbola branch, so it
    holds on the whole interval once it holds at both ends);
 4. MMP's trimming (Mitchell, Mount, Papadimitriou 1987; Surazhsky et al. 2005): a new window
-   is compared with the windows already on its edge (either side); where one of them is
+   is compared with the windows still queued on its edge (either side); where one of them is
    strictly nearer at an end of the other, that end is cut back to the crossing of the two
    distance functions (a quadratic, at most two roots).  Interior pieces are not cut (no
    window is split), so the edge's windows may overlap but never lose a shortest path.
 
-Why hand-written, and what it costs
------------------------------------
-libigl's ``igl.exact_geodesic`` (Kirsanov's MMP) on the covering took 1198x a heat query at
-20k faces, and ``pygeodesic`` (the same MMP) 74 s at 102k faces (980x a heat query; session 2,
-issue 13).  Neither accepts a mescher's edge lengths, so an impossible mescher needed a covering
-of several sheets as well.  This module needs only the lengths and runs as one numba kernel.
-Measured (``benchmarks/bench_exact_geodesic.py``, shared 2-core machine): on a 20k-face torus a
-query is 4.5x faster than ``igl.exact_geodesic`` on the same mesh and 33x faster than the
-covering route on an impossible torus; at 100k faces it is still 580-820x a prefactored heat
-query (the issue's target is 10x), because the number of windows grows like ``n^1.5`` (0.72M
-at 20k faces, 7.8M at 100k), as for every MMP/ICH/VTP-type exact method.
+**Why hand-written, and what it costs.** libigl's ``igl.exact_geodesic`` (Kirsanov's MMP) on
+the covering took 1198x a heat query at 20k faces, and ``pygeodesic`` (the same MMP) 74 s at
+102k faces (980x a heat query; session 2, issue 13).  Neither accepts a mescher's edge lengths,
+so an impossible mescher needed a covering of several sheets as well.  This module needs only
+the lengths and runs as one numba kernel.  Measured (``benchmarks/bench_exact_geodesic.py``,
+shared 2-core machine): on a 20k-face torus a query is 4.5x faster than ``igl.exact_geodesic``
+on the same mesh and 33x faster than the covering route on an impossible torus; at 100k faces
+it is still 360-500x a prefactored heat query (the issue's target is 10x; about 9x the heat
+method's one-off cost, factorisation included), because the number of windows grows like
+``n^1.5`` (0.70M at 20k faces, 7.7M at 100k), as for every MMP/ICH/VTP-type exact method.
 ``meschers_igl.paths.exact_geodesic_distance(..., algorithm="covering")`` keeps the libigl
 route as an independent oracle.
 """
