@@ -2,9 +2,9 @@
 
 **Algorithm.** Chen-Han window propagation with Xin & Wang's improvements ("ICH": Xin, Wang
 2009, "Improving Chen and Han's algorithm on the discrete geodesic problem", ACM TOG 28(4)),
-run on the *intrinsic* mesh: faces, their edge lengths and which faces share an edge.  Nothing else is
-needed, so it runs on an impossible mescher as it is (a mescher is locally Euclidean: unfolding a
-window across an edge uses the two faces' edge lengths only), with no covering.
+run on the *intrinsic* mesh: faces, their edge lengths and which faces share an edge.  Nothing
+else is needed, so it runs on an impossible mescher as it is (a mescher is locally Euclidean:
+unfolding a window across an edge uses the two faces' edge lengths only), with no covering.
 
 A *window* is an interval ``[b0, b1]`` of an edge, seen from the face it is about to enter, with
 the planar image ``s = (sx, sy)`` (``sy <= 0``) of a source or pseudo-source at distance
