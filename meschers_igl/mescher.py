@@ -683,6 +683,19 @@ class Mescher:
 
         return cut_embedding(self, cut_edges=cut_edges)
 
+    def straight_cut(self, order=None, **kwargs):
+        """Where an artist would cut this mescher: one straight screen line across one bar.
+
+        Returns a :class:`~meschers_igl.embedding.StraightCut` (``.mescher`` split along the
+        line, ``.cut_edges``, ``.jump``); ``cut.mescher.cut_embedding(cut.cut_edges)`` is a cut
+        model whose seam is that line and whose jump is the period.  See
+        :func:`meschers_igl.embedding.straight_cut` (``order`` picks the cut whose z-buffered
+        model shows what the mescher shows in that order).
+        """
+        from .embedding import straight_cut
+
+        return straight_cut(self, order, **kwargs)
+
     def heat_diffuse(self, u0, t: float, steps: int = 1) -> np.ndarray:
         """Backward Euler heat diffusion ``(M - tL) u = M u0`` (paper Eq. 5)."""
         from .heat import heat_diffuse

@@ -125,3 +125,20 @@ def test_straight_cut_refuses_what_it_cannot_cut():
         straight_cut(m)
     with pytest.raises(MescherError, match="directions"):
         straight_cut(m.with_periods([0.0, 1.0]), directions=0)
+
+
+def test_mescher_method_is_the_function():
+    from meschers_igl import shapes
+
+    m = shapes.impossible_torus(24, 8, climb=1.0)
+    cut = m.straight_cut()
+    assert cut.jump == pytest.approx(1.0, rel=1e-12)
+    Vc, Fc, vmap = cut.mescher.cut_embedding(cut.cut_edges)
+    # the seam's copies sit one period apart in depth, on one screen line
+    seam = np.bincount(vmap, minlength=cut.mescher.n_vertices) > 1
+    assert seam.any()
+    for v in np.flatnonzero(seam):
+        z = np.sort(Vc[vmap == v, 2])
+        assert z[-1] - z[0] == pytest.approx(1.0, rel=1e-9)
+    d = (np.asarray(cut.mescher.xy)[seam] - cut.point) @ cut.normal
+    assert np.abs(d).max() < 1e-9
