@@ -322,8 +322,12 @@ def smoothing(job: ModelJob, s: Subject) -> None:
         for i, (row, ms) in enumerate(versions.items()):
             change = np.abs(loop_periods(m, ms.zeta) - p0).max(initial=0.0)
             drift[row] = max(drift[row], float(change))
+            # moved xy: overlaps appear and vanish, so the order follows (else back faces and
+            # see-through specks where the smoothed bars slide over each other)
+            moved = row != "zeta" and factor > 0 and s.order is not None
+            order = s.order.follow(ms) if moved else s.order
             rows[i].append(
-                job.renderer.shoot([("mescher", ms, s.order, {"shading": "smooth"})], bounds)
+                job.renderer.shoot([("mescher", ms, order, {"shading": "smooth"})], bounds)
             )
     job.record["smoothing"] = {
         "t": [f * s.scale * s.scale for f in st.smooth_times],

@@ -318,7 +318,9 @@ def compare(
                 if column == "smoothed":
                     s = smoothed_rows[row]
                     if row == "mescher":
-                        scene.add(s, order=order, **kwargs)
+                        # smoothing moved xy: overlaps appear and vanish, so the order follows
+                        follow = getattr(order, "follow", None)
+                        scene.add(s, order=order if follow is None else follow(s), **kwargs)
                     else:
                         scene.add_embedding(*s.bent_embedding(), **kwargs)
                 elif row == "mescher":

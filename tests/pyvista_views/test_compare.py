@@ -163,3 +163,29 @@ def test_result_hands_back_what_it_computed(result):
 def test_compare_refuses_objects_without_the_geometry_it_needs():
     with pytest.raises(MescherError, match="cut_embedding"):
         compare(object(), path=None)
+
+
+@requires_gl
+def test_smoothed_mescher_is_drawn_in_its_followed_order(monkeypatch):
+    # Smoothing moves xy: the smoothed panel must not reuse the unsmoothed order (the stairs
+    # showed back faces and see-through specks where smoothed bars slid over each other).
+    from meschers_igl.gallery import get_model
+    from meschers_igl.painter import backface_share
+    from pyvista_views.scene import MescherScene
+
+    g = get_model("penrose_stairs")
+    m, order = g.mescher.subdivide(1, order=g.order)
+    t = 5e-3 * float(np.linalg.norm(np.ptp(np.asarray(m.xy), axis=0))) ** 2
+    smoothed = m.smooth(t_xy=t, t_zeta=t)
+    drawn = []
+    add = MescherScene.add
+
+    def spy(self, mescher, *args, order=None, **kwargs):
+        drawn.append((mescher, order))
+        return add(self, mescher, *args, order=order, **kwargs)
+
+    monkeypatch.setattr(MescherScene, "add", spy)
+    compare(m, order, path=None, t_smooth=t, smoothed=smoothed, window_size=(64, 64))
+    ((ms, o),) = [(ms, o) for ms, o in drawn if ms is smoothed]
+    assert backface_share(ms, o, size=256) <= 1e-3
+    assert backface_share(ms, order, size=256) > 1e-3  # the old order: back faces show
