@@ -26,10 +26,11 @@ fig, axes = plt.subplots(3, 3, figsize=(10, 10))
 for i, (name, (fx, fz)) in enumerate(rows.items()):
     for j, factor in enumerate(times):
         t = factor * s * s
-        ms = m.smooth(t_xy=fx * t, t_zeta=fz * t)
+        # smoothing xy moves the screen positions: the depth order follows them
+        ms, order_s = m.smooth(t_xy=fx * t, t_zeta=fz * t, order=order)
         drift = np.abs(ms.periods() - m.periods()).max()
         axes[i, j].imshow(
-            render(ms, order=order, shading="smooth", bounds=bounds, window_size=(300, 300))
+            render(ms, order=order_s, shading="smooth", bounds=bounds, window_size=(300, 300))
         )
         axes[i, j].set_title(f"{name}, t = {factor:g} s^2\nperiod change {drift:.1e}", fontsize=9)
         axes[i, j].axis("off")

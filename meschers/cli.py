@@ -303,7 +303,9 @@ def _cmd_smooth(args: argparse.Namespace) -> int:
     m, order, _ = load_input(args.input)
     out = _out_path(args.output, (".ply", ".npz"), "-o")
     iterations = as_count(args.iterations, "--iterations", minimum=1)
-    ms = m.smooth(t_xy=args.t_xy, t_zeta=args.t_zeta, iterations=iterations)
+    ms = m.smooth(t_xy=args.t_xy, t_zeta=args.t_zeta, iterations=iterations, order=order)
+    if order is not None:  # smoothing moved xy: the order follows (overlaps come and go)
+        ms, order = ms
     p0, p1 = np.asarray(m.periods()), np.asarray(ms.periods())
     io.save(ms, out, order=order)
     print(f"wrote {out}: t_xy {args.t_xy:g}, t_zeta {args.t_zeta:g}, {iterations} iteration(s); "

@@ -414,3 +414,14 @@ def test_study_models_select_exactly_what_they_name(monkeypatch, tmp_path):
         ("artist", "penrose_stair"),
         ("gallery", "impossibagel"),
     ]
+
+
+def test_smooth_saves_the_order_followed_to_the_moved_screen_positions(tmp_path):
+    from meschers_igl.painter import backface_share
+
+    out = tmp_path / "stairs.npz"
+    assert main(["smooth", "penrose_stairs", "-o", str(out), "--t-xy", "0.2"]) == 0
+    m, order = load(out, return_order=True)
+    g = get_model("penrose_stairs")
+    assert backface_share(m, order, size=256) <= 1e-3
+    assert backface_share(m, g.order, size=256) > 1e-3  # the unsmoothed order would show them
