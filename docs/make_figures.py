@@ -1,6 +1,7 @@
 """Figures for the README (fixed camera; re-run after changing the renderer or the gallery).
 
-python docs/make_figures.py
+python docs/make_figures.py                  # every figure
+python docs/make_figures.py gallery          # only the named ones (gallery, closed_solid)
 
 ``gallery.png``: every gallery model under two lights and its depth potential ``z`` (the exact
 part of its Hodge decomposition). ``closed_solid.png``: a closed U-shaped solid (an artist's
@@ -107,11 +108,19 @@ def closed_solid_figure() -> Path:
     return path
 
 
-def main() -> None:
+FIGURES = {"gallery": gallery_figure, "closed_solid": closed_solid_figure}
+
+
+def main(names: list[str] | None = None) -> None:
+    """Make the named figures (default: all of :data:`FIGURES`)."""
+    names = list(FIGURES) if not names else names
+    unknown = sorted(set(names) - set(FIGURES))
+    if unknown:
+        raise SystemExit(f"figures: expected some of {', '.join(FIGURES)}, found {unknown}")
     OUT.mkdir(exist_ok=True)
-    for make in (gallery_figure, closed_solid_figure):
-        print(f"wrote {make()}")
+    for name in names:
+        print(f"wrote {FIGURES[name]()}")
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

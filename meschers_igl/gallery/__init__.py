@@ -109,7 +109,7 @@ _MODELS: dict[str, tuple[Callable, str]] = {
     "impossible_cube": (
         frames.impossible_cube,
         "Escher's impossible cube (Belvedere): a back bar passes in front of a front bar; "
-        "one period class, genus 5.",
+        "straight bars, no period, impossible through the depth order; genus 5.",
     ),
     "reutersvard_triangle": (
         penrose.reutersvard_triangle,

@@ -1,9 +1,11 @@
 """Frames of square bars: the impossible cube and the "Window".
 
 Both are made impossible-looking by moving parts of a real frame *along the view direction*,
-which changes depths but not the picture.  The impossible cube moves one bar across a cut (so
-the depth jumps there: a period); the Window moves a bar continuously (no period: a real 3D
-object that looks impossible only because of which bar is in front where).
+which changes depths but not the picture.  The impossible cube moves a piece of one bar rigidly
+between two cuts (the jumps cancel: no period, impossible through its depth order; an opt-in
+variant with one cut and a sheared stretch carries a period); the Window moves a bar
+continuously (no period: a real 3D object that looks impossible only because of which bar is in
+front where).
 """
 
 from __future__ import annotations
@@ -48,32 +50,34 @@ def _crossing(L: float, view, up) -> tuple[float, float]:
 
 
 def impossible_cube(
-    size: float = 10.0, bar_width: float = 1.0, resolution: int = 10, straight_bars: bool = False
+    size: float = 10.0, bar_width: float = 1.0, resolution: int = 10, straight_bars: bool = True
 ):
     """Escher's impossible cube (the one held in *Belvedere*, 1958).
 
     Seen along ``(1, 0.8, 0.4)``, the back vertical bar at the origin crosses the front top bar
     ``(L,0,L)-(L,L,L)`` at about 60% of its height, ``d`` behind it.  The back bar is cut just
-    above the crossing, and the part below the cut is moved toward the viewer by
-    ``a = d + 2.5 w`` along the view direction (easing back to 0 at the bottom corner, where it
-    moves away from the bottom bars), so at the crossing the back bar passes in front of the
-    front bar.  The depth jumps by ``a`` at the cut: the mescher's period.
+    above the crossing and again just above the bottom corner, and the piece between the two
+    cuts is moved toward the viewer by ``a = d + 2.5 w`` along the view direction, *rigidly*:
+    at the crossing the back bar passes in front of the front bar.  Both cuts lie in planes
+    containing the view (seen edge-on, nothing drawn over them) and every face keeps its bar's
+    normal, as a person sees the figure (straight, evenly shaded bars).  The two depth jumps
+    (``+a`` and ``-a``) cancel around every loop, so this mescher has no period: like the Window
+    it is impossible through its depth order (the back bar drawn in front of the front top bar,
+    while the frame its zeta integrates to has it behind), ``is_impossible(order=...)`` of kind
+    ``"order"``.  With axis-aligned bars every face loop integrates to zero anyway: Escher's
+    cube is impossible through its order, not through its depths.
 
-    The easing is a shear along the view: the eased stretch's faces turn toward the camera and
-    shade darker than the bar (a dark band).  It cannot hide: a period needs the depth to climb
-    by ``a`` on every path from one side of the cut to the other, and in this view the path
-    through the bottom x bar crosses no other bar, so some visible stretch must shear.
-
-    With ``straight_bars`` the back bar's piece between the cut above the crossing and a second
-    cut just above the bottom corner is moved *rigidly* by ``a`` along the view (both cuts in
-    planes containing the view, seen edge-on, nothing drawn over them): every face keeps its
-    bar's normal, as a person sees the figure.  The two jumps cancel around every loop, so this
-    mescher has no period: like the Window it is impossible through its depth order only (the
-    back bar in front of the front top bar), ``is_impossible(order=...)`` of kind ``"order"``.
+    ``straight_bars=False`` gives the period-carrying variant: one cut above the crossing, the
+    part below it moved by ``a`` and eased back to 0 at the bottom corner, so the depth jumps by
+    ``a`` at the cut (the mescher's period, one period class).  The easing is a shear along the
+    view: the eased stretch's faces turn toward the camera and shade darker than the bar (a
+    visible dark sheared band near the crossing).  It cannot hide: a period needs the depth to
+    climb by ``a`` on every path from one side of the cut to the other, and in this view the
+    path through the bottom x bar crosses no other bar, so some visible stretch must shear.
 
     Returns
     -------
-    V, F, view, up, expected_period (``a``; 0 with ``straight_bars``)
+    V, F, view, up, expected_period (0; ``a`` with ``straight_bars=False``)
     """
     L = as_positive(size, "size")
     w = as_positive(bar_width, "bar_width")

@@ -17,11 +17,12 @@ from meschers_igl.embedding import cut_embedding, cut_mismatch, straight_cut
 from meschers_igl.gallery import get_model
 from meschers_igl.shapes import torus
 
-# the figures impossible through their period, at the study's first subdivision level
+# the figures impossible through their period, at the study's first subdivision level (the
+# gallery's impossible cube has straight bars and no period: its period-carrying variant)
 CASES = {
     "penrose_triangle": {},
     "penrose_stairs": {"resolution": 1},
-    "impossible_cube": {"resolution": 5},
+    "impossible_cube": {"resolution": 5, "straight_bars": False},
 }
 
 
@@ -125,6 +126,9 @@ def test_straight_cut_refuses_what_it_cannot_cut():
         straight_cut(m)
     with pytest.raises(MescherError, match="directions"):
         straight_cut(m.with_periods([0.0, 1.0]), directions=0)
+    # the gallery's straight-barred cube is impossible through its order only: nothing to cut
+    with pytest.raises(MescherError, match="every period 0"):
+        straight_cut(get_model("impossible_cube", resolution=2).mescher)
 
 
 def test_mescher_method_is_the_function():

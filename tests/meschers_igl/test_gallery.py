@@ -19,7 +19,7 @@ NAMES = list_models()
 EXPECTED = {
     "penrose_triangle": (0, 1, True),
     "penrose_stairs": (0, 1, True),
-    "impossible_cube": (-8, 1, True),
+    "impossible_cube": (-8, 1, False),  # straight bars: impossible through its order
     "reutersvard_triangle": (18, 9, False),  # 9 closed cubes
     "window": (-6, 1, False),  # genus 4, a real object
     "impossibagel": (0, 1, True),
@@ -85,6 +85,12 @@ def test_depth_gap_of_the_cut_is_the_period(model):
     gaps = [abs(p.depth_gap) for p in g["pairings"]]
     if model.name in ("window", "reutersvard_triangle"):
         assert gaps == []  # no cut: impossible only through the depth order
+    elif model.name == "impossible_cube":
+        # two cuts around the rigidly moved piece: equal and opposite jumps (no period), each
+        # the period of the one-cut variant (straight_bars=False)
+        a = get_model("impossible_cube", straight_bars=False).expected_period
+        assert sorted(p.depth_gap for p in g["pairings"]) == pytest.approx([-a, a], rel=1e-12)
+        assert max(p.translation_residual for p in g["pairings"]) < 1e-12 * a
     else:
         assert gaps == pytest.approx([model.expected_period], rel=1e-12)
         assert max(p.translation_residual for p in g["pairings"]) < 1e-12 * model.expected_period
@@ -232,8 +238,13 @@ def test_no_back_face_is_visible_after_subdivision(model, scheme):
 
 def test_cuts_are_seen_edge_on():
     """A slanted cut's loop lies in a plane containing the view: it projects to a segment."""
-    for name in ("penrose_triangle", "penrose_stairs", "impossible_cube"):
-        g = get_model(name)
+    for name, params in [
+        ("penrose_triangle", {}),
+        ("penrose_stairs", {}),
+        ("impossible_cube", {}),
+        ("impossible_cube", {"straight_bars": False}),
+    ]:
+        g = get_model(name, **params)
         C = g.V @ view_frame(g.view, g.up).T
         for lp in boundary_loops(g.F):
             xy = C[lp, :2] - C[lp, :2].mean(0)
@@ -341,15 +352,17 @@ def test_every_tread_of_the_stairs_is_seen():
     assert per_step.min() >= 0.6 * np.median(per_step), per_step
 
 
-def test_impossible_cube_with_straight_bars():
-    """``straight_bars``: the back bar's piece moves rigidly along the view, so every face keeps
-    its bar's normal (no sheared dark band); the two cuts are seen edge-on, no back face shows;
-    the jumps cancel (no period) and the figure is impossible through its order, with the back
-    bar drawn over the front top bar where they cross (painter's oracle)."""
+def test_impossible_cube_has_straight_bars():
+    """The default cube (``straight_bars=True``): the back bar's piece moves rigidly along the
+    view, so every face keeps its bar's normal (no sheared dark band); the two cuts are seen
+    edge-on, no back face shows; the jumps cancel (no period) and the figure is impossible
+    through its order, with the back bar drawn over the front top bar where they cross
+    (painter's oracle)."""
     from meschers_igl.gallery.frames import CUBE_UP, CUBE_VIEW, _crossing
     from meschers_igl.painter import visible_faces
 
-    g = get_model("impossible_cube", straight_bars=True)
+    g = get_model("impossible_cube")
+    np.testing.assert_array_equal(g.V, get_model("impossible_cube", straight_bars=True).V)
     m, order = g.mescher, g.order
     assert np.unique(np.round(m.face_normals(), 9), axis=0).shape[0] == 6
     assert np.abs(m.periods()).max() < 1e-9 * m.scale() and g.expected_period == 0.0
@@ -372,7 +385,8 @@ def test_impossible_cube_with_straight_bars():
     zc, _ = _crossing(10.0, CUBE_VIEW, CUBE_UP)
     p = (view_frame(CUBE_VIEW, CUBE_UP) @ np.array([0.0, 0.0, zc]))[:2] + [0.4, 0.0]
     box = (p[0] - 0.05, p[0] + 0.05, p[1] - 0.05, p[1] + 0.05)
-    for model in (g, get_model("impossible_cube")):  # and the default (sheared) cube
+    # and the period-carrying variant (one cut, a sheared stretch)
+    for model in (g, get_model("impossible_cube", straight_bars=False)):
         T = model.V[model.F]
         n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
         n /= np.linalg.norm(n, axis=1)[:, None]
@@ -384,3 +398,41 @@ def test_impossible_cube_with_straight_bars():
             np.testing.assert_allclose(
                 n[seen.ravel()], np.eye(3)[side][None].repeat(seen.size, 0), atol=1e-9
             )
+
+
+def test_impossible_cube_period_variant_shears_a_visible_stretch():
+    """``straight_bars=False``: one cut above the crossing, the part below moved by
+    ``a = d + 2.5 w`` along the view and eased back at the bottom corner: one period class,
+    every period a whole multiple of ``a``.  Same outline on screen as the default cube, but
+    the eased stretch's sheared faces (normals off the six axes) are *seen* -- the dark band
+    that made the straight-barred cube the default -- while the default shows none."""
+    from meschers_igl.gallery.frames import CUBE_UP, CUBE_VIEW, _crossing
+    from meschers_igl.painter import visible_faces
+
+    w = 1.0
+    g = get_model("impossible_cube", straight_bars=False, bar_width=w)
+    m = g.mescher
+    _, d = _crossing(10.0, CUBE_VIEW, CUBE_UP)
+    assert g.expected_period == pytest.approx(d + 2.5 * w, rel=1e-12)
+    verdict = m.is_impossible(order=g.order)
+    assert m.is_impossible() and verdict and verdict.kind == "zeta"
+    p = m.periods()
+    assert np.abs(p).max() == pytest.approx(g.expected_period, rel=1e-9)
+    k = p / g.expected_period
+    np.testing.assert_allclose(k, np.round(k), atol=1e-9)
+    assert m.euler_characteristic() == -8
+    assert len(boundary_loops(g.F)) == 2  # one cut
+    assert _backface_share(m, g.order) <= 1e-3
+    seen = {}
+    for name, model in (("sheared", g), ("straight", get_model("impossible_cube"))):
+        vis = visible_faces(model.mescher, model.order, size=300)
+        T = model.V[model.F]  # world frame: the bars' sides are square to the axes
+        n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+        off_axis = np.abs(n).max(axis=1) < (1 - 1e-9) * np.linalg.norm(n, axis=1)
+        seen[name] = (
+            vis >= 0,
+            (off_axis[np.maximum(vis, 0)] & (vis >= 0)).sum() / (vis >= 0).sum(),
+        )
+    np.testing.assert_array_equal(seen["sheared"][0], seen["straight"][0])  # the same outline
+    assert seen["straight"][1] == 0.0
+    assert seen["sheared"][1] > 0.02  # 4.7% of the figure
