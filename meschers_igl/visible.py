@@ -1485,6 +1485,8 @@ def _closed_surface(V, F, R, tol, rel, bridge, report, strict):
 # ------------------------------------------------------------------------------ automatic view
 #: A hidden gap is looked for on circles passing within this angle of a start view.
 START_ANGLE = np.radians(10.0)
+#: At most this many pairs of bar ends (the nearest first) are searched for a hidden gap.
+MAX_AUTO_BARS = 16
 
 
 def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50):
@@ -1541,7 +1543,9 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None)
        part hiding the gap on the gap (``v`` along the line from the gap's middle to the
        occluder's centroid, iterated with the gap's middle): where an artist puts the crossing
        bar.  The circle is searched from ``start`` (circles within 10 degrees of it) or, from
-       the model alone, in 2-degree steps for a view where the gap is hidden.
+       the model alone, in 2-degree steps for a view where the gap is hidden (the
+       :data:`MAX_AUTO_BARS` pairs of bar ends nearest each other).  A cut model (open loops)
+       takes the vote's view, as :func:`~meschers_igl.autoview.find_view` gives it.
 
     Parameters
     ----------
@@ -1563,6 +1567,7 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None)
         When no view lines up a junction (near ``start``, when given).
     """
     from .autoview import find_view, up_for_view
+    from .topology import boundary_loops
 
     V = as_points(V, "V", 3)
     F = as_faces(F, "F", V.shape[0])
@@ -1588,12 +1593,16 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None)
         v, up = find_view(V, F)
     except MescherError as e:
         v, err = None, e
-    if v is not None and seen(v) and (start is None or v @ start >= np.cos(START_ANGLE)):
+    near = v is not None and (start is None or v @ start >= np.cos(START_ANGLE))
+    # a cut model's junctions are its open loops, which the vote pairs (as autoview does)
+    if near and (bool(boundary_loops(F)) or seen(v)):
         return v, up
     best = None
-    for be in pairs:  # a few candidate bar ends
-        if be.d is None or np.linalg.norm(np.cross(be.d, be.T)) <= tol:
-            continue
+    # hidden gaps: the bar ends nearest each other first, a bounded number of them
+    cand = [be for be in pairs
+            if be.d is not None and np.linalg.norm(np.cross(be.d, be.T)) > tol]  # fmt: skip
+    cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
+    for be in cand[:MAX_AUTO_BARS]:  # a few candidate bar ends
         w = np.cross(be.d, be.T)
         w /= np.linalg.norm(w)
         e1 = be.d
@@ -1606,16 +1615,22 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None)
             steps = th0 + np.radians(np.r_[0.0, k])  # the start first, then 1 degree apart
         else:
             steps = np.radians(np.arange(0.0, 360.0, 2.0))
+        # T = l d + g v(theta) in the circle's frame: keep the views with l > 0 and g != 0
+        t1, t2 = be.T @ e1, be.T @ e2
+        sn = np.sin(steps)
+        g = t2 / np.where(np.abs(sn) > 1e-9, sn, np.nan)
+        steps = steps[(t1 - g * np.cos(steps) > tol) & (np.abs(g) > tol)]
+        vb = None
         for th in steps:  # until a view hiding the gap is met
             v0 = np.cos(th) * e1 + np.sin(th) * e2
-            v = _occluder_centred_view(V, F, TT, part, be, tol, v0)
-            if v is not None:
+            vb = _occluder_centred_view(V, F, TT, part, be, tol, v0)
+            if vb is not None:
                 break
-        if v is None:
+        if vb is None:
             continue
-        score = 0.0 if start is None else -float(v @ start)
+        score = 0.0 if start is None else -float(vb @ start)
         if best is None or score < best[0]:
-            best = (score, v)
+            best = (score, vb)
     if best is not None:
         return best[1], up_for_view(best[1])
     if start is not None:
