@@ -17,6 +17,9 @@ gm = gallery.get_model("impossible_cube")
 m, order = gm.mescher, gm.order
 print(gm.description)
 print("depth-order cycles:", order.cycles())
+# no period (its zeta integrates): the cube is impossible through its depth order, the back bar
+# drawn over the front top bar where no depth offset could put it
+print("impossible through:", m.is_impossible(order=order).kind)
 
 # %%
 # Four directional lights (the direction *toward* the light, camera frame: x right, y up, z
