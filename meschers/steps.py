@@ -408,7 +408,8 @@ def comparison(job: ModelJob, s: Subject) -> None:
                       window_size=(st.cell, st.cell), cut_edges=cut.cut_edges)  # fmt: skip
         seam = "cut along one straight screen line across a bar, where nothing else is drawn"
     n = m.n_vertices  # m's vertices come first in the split mescher
-    rec: dict = {"t_smooth": t, "numbers": res.numbers, "seam": seam, "seam_search_s": t_cut}
+    rec: dict = {"t_smooth": t, "numbers": res.numbers, "seam": seam,
+                 "timings_s": {"seam_search": t_cut}}  # fmt: skip
     vmap = res.vmap
     if s.exact is not None:
         # the cut model at its best: every copy of the source is a source, and a mescher
