@@ -50,10 +50,16 @@ def describe(m: Any, order: Any = None) -> dict:
         "boundary_loops": len(loops),
         "genus": genus2 // 2 if genus2 % 2 == 0 else genus2 / 2,
         "impossible": bool(m.is_impossible()),
+        "impossible_kind": "zeta" if m.is_impossible() else None,
         "periods": periods.tolist(),
+        "scale": float(m.scale()),
         "max_integrability_residual": float(np.abs(m.integrability_residual()).max(initial=0.0)),
     }
     if order is not None:
+        # with its order a mescher may be impossible although zeta integrates (the Window,
+        # Escher's cube): the order cannot be realised by its bent embedding
+        verdict = m.is_impossible(order=order)
+        info["impossible"], info["impossible_kind"] = bool(verdict), verdict.kind
         info["depth_arcs"] = int(order.n_arcs)
         info["depth_cycles"] = len(order.cycles(warn=False))
     return info
@@ -61,7 +67,7 @@ def describe(m: Any, order: Any = None) -> dict:
 
 def format_info(info: dict, label: str) -> str:
     """The text ``meschers info`` prints for :func:`describe`'s dict (periods below 1e-9 of the
-    largest printed as 0: round-off, not depth)."""
+    model's size printed as 0: round-off, not depth)."""
     from .figures import format_values
 
     periods = info["periods"]
@@ -70,8 +76,22 @@ def format_info(info: dict, label: str) -> str:
         f"  vertices {info['vertices']}, edges {info['edges']}, faces {info['faces']}",
         f"  Euler characteristic {info['euler_characteristic']}, components {info['components']}, "
         f"boundary loops {info['boundary_loops']}, genus {info['genus']}",
-        f"  impossible: {'yes' if info['impossible'] else 'no'}",
-        "  periods: " + (format_values(periods, digits=6) if periods else "none (no loops)"),
+        "  impossible: "
+        + (
+            {
+                "zeta": "yes (periods: zeta does not integrate)",
+                "order": "yes (through its depth order: zeta integrates, the order cannot be "
+                "realised)",
+            }.get(info.get("impossible_kind"), "yes")
+            if info["impossible"]
+            else "no"
+        ),  # fmt: skip
+        "  periods: "
+        + (
+            format_values(periods, 6, max(max(map(abs, periods)), info.get("scale", 0.0)))
+            if periods
+            else "none (no loops)"
+        ),
     ]
     if "depth_arcs" in info:
         lines.append(f"  depth order: {info['depth_arcs']} arcs, {info['depth_cycles']} cycles")

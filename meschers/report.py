@@ -113,7 +113,7 @@ def _gallery_table(models: dict) -> str:
                     _num(_get(r, "input", "vertices")),
                     _num(_get(r, "input", "faces")),
                     _num(_get(r, "input", "genus")),
-                    _num(_get(r, "hodge", "impossible")),
+                    _impossible_cell(r),
                     _periods(_get(r, "hodge", "periods")),
                     " / ".join(_drift(d, scale) for d in drift),
                     _num(_max(_get(r, "relighting", "mescher", "luminance_mae")), digits=3),
@@ -127,6 +127,14 @@ def _gallery_table(models: dict) -> str:
             )
         )
     return f"<table>{head}{''.join(rows)}</table>"
+
+
+def _impossible_cell(r: dict) -> str:
+    """ "yes (zeta)" / "yes (order)" / "no": impossible through its periods or its order."""
+    if not _get(r, "hodge", "impossible"):
+        return "no" if _get(r, "hodge", "impossible") is False else "&ndash;"
+    kind = _get(r, "hodge", "impossible_kind")
+    return f"yes ({_e(kind)})" if kind else "yes"
 
 
 def _tr(cells) -> str:

@@ -142,7 +142,8 @@ def subdivision_levels(n_faces: int, levels: int, max_faces: int) -> int:
 def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) -> tuple:
     """Segments and labels of the homology loops (non-zero periods in colour)."""
     xy, edges = np.asarray(s.m.xy), np.asarray(s.m.edges)
-    scale = max(float(np.abs(periods).max(initial=0.0)), 1e-300)
+    # round-off is judged against the model's size: all-zero periods print as 0, not 1e-15
+    scale = max(float(np.abs(periods).max(initial=0.0)), s.scale, 1e-300)
     segs, labels = [], []
     for k, (eids, _signs) in enumerate(s.m.homology_generators()):
         nonzero = abs(periods[k]) > 1e-9 * max(s.scale, 1.0)
@@ -174,8 +175,10 @@ def hodge(job: ModelJob, s: Subject) -> None:
         "reconstruction_error": float(np.abs(exact + omega - zeta).max()),
         "harmonic_closed": float(np.abs(m.d12 @ omega).max(initial=0.0)),
         "periods": periods.tolist(),
-        "impossible": bool(m.is_impossible()),
     }
+    verdict = m.is_impossible(order=s.order) if s.order is not None else m.is_impossible()
+    job.record["hodge"]["impossible"] = bool(verdict)
+    job.record["hodge"]["impossible_kind"] = getattr(verdict, "kind", "zeta" if verdict else None)
     bounds = s.bounds(st.cell)
     z = np.asarray(hd.z)
     zlim = (float(z.min()), float(z.max()) if z.max() > z.min() else float(z.min()) + 1.0)
@@ -199,8 +202,18 @@ def hodge(job: ModelJob, s: Subject) -> None:
         "Left: the potential z of the exact part d01 z of zeta (paper Eq. 3), i.e. the depth of the "
         f"bent embedding, with {st.isolines} isolines. Right: the homology generators (tree-cotree) and "
         "the depth gained around each, the periods of the harmonic part omega: "
-        f"{format_values(periods)} (values below 1e-9 of the largest are round-off, printed as 0). "
-        "A non-zero period is what makes the object impossible.")  # fmt: skip
+        f"{format_values(periods, scale=max(np.abs(periods).max(initial=0.0), s.scale))} (values "
+        "below 1e-9 of the model's size are round-off, printed as 0). "
+        f"{_impossible_because(verdict)}")  # fmt: skip
+
+
+def _impossible_because(verdict: Any) -> str:
+    """The caption's last sentence: what makes this object impossible, if anything."""
+    if getattr(verdict, "kind", None) == "order":
+        return ("Every period is 0, so zeta integrates; what makes the object impossible is its "
+                "depth order, which its bent embedding cannot realise with one depth offset per "
+                "connected component.")  # fmt: skip
+    return "A non-zero period is what makes the object impossible."
 
 
 def render(job: ModelJob, s: Subject) -> None:

@@ -141,7 +141,7 @@ def periods_and_geodesic(
     )
     job.figure(fig, f"tool_{name}_periods.png", "Periods and geodesic distance",
         f"Left: homology loops with a non-zero period ({gaps_of}: {gaps_txt}); periods found "
-        f"{format_values(periods)}. Right: heat-method distance (accurate preset) from the white dots (one "
+        f"{format_values(periods, scale=max(np.abs(periods).max(initial=0.0), m.scale()))}. Right: heat-method distance (accurate preset) from the white dots (one "
         f"per connected component) after one midpoint subdivision, with {st.isolines} isolines.{err}")  # fmt: skip
 
 

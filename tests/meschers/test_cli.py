@@ -98,7 +98,8 @@ def test_info_gallery_model_json(capsys):
 def test_info_text_and_list(capsys):
     assert main(["info", "window"]) == 0
     out = capsys.readouterr().out
-    assert "genus 4" in out and "impossible: no" in out
+    # the Window's zeta integrates, its order cannot be realised (issue 18 item 7)
+    assert "genus 4" in out and "impossible: yes (through its depth order" in out
     assert main(["info", "--list"]) == 0
     assert "penrose_triangle" in capsys.readouterr().out
 
@@ -425,3 +426,19 @@ def test_smooth_saves_the_order_followed_to_the_moved_screen_positions(tmp_path)
     g = get_model("penrose_stairs")
     assert backface_share(m, order, size=256) <= 1e-3
     assert backface_share(m, g.order, size=256) > 1e-3  # the unsmoothed order would show them
+
+
+@pytest.mark.parametrize("name", ["impossible_cube", "window"])
+def test_info_says_a_figure_is_impossible_through_its_order(name, capsys):
+    # zeta integrates (every period is round-off, printed as 0) but the depth order cannot be
+    # realised by the bent embedding: `info` used to print "impossible: no" and 1.3e-15 periods
+    assert main(["info", name]) == 0
+    out = capsys.readouterr().out
+    assert "impossible: yes (through its depth order" in out
+    periods = out.split("periods: ")[1].splitlines()[0].split(", ")
+    assert set(periods) == {"0"}
+
+
+def test_info_says_a_figure_is_impossible_through_its_periods(capsys):
+    assert main(["info", "penrose_triangle"]) == 0
+    assert "impossible: yes (periods" in capsys.readouterr().out
