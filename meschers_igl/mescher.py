@@ -221,11 +221,15 @@ class Mescher:
     ):  # fmt: skip
         """Any 3D model -- closed solids, separate blocks, reliefs, soups -- as seen from ``view``.
 
-        The visible surface with its false edges glued crosswise (their depth gaps become
-        periods) and hidden gaps bridged; ``view="auto"`` finds the view where junctions line
-        up, ``perceive="manhattan"`` snaps normals to the perceived right angles.  See
-        :func:`meschers_igl.visible.see_model` (which returns arrays; the depth order is in
-        ``report.arcs``, or use :func:`meschers_igl.models.model_to_mescher`).
+        By default (``hidden="auto"``) the whole model, opened at its junctions and glued
+        crosswise like a cut model: a closed surface whose false edges (two caps or edges that
+        coincide on screen at different depths) and hidden gaps (a bar's pieces lined up behind
+        a crossing bar, bridged through empty space) carry their depth gaps as periods; with
+        ``hidden=False`` (and whenever no junction is found, or with ``perceive``) the visible
+        surface only.  ``view="auto"`` finds the view where junctions line up (``view_start=``
+        searches near a guess), ``perceive="manhattan"`` snaps normals to the perceived right
+        angles.  See :func:`meschers_igl.visible.see_model` (which returns arrays; the depth
+        order is in ``report.arcs``, or use :func:`meschers_igl.models.model_to_mescher`).
 
         Returns
         -------

@@ -98,18 +98,25 @@ class MescherAccessor:
             return _recover(self._mesh)
         return _from_cut_model(self._mesh, view, up, tol, merge)
 
-    def seen_from(self, view: Any = (0.0, 0.0, 1.0), up: Any = (0.0, 1.0, 0.0), perceive=None):
+    def seen_from(
+        self,
+        view: Any = (0.0, 0.0, 1.0),
+        up: Any = (0.0, 1.0, 0.0),
+        perceive=None,
+        **kwargs: Any,
+    ):
         """Any 3D model (closed solids, separate blocks, soups) as seen from ``view``.
 
         :func:`meschers_igl.models.model_to_mescher` of the mesh's triangles: ``(m, order,
-        report)`` with false edges glued crosswise (their depth gaps become periods);
-        ``view="auto"`` and ``perceive="manhattan"`` as there.
+        report)`` with false edges glued crosswise and hidden gaps bridged (their depth gaps
+        become periods); ``view="auto"``, ``perceive="manhattan"`` and the keywords
+        (``hidden=``, ``view_start=``, ``tol=``) as there.
         """
         from meschers_igl.models import model_to_mescher
 
         mesh = _triangles(self._mesh)
         return model_to_mescher(
-            mesh.points, mesh.regular_faces, view=view, up=up, perceive=perceive
+            mesh.points, mesh.regular_faces, view=view, up=up, perceive=perceive, **kwargs
         )
 
     def to_polydata(

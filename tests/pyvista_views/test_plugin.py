@@ -445,3 +445,25 @@ def test_baked_smooth_shading_on_the_split_mesh_equals_the_per_corner_soup():
     soup_img = render(m, scalars=np.full(m.n_faces, 0.8), **kw)
     assert np.abs(indexed_img.astype(int) - soup_img).max() <= 1
     assert len(np.unique(luminance(soup_img)[mask(soup_img)])) >= 8
+
+
+def test_accessor_sees_a_closed_solid_from_its_view_with_the_converter_options():
+    from pathlib import Path
+
+    import meschers_igl
+
+    folder = Path(meschers_igl.__file__).parent / "data" / "solids"
+    meta = json.loads((folder / "u_tribar.json").read_text())
+    mesh = pv.read(folder / "u_tribar.obj")
+    m, order, report = mesh.mescher.seen_from(view=meta["view"], up=meta["up"])
+    assert np.abs(m.periods()).max() == pytest.approx(meta["depth_gap"], rel=1e-6)
+    assert m.is_impossible(order=order).kind == "zeta"
+    # the keywords reach the converter: the visible surface only has a boundary, the default
+    # (hidden side kept) is closed
+    mv, _, _ = mesh.mescher.seen_from(view=meta["view"], up=meta["up"], hidden=False)
+
+    def boundary_edges(mm):
+        return int((np.bincount(np.asarray(mm.face_edges).ravel()) == 1).sum())
+
+    assert boundary_edges(m) == 0 and boundary_edges(mv) > 0
+    assert np.abs(mv.periods()).max() == pytest.approx(meta["depth_gap"], rel=1e-6)
