@@ -1,11 +1,14 @@
 """Figures for the README (fixed camera; re-run after changing the renderer or the gallery).
 
 python docs/make_figures.py                  # every figure
-python docs/make_figures.py gallery          # only the named ones (gallery, closed_solid)
+python docs/make_figures.py gallery          # only the named ones (gallery, closed_solid,
+                                             # hidden_gap_cube, reutersvard_relief)
 
 ``gallery.png``: every gallery model under two lights and its depth potential ``z`` (the exact
 part of its Hodge decomposition). ``closed_solid.png``: a closed U-shaped solid (an artist's
 Penrose tribar, sphere topology) before and after :meth:`Mescher.from_model`.
+``hidden_gap_cube.png`` and ``reutersvard_relief.png``: a real model seen obliquely, its
+z-buffer from its view, and its mescher (a hidden gap glued; perceived right angles).
 """
 
 from __future__ import annotations
@@ -108,7 +111,75 @@ def closed_solid_figure() -> Path:
     return path
 
 
-FIGURES = {"gallery": gallery_figure, "closed_solid": closed_solid_figure}
+def _tests_builders():
+    # the artist models are built the way the tests build them (not by the code under test)
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "meschers_igl"))
+
+
+def _model_panels(V, F, side, m, order, captions: list[str], name: str, S: int = 360) -> Path:
+    """Three panels with captions: the 3D model z-buffered from ``side`` (a real object), the
+    model z-buffered from its view (ISO), and the mescher ``m`` in ``order``."""
+    from visible_models import ISO_UP, ISO_VIEW
+
+    lights = [(0.3, 0.5, 1.0), (-0.6, 0.2, 0.4)]
+    R = view_frame(ISO_VIEW, ISO_UP)
+
+    def framed(C):
+        lo, hi = C[:, :2].min(0), C[:, :2].max(0)
+        c, h = 0.5 * (lo + hi), 0.55 * float((hi - lo).max())
+        return {"bounds": (c[0] - h, c[0] + h, c[1] - h, c[1] + h), "lights": lights,
+                "window_size": (S, S)}  # fmt: skip
+
+    Co, C = V @ view_frame(side, R[1]).T, V @ R.T
+    panels = [render((Co, F), **framed(Co)), render((C, F), **framed(C)),
+              render(m, order=order, **framed(C))]  # fmt: skip
+    img = Image.new("RGB", (3 * S, S + 40), "white")
+    draw = ImageDraw.Draw(img)
+    for k, (panel, text) in enumerate(zip(panels, captions)):
+        img.paste(Image.fromarray(panel), (k * S, 0))
+        draw.text((k * S + 10, S + 10), text, fill="black", font=_font())
+    path = OUT / f"{name}.png"
+    img.save(path)
+    return path
+
+
+def hidden_gap_cube_figure() -> Path:
+    _tests_builders()
+    from visible_models import ISO_UP, ISO_VIEW, hidden_gap_cube, triangulate
+
+    V, P, gap = hidden_gap_cube()
+    F = triangulate(P)
+    R = view_frame(ISO_VIEW, ISO_UP)
+    t, u = np.radians(18.0), (R[0] + 0.6 * R[1]) / np.linalg.norm(R[0] + 0.6 * R[1])
+    m, order, _ = model_to_mescher(V, F, view="auto")
+    captions = ["the closed frame (oblique view)", "its z-buffer from its view",
+                f"the mescher: period {np.abs(m.periods()).max():.4f} (gap {gap:.4f})"]  # fmt: skip
+    return _model_panels(V, F, np.cos(t) * R[2] + np.sin(t) * u, m, order, captions,
+                         "hidden_gap_cube")  # fmt: skip
+
+
+def reutersvard_relief_figure() -> Path:
+    _tests_builders()
+    from relief_models import reutersvard_relief
+    from visible_models import ISO_UP, ISO_VIEW, triangulate
+
+    V, P, gap = reutersvard_relief()
+    F = triangulate(P)
+    R = view_frame(ISO_VIEW, ISO_UP)
+    t = np.radians(70.0)
+    m, order, _ = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP, perceive="manhattan")
+    captions = ["the relief, 70 degrees aside", "its z-buffer from its view",
+                f"as perceived: period {np.abs(m.periods()).max():.4f}"]  # fmt: skip
+    return _model_panels(V, F, np.cos(t) * R[2] + np.sin(t) * R[0], m, order, captions,
+                         "reutersvard_relief")  # fmt: skip
+
+
+FIGURES = {
+    "gallery": gallery_figure,
+    "closed_solid": closed_solid_figure,
+    "hidden_gap_cube": hidden_gap_cube_figure,
+    "reutersvard_relief": reutersvard_relief_figure,
+}
 
 
 def main(names: list[str] | None = None) -> None:
