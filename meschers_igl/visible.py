@@ -446,11 +446,14 @@ def _split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: flo
             if f in split:
                 continue
             p, q = he[s]
+            apex = Ft[f, k]
             d = xy[q] - xy[p]
             L2 = float(d @ d)
             on = []
             for v in cand:
-                if v == p or v == q:
+                # the face's own apex near its edge (a sliver) is no T-junction: splitting at
+                # it would make faces with a repeated corner
+                if v == p or v == q or v == apex:
                     continue
                 w = xy[v] - xy[p]
                 t = float(w @ d) / L2
@@ -644,12 +647,15 @@ def see_model(
     gi = np.searchsorted(usedp, flat)
     first[gi[::-1]] = pts[::-1]
     xy = P[first]
-    # drop faces that collapsed or lost their area to rounding
+    # drop faces that collapsed or lost their area to rounding: thinner than tol over their
+    # longest edge (a cap whose apex lies on its base edge within tol is a T-junction of the
+    # face across that edge, split there below, so no hole is left)
     T2 = xy[Fa]
     area2 = (T2[:, 1, 0] - T2[:, 0, 0]) * (T2[:, 2, 1] - T2[:, 0, 1]) - (
         T2[:, 2, 0] - T2[:, 0, 0]
     ) * (T2[:, 1, 1] - T2[:, 0, 1])
-    ok = area2 > tol_abs * tol_abs
+    longest = np.linalg.norm(T2 - T2[:, [1, 2, 0]], axis=2).max(axis=1)
+    ok = area2 > tol_abs * np.maximum(longest, tol_abs)
     Fa, src = Fa[ok], src[ok]
     Fa, src = _split_t_junctions(xy, Fa, src, tol_abs)
 
