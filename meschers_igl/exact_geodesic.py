@@ -59,6 +59,7 @@ import numpy as np
 
 from . import intrinsic
 from .errors import MescherError
+from .heap import heap_pop, heap_push
 from .validate import as_index_array
 
 __all__ = ["ExactGeodesicSolver", "exact_geodesic"]
@@ -74,42 +75,6 @@ _VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the windo
 # ----------------------------------------------------------------------------------------------
 # compiled kernel
 # ----------------------------------------------------------------------------------------------
-@numba.njit(cache=True, nogil=True, inline="always")
-def _heap_push(hk, hv, n, key, val):  # pragma: no cover - compiled
-    i = n
-    while i > 0:
-        p = (i - 1) >> 1
-        if hk[p] <= key:
-            break
-        hk[i] = hk[p]
-        hv[i] = hv[p]
-        i = p
-    hk[i] = key
-    hv[i] = val
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _heap_pop(hk, hv, n):  # pragma: no cover - compiled
-    """Remove the root of a heap of size ``n`` (the caller decrements ``n``)."""
-    key = hk[n - 1]
-    val = hv[n - 1]
-    m = n - 1
-    i = 0
-    while True:
-        c = 2 * i + 1
-        if c >= m:
-            break
-        if c + 1 < m and hk[c + 1] < hk[c]:
-            c += 1
-        if hk[c] >= key:
-            break
-        hk[i] = hk[c]
-        hv[i] = hv[c]
-        i = c
-    hk[i] = key
-    hv[i] = val
-
-
 @numba.njit(cache=True, nogil=True, inline="always")
 def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
     """Xin-Wang pruning: True when every point of the window is strictly beaten via a vertex."""
@@ -266,8 +231,7 @@ def _propagate(  # pragma: no cover - compiled
     for s in sources:
         if nh == hk.size:
             hk, hv = _grow(hk, hv)
-        _heap_push(hk, hv, nh, 0.0, -(s + 1))
-        nh += 1
+        nh = heap_push(hk, hv, nh, 0.0, -(s + 1))
     # children produced by one step: half-edge; b0, b1, sx, sy, sigma
     mdeg = 2
     for v in range(nv):
@@ -276,10 +240,7 @@ def _propagate(  # pragma: no cover - compiled
     ch_b = np.empty((mdeg, 5), np.float64)
     upd = np.empty(3, np.int64)  # vertices whose distance a step lowered
     while nh > 0:
-        key = hk[0]
-        item = hv[0]
-        _heap_pop(hk, hv, nh)
-        nh -= 1
+        key, item, nh = heap_pop(hk, hv, nh)
         nch = 0
         nu = 0
         if item < 0:
@@ -301,8 +262,7 @@ def _propagate(  # pragma: no cover - compiled
                         if pseudo[u]:
                             if nh == hk.size:
                                 hk, hv = _grow(hk, hv)
-                            _heap_push(hk, hv, nh, du, -(u + 1))
-                            nh += 1
+                            nh = heap_push(hk, hv, nh, du, -(u + 1))
                 t = twin[h]
                 if t < 0:
                     continue
@@ -429,8 +389,7 @@ def _propagate(  # pragma: no cover - compiled
             if pseudo[u]:
                 if nh == hk.size:
                     hk, hv = _grow(hk, hv)
-                _heap_push(hk, hv, nh, dist[u], -(u + 1))
-                nh += 1
+                nh = heap_push(hk, hv, nh, dist[u], -(u + 1))
         # ---- prune, trim against the windows already on the edge, queue
         for j in range(nch):
             t = ch_h[j]
@@ -522,8 +481,7 @@ def _propagate(  # pragma: no cover - compiled
             head[e] = w
             if nh == hk.size:
                 hk, hv = _grow(hk, hv)
-            _heap_push(hk, hv, nh, kk, w)
-            nh += 1
+            nh = heap_push(hk, hv, nh, kk, w)
     return dist, created
 
 

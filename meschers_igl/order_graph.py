@@ -20,6 +20,7 @@ import scipy.sparse.csgraph as csgraph
 from numba import njit
 
 from .errors import MescherError
+from .heap import heap_pop, heap_push
 from .overlap import unique_sorted_pairs
 from .validate import as_int_array
 
@@ -326,40 +327,6 @@ def in_sorted(sorted_keys: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _heap_push(hd: np.ndarray, hv: np.ndarray, size: int, d: float, v: int) -> int:
-    i = size
-    hd[i], hv[i] = d, v
-    while i > 0:
-        p = (i - 1) // 2
-        if hd[p] <= hd[i]:
-            break
-        hd[p], hd[i] = hd[i], hd[p]
-        hv[p], hv[i] = hv[i], hv[p]
-        i = p
-    return size + 1
-
-
-@njit(cache=True)
-def _heap_pop(hd: np.ndarray, hv: np.ndarray, size: int):
-    d, v = hd[0], hv[0]
-    size -= 1
-    hd[0], hv[0] = hd[size], hv[size]
-    i = 0
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and hd[c + 1] < hd[c]:
-            c += 1
-        if hd[i] <= hd[c]:
-            break
-        hd[c], hd[i] = hd[i], hd[c]
-        hv[c], hv[i] = hv[i], hv[c]
-        i = c
-    return d, v, size
-
-
-@njit(cache=True)
 def _path_integrals(indptr, indices, weight, value, seeds, tstart, targets):
     nv = indptr.shape[0] - 1
     phi_out = np.zeros(targets.shape[0])
@@ -380,9 +347,9 @@ def _path_integrals(indptr, indices, weight, value, seeds, tstart, targets):
                 left += 1
         src = seeds[s]
         stamp[src], dist[src], phi[src] = s, 0.0, 0.0
-        size = _heap_push(hd, hv, 0, 0.0, src)
+        size = heap_push(hd, hv, 0, 0.0, src)
         while size > 0 and left > 0:
-            d, u, size = _heap_pop(hd, hv, size)
+            d, u, size = heap_pop(hd, hv, size)
             if done[u] == s or d > dist[u]:
                 continue  # a stale entry
             done[u] = s
@@ -393,7 +360,7 @@ def _path_integrals(indptr, indices, weight, value, seeds, tstart, targets):
                 nd = d + weight[p]
                 if stamp[w] != s or nd < dist[w]:
                     stamp[w], dist[w], phi[w] = s, nd, phi[u] + value[p]
-                    size = _heap_push(hd, hv, size, nd, w)
+                    size = heap_push(hd, hv, size, nd, w)
         for t in range(tstart[s], tstart[s + 1]):
             phi_out[t] = phi[targets[t]] if done[targets[t]] == s else np.nan
     return phi_out
