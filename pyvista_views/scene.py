@@ -467,6 +467,13 @@ def _layout(shading: str, fields: dict, isolines: bool) -> str:
     return "provoking" if shading == "flat" and flat_varyings_work() else "indexed"
 
 
+def _mapper_time(actor: Any) -> int:
+    """VTK's modification time of an actor's mapper: a new actor (new mapper) or new geometry
+    gets a new one (VTK's clock only grows), a relight (material, lights) does not."""
+    mapper = actor.GetMapper() if hasattr(actor, "GetMapper") else None
+    return int(mapper.GetMTime()) if mapper is not None else -id(actor)
+
+
 def _use_vtk_lighting(layer: Layer) -> None:
     visible, mode, array, color_mode = layer._mapper_state
     mapper = layer.actor.mapper
@@ -626,6 +633,8 @@ class MescherScene:
         self.env_map: EnvironmentMap | None = None
         self._lit = False
         self._box: list[tuple[float, float, float, float]] = []
+        #: what the camera was last set for (see _frame): no second bounds pass per frame
+        self._view_key: tuple | None = None
         self._reserve = 0.0  # share of the window's width kept for a colour bar
         self.exposure, self.tone_map, self.normalize = 1.0, "none", True
 
@@ -693,7 +702,19 @@ class MescherScene:
         bounds = self.bounds if self.bounds is not None else self._auto_bounds()
         for layer in self.layers:
             layer.update_isolines(self.plotter, bounds)
-        set_view(self.plotter, bounds)
+        # set_view costs a bounds pass over every point (7 ms at 1M): skip it when neither the
+        # image bounds, the window, the scene's actors nor the camera changed since the last
+        # time (a relit frame); any other camera change (a user's) is undone as before
+        renderer = self.plotter.renderer
+        key = (
+            tuple(float(b) for b in bounds),
+            tuple(int(w) for w in self.plotter.window_size),
+            tuple(_mapper_time(a) for a in renderer.actors.values()),
+        )
+        camera = renderer.GetActiveCamera()
+        if self._view_key is None or self._view_key != (key, camera.GetMTime()):
+            set_view(self.plotter, bounds)
+            self._view_key = (key, camera.GetMTime())
         return bounds
 
     def clear(self) -> None:
