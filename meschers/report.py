@@ -257,8 +257,9 @@ def write_report(
         "<h2 id='summary'>Summary</h2>",
         f"<p>{DL_NOTE}. <b>relight dL</b>: the worst, over four lights, of the dL to the cut "
         "model's z-buffered render on the pixels both cover. <b>Geodesic error</b>: mean |d &minus; d*| / "
-        "max d*, heat method on each representation against exact distances d* on a real 3D covering "
-        "of the mescher. <b>Seam crack</b>: widest screen gap between copies of one vertex after "
+        "max d*, heat method on each representation against exact distances d* of the mescher "
+        "(window propagation on its intrinsic mesh; equal to igl.exact_geodesic on a real 3D "
+        "covering, tested). <b>Seam crack</b>: widest screen gap between copies of one vertex after "
         "smoothing the cut model as a mesh, as a fraction of the object's size. <b>Period drift</b>: "
         "largest change of a period under subdivision / smoothing (zero up to round-off: both keep the "
         "harmonic part). Values below 1e-9 of their scale are round-off and printed as 0.</p>",

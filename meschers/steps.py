@@ -11,7 +11,7 @@ subdivide  midpoint 1-to-4 subdivision with the depth order carried along; perio
 hodge      ``zeta = d01 z + omega`` (paper Eq. 3), the periods of ``omega`` drawn on the picture
 render     flat and smooth shading under four directional lights and an environment map
 heat       backward Euler heat diffusion from one vertex (paper Eq. 5) for three times ``t``
-geodesic   heat-method distance against exact distances on a 3-sheet covering, a shortest path
+geodesic   heat-method distance against exact distances (window propagation), a shortest path
 smoothing  Laplacian smoothing of xy, of the exact part of zeta and of both (paper Fig. 8)
 relighting the mescher and its bent embedding against the cut 3D model, light by light
 comparison mescher / cut / bent (paper Fig. 10, :func:`pyvista_views.compare.compare`)
@@ -36,7 +36,6 @@ from .metrics import (
     loop_periods,
     one_source_per_component,
     seam_gap,
-    vertices_after_midpoint,
 )
 from .settings import ENV_MAP, GEODESIC_CMAP, HEAT_CMAP, LIGHTS
 
@@ -62,9 +61,6 @@ class Subject:
         The cut 3D model in camera coordinates, the ground truth for relighting.
     reference_note : str
         Where the reference comes from (said in the caption).
-    coarse_vertices : int, optional
-        Vertices of the mesh one subdivision level coarser (the first vertices of ``m``): exact
-        distances are measured there.  None: at every vertex.
     exact : (#V,) float64, optional
         Exact distances from ``sources`` (set by :func:`geodesic`; ``inf`` where not measured).
     """
@@ -74,7 +70,6 @@ class Subject:
     order: Any
     reference: tuple | None = None
     reference_note: str = "the gallery's cut 3D model"
-    coarse_vertices: int | None = None
     _solvers: dict = field(default_factory=dict, repr=False)
     _smoothed: dict = field(default_factory=dict, repr=False)
     exact: np.ndarray | None = field(default=None, repr=False)
@@ -269,7 +264,7 @@ def heat(job: ModelJob, s: Subject) -> None:
 
 
 def geodesic(job: ModelJob, s: Subject) -> None:
-    """Heat-method distance against exact covering distances, and a shortest path."""
+    """Heat-method distance against exact distances, and a shortest path."""
     st, m, sources, source = job.st, s.m, s.sources, s.source
     d = s.solver("standard").distance(sources)
     accurate = s.solver("accurate")
@@ -278,10 +273,8 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     d0 = accurate.distance(source) if sources.size > 1 else d_acc
     finite = np.isfinite(d0)
     target = int(np.flatnonzero(finite)[np.argmax(d0[finite])])
-    # exact distances at the vertices of the mesh one level coarser (the same surface; a
-    # quarter of the vertices, each exact) and at the path's end: libigl answers per vertex
-    at = None if s.coarse_vertices is None else np.union1d(np.arange(s.coarse_vertices), [target])
-    d_exact, how = exact_distance(m, sources, at)
+    # exact distances at every vertex (window propagation: the whole field in well under 1 s)
+    d_exact, how = exact_distance(m, sources)
     s.exact = d_exact
     rec: dict = {"sources": sources.tolist(), "exact": how}
     if d_exact is not None:
@@ -303,9 +296,8 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     fig = compose([[img]], colorbar=Colorbar(GEODESIC_CMAP, *clim, "geodesic distance"))
     err = ""
     if d_exact is not None:
-        where = ("" if at is None else f" at the {at.size} vertices of the mesh one subdivision level coarser (the "
-                 "same surface)")  # fmt: skip
-        err = (f" Against exact distances on a 3-sheet covering of the mescher (igl.exact_geodesic){where}: mean "
+        err = (" Against exact distances at every vertex (window propagation on the intrinsic mesh, equal to "
+               "igl.exact_geodesic on a real 3D covering to round-off): mean "
                f"error {rec['heat_error']['mean']:.2%} (standard) and {rec['heat_accurate_error']['mean']:.2%} "
                "(accurate preset) of the largest distance."
                + (f" The path is {rec['path_length_over_exact']:.4f} times the exact distance."
@@ -447,7 +439,7 @@ def comparison(job: ModelJob, s: Subject) -> None:
     ge = rec.get("geodesic_error_vs_exact")
     geo_txt = ""
     if ge:
-        geo_txt = (" Geodesic error against the covering's exact distances (mean, fraction of the largest "
+        geo_txt = (" Geodesic error against exact distances (mean, fraction of the largest "
                    f"distance): mescher {ge['mescher']['mean']:.2%}, cut {ge['cut']['mean']:.2%}, bent "
                    f"{ge['bent']['mean']:.2%}: paths cannot cross the cut model's seam, and the bent model's "
                    "metric is not the object's.")  # fmt: skip
@@ -495,10 +487,6 @@ def run_mescher_steps(job: ModelJob, name: str, m0: Any, order0: Any, reference:
 
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)
-    coarse = None
-    levels = job.record.get("subdivision", {}).get("levels", 0) if m is not m0 else 0
-    if levels >= 2:
-        coarse = vertices_after_midpoint(m0.n_vertices, m0.n_edges, m0.n_faces, levels - 1)
-    s = Subject(name, m, order, reference, reference_note, coarse_vertices=coarse)
+    s = Subject(name, m, order, reference, reference_note)
     for key, label, fn in STEPS:
         job.step(key, label, fn, job, s)

@@ -135,7 +135,7 @@ def periods_and_geodesic(
     gaps = job.record.get("expected", {}).get("depth_gaps")
     gaps_txt = format_values(gaps) if isinstance(gaps, list) else "not given"
     err = (
-        f" Mean error against exact covering distances: {rec['heat_accurate_error']['mean']:.2%}."
+        f" Mean error against exact distances: {rec['heat_accurate_error']['mean']:.2%}."
         if "heat_accurate_error" in rec
         else ""
     )

@@ -5,17 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from meschers.metrics import exact_distance, vertices_after_midpoint
+from meschers.metrics import exact_distance
 from meschers_igl.gallery import get_model
-
-
-def test_vertices_after_midpoint_counts_like_subdivision():
-    m = get_model("penrose_triangle").mescher
-    for levels in (0, 1, 2):
-        fine = m.subdivide(levels) if levels else m
-        assert (
-            vertices_after_midpoint(m.n_vertices, m.n_edges, m.n_faces, levels) == fine.n_vertices
-        )
 
 
 def test_exact_distance_at_some_vertices_equals_the_full_field():
