@@ -12,6 +12,14 @@ import numpy as np
 __all__ = ["describe", "format_info"]
 
 
+def impossibility_kind(m: Any, order: Any = None) -> str | None:
+    """``"zeta"`` (a non-zero period), ``"order"`` (zeta integrates but the depth order cannot
+    be realised by the bent embedding: the Window, Escher's cube) or ``None`` (possible)."""
+    if order is not None:
+        return m.is_impossible(order=order).kind
+    return "zeta" if m.is_impossible() else None
+
+
 def describe(m: Any, order: Any = None) -> dict:
     """Counts, topology, impossibility and periods of a mescher.
 
@@ -49,17 +57,13 @@ def describe(m: Any, order: Any = None) -> dict:
         "components": n_comp_used,
         "boundary_loops": len(loops),
         "genus": genus2 // 2 if genus2 % 2 == 0 else genus2 / 2,
-        "impossible": bool(m.is_impossible()),
-        "impossible_kind": "zeta" if m.is_impossible() else None,
         "periods": periods.tolist(),
         "scale": float(m.scale()),
         "max_integrability_residual": float(np.abs(m.integrability_residual()).max(initial=0.0)),
     }
+    info["impossible_kind"] = impossibility_kind(m, order)
+    info["impossible"] = info["impossible_kind"] is not None
     if order is not None:
-        # with its order a mescher may be impossible although zeta integrates (the Window,
-        # Escher's cube): the order cannot be realised by its bent embedding
-        verdict = m.is_impossible(order=order)
-        info["impossible"], info["impossible_kind"] = bool(verdict), verdict.kind
         info["depth_arcs"] = int(order.n_arcs)
         info["depth_cycles"] = len(order.cycles(warn=False))
     return info
@@ -68,7 +72,7 @@ def describe(m: Any, order: Any = None) -> dict:
 def format_info(info: dict, label: str) -> str:
     """The text ``meschers info`` prints for :func:`describe`'s dict (periods below 1e-9 of the
     model's size printed as 0: round-off, not depth)."""
-    from .figures import format_values
+    from .figures import format_values, round_off_scale
 
     periods = info["periods"]
     lines = [
@@ -88,7 +92,7 @@ def format_info(info: dict, label: str) -> str:
         ),  # fmt: skip
         "  periods: "
         + (
-            format_values(periods, 6, max(max(map(abs, periods)), info.get("scale", 0.0)))
+            format_values(periods, 6, round_off_scale(periods, info.get("scale", 0.0)))
             if periods
             else "none (no loops)"
         ),

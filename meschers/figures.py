@@ -31,6 +31,12 @@ __all__ = [
 ZERO_FRACTION = 1e-9
 
 
+def round_off_scale(values: Sequence[float], size: float) -> float:
+    """The scale periods are printed against: the largest ``|value|`` or the model's ``size``,
+    whichever is larger (so periods that are all round-off print as 0, not as 1e-15)."""
+    return max(max((abs(float(v)) for v in values), default=0.0), float(size))
+
+
 def format_value(x: float, scale: float | None = None, digits: int = 4) -> str:
     """``x`` with ``digits`` significant digits, or ``"0"`` when ``|x| < 1e-9 * scale``.
 

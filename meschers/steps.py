@@ -28,7 +28,8 @@ import numpy as np
 
 from pyvista_views.camera import default_bounds, xy_box
 
-from .figures import Colorbar, compose, format_value, format_values, overlay
+from .describe import describe, impossibility_kind
+from .figures import Colorbar, compose, format_value, format_values, overlay, round_off_scale
 from .job import ModelJob
 from .metrics import (
     distance_error,
@@ -138,7 +139,7 @@ def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) 
     """Segments and labels of the homology loops (non-zero periods in colour)."""
     xy, edges = np.asarray(s.m.xy), np.asarray(s.m.edges)
     # round-off is judged against the model's size: all-zero periods print as 0, not 1e-15
-    scale = max(float(np.abs(periods).max(initial=0.0)), s.scale, 1e-300)
+    scale = max(round_off_scale(periods, s.scale), 1e-300)
     segs, labels = [], []
     for k, (eids, _signs) in enumerate(s.m.homology_generators()):
         nonzero = abs(periods[k]) > 1e-9 * max(s.scale, 1.0)
@@ -171,9 +172,9 @@ def hodge(job: ModelJob, s: Subject) -> None:
         "harmonic_closed": float(np.abs(m.d12 @ omega).max(initial=0.0)),
         "periods": periods.tolist(),
     }
-    verdict = m.is_impossible(order=s.order) if s.order is not None else m.is_impossible()
-    job.record["hodge"]["impossible"] = bool(verdict)
-    job.record["hodge"]["impossible_kind"] = getattr(verdict, "kind", "zeta" if verdict else None)
+    kind = impossibility_kind(m, s.order)
+    job.record["hodge"]["impossible"] = kind is not None
+    job.record["hodge"]["impossible_kind"] = kind
     bounds = s.bounds(st.cell)
     z = np.asarray(hd.z)
     zlim = (float(z.min()), float(z.max()) if z.max() > z.min() else float(z.min()) + 1.0)
@@ -197,14 +198,14 @@ def hodge(job: ModelJob, s: Subject) -> None:
         "Left: the potential z of the exact part d01 z of zeta (paper Eq. 3), i.e. the depth of the "
         f"bent embedding, with {st.isolines} isolines. Right: the homology generators (tree-cotree) and "
         "the depth gained around each, the periods of the harmonic part omega: "
-        f"{format_values(periods, scale=max(np.abs(periods).max(initial=0.0), s.scale))} (values "
+        f"{format_values(periods, scale=round_off_scale(periods, s.scale))} (values "
         "below 1e-9 of the model's size are round-off, printed as 0). "
-        f"{_impossible_because(verdict)}")  # fmt: skip
+        f"{_impossible_because(kind)}")  # fmt: skip
 
 
-def _impossible_because(verdict: Any) -> str:
+def _impossible_because(kind: str | None) -> str:
     """The caption's last sentence: what makes this object impossible, if anything."""
-    if getattr(verdict, "kind", None) == "order":
+    if kind == "order":
         return ("Every period is 0, so zeta integrates; what makes the object impossible is its "
                 "depth order, which its bent embedding cannot realise with one depth offset per "
                 "connected component.")  # fmt: skip
@@ -483,8 +484,6 @@ STEPS = (
 def run_mescher_steps(job: ModelJob, name: str, m0: Any, order0: Any, reference: tuple | None,
                       reference_note: str) -> None:  # fmt: skip
     """Subdivide, then every step of :data:`STEPS` on the subdivided mescher."""
-    from .describe import describe
-
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)
     s = Subject(name, m, order, reference, reference_note)

@@ -15,7 +15,7 @@ import numpy as np
 from pyvista_views.camera import default_bounds, xy_box
 
 from .describe import describe
-from .figures import compose, format_values, overlay
+from .figures import compose, format_values, overlay, round_off_scale
 from .inputs import ModelSpec, load_artist, load_solid
 from .job import ModelJob
 from .metrics import distance_error, exact_distance, one_source_per_component
@@ -141,7 +141,7 @@ def periods_and_geodesic(
     )
     job.figure(fig, f"tool_{name}_periods.png", "Periods and geodesic distance",
         f"Left: homology loops with a non-zero period ({gaps_of}: {gaps_txt}); periods found "
-        f"{format_values(periods, scale=max(np.abs(periods).max(initial=0.0), m.scale()))}. Right: heat-method distance (accurate preset) from the white dots (one "
+        f"{format_values(periods, scale=round_off_scale(periods, m.scale()))}. Right: heat-method distance (accurate preset) from the white dots (one "
         f"per connected component) after one midpoint subdivision, with {st.isolines} isolines.{err}")  # fmt: skip
 
 
