@@ -446,14 +446,12 @@ def _split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: flo
             if f in split:
                 continue
             p, q = he[s]
-            apex = Ft[f, k]
             d = xy[q] - xy[p]
             L2 = float(d @ d)
             on = []
             for v in cand:
-                # the face's own apex near its edge (a sliver) is no T-junction: splitting at
-                # it would make faces with a repeated corner
-                if v == p or v == q or v == apex:
+                # (a face's own apex is never within tol of its edge: thinner faces were dropped)
+                if v == p or v == q:
                     continue
                 w = xy[v] - xy[p]
                 t = float(w @ d) / L2
