@@ -60,25 +60,78 @@ _PRESETS = {
 }
 #: "auto" picks "refined" when some corner angle is below this (degrees): a sliver
 SLIVER_DEGREES = 1.0
+#: "auto" picks "refined" on meshes with at most this many faces: the refined mesh then has at
+#: most 100k faces, and its query costs about what a standard query costs at 100k faces
+#: (16 ms against 18 ms measured on tori of 25k and 100k faces)
+AUTO_REFINE_MAX_FACES = 25_000
+
+
+#: an edge is Delaunay when its cotangent weight (cot a + cot b) / 2 is >= -DELAUNAY_TOL; the
+#: intrinsic Delaunay flips use the same test (so the cocircular quads of a grid, weight 0 up
+#: to round-off, are left alone; see intrinsic.intrinsic_delaunay)
+DELAUNAY_TOL = 1e-9
 
 
 def choose_method(m: Any) -> str:
     """The heat-method variant ``method="auto"`` uses on ``m``, and why (see the solver).
 
-    * ``"standard"`` when every edge is intrinsic Delaunay (cotangent weights >= 0, e.g. a
-      mesh without obtuse triangles) and no triangle is a sliver: then the mescher's own
-      operators are as good as any retriangulation, and on an ordinary mesh the result equals
-      libigl's heat method;
-    * ``"refined"`` (one intrinsic midpoint refinement, then intrinsic Delaunay) when some
-      corner angle is below :data:`SLIVER_DEGREES` (CAD tessellations, fans of needles): the
-      gradient of a sliver is unreliable even after flipping, and the finer intrinsic mesh
-      halves the error (19% -> 9.8% mean on a box with 0.003-degree fans, potpourri3d 14.8%);
-    * ``"robust"`` (intrinsic Delaunay, as potpourri3d's default) otherwise, i.e. when some
-      edge is not Delaunay (obtuse triangles).
+    The rules, in this order:
+
+    1. ``"refined"`` (one intrinsic midpoint refinement, then intrinsic Delaunay) on meshes
+       with at most :data:`AUTO_REFINE_MAX_FACES` faces, whatever their triangles.
+    2. ``"refined"`` on larger meshes when some corner angle is below :data:`SLIVER_DEGREES`
+       (CAD tessellations, fans of needles): the gradient of a sliver is unreliable even after
+       flipping.
+    3. ``"robust"`` (intrinsic Delaunay, as potpourri3d's default) when some edge is not
+       Delaunay (weight below ``-DELAUNAY_TOL``: obtuse triangles).
+    4. ``"standard"`` otherwise (every edge Delaunay, no sliver): the mescher's own operators;
+       on an ordinary mesh the result equals libigl's heat method.
+
+    Why refine small meshes: the heat method's error is first order in the edge length, and
+    refinement halves it without changing the surface.  Against exact distances (mean relative
+    error over sources 0, 7, 20, 60, 100; ``tests/meschers_igl/test_heat.py``, potpourri3d
+    1.4's ``MeshHeatMethodDistanceSolver`` with its defaults)::
+
+        mesh (faces)                     potpourri3d  standard  robust   auto = refined
+        sliver box (228)                 0.1480       0.1857    0.1418   0.1010  (0.68x)
+        sliver box, finer (764)          0.1731       0.1903    0.1645   0.0922  (0.53x)
+        obtuse sheet (3042)              0.0130       0.4859    0.0105   0.0095  (0.73x)
+        torus 48 x 16 (1536)             0.0466       0.0467    0.0467   0.0261  (0.56x)
+        icosphere 3 (1280)               0.0151       0.0151    0.0151   0.0094  (0.62x)
+        uv sphere 40 x 20 (1520)         0.0177       0.0169    0.0169   0.0124  (0.70x)
+        perturbed torus (1536)           0.0548       0.0511    0.0567   0.0362  (0.66x)
+        perturbed icosphere (1280)       0.0129       0.0153    0.0129   0.0091  (0.71x)
+        PyVista's ant (912)              0.0792       0.0811    0.0780   0.0597  (0.75x)
+        PyVista's nut (1046)             0.0385       0.0385    0.0385   0.0230  (0.60x)
+        impossible torus (1536) [*]      0.0474       0.0464    0.0484   0.0267  (0.56x)
+
+    [*] exact distances on a 3-sheet covering; potpourri3d runs on that covering.  The choice
+    before (rules 2-4 at every size) was worse than potpourri3d on the torus, both perturbed
+    meshes and the impossible torus: the heat method on the mesh itself is within a few
+    percent of potpourri3d's either way, and only a finer triangulation is clearly better.
+    Its price is 3.5-4x the query time and 5-6x the precomputation (a 25k-face torus: 16 ms
+    and 1.1 s against 4.6 ms and 0.19 s), which is why it stops at
+    :data:`AUTO_REFINE_MAX_FACES`.
+
+    Above that size (rules 2-4) the default runs the same heat method as potpourri3d, so its
+    error is within a few percent of potpourri3d's, either side: measured 1.005x (torus, 25k
+    faces), 1.018x (torus, 100k), 0.98x (icosphere 5, 20k), 0.92x (uv sphere, 40k), 1.011x
+    (bumpy sphere, 20k, robust).  Two differences remain, and neither is an accuracy choice one
+    could copy to be never worse: potpourri3d lumps masses barycentrically (libigl's Voronoi
+    masses here, so that "standard" equals libigl; on a Delaunay torus that is 0.0467 against
+    0.0466, on the uv sphere 0.0169 against 0.0177), and it solves ``(L + 1e-6 I) phi = div X``
+    on its intrinsic tufted cover, whose Laplacian is twice the mesh's on a closed manifold,
+    i.e. ``(L + 5e-7 I)`` on the mesh.  That screening shrinks every distance by an amount that
+    grows with the resolution: it helps on tori, where the heat method overestimates far
+    distances, and hurts on spheres.  With barycentric masses and that screening the heat
+    method here reproduces potpourri3d's distances to 3e-14 (48 x 16 torus, icosphere 3).
     """
-    l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
-    if l.shape[0] == 0:
+    F = np.asarray(m.F)
+    if F.shape[0] == 0:
         return "standard"
+    if F.shape[0] <= AUTO_REFINE_MAX_FACES:
+        return "refined"
+    l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
     # one pass over the cotangents: an angle below SLIVER_DEGREES has cot above cot(SLIVER),
     # an edge is Delaunay when its weight (cot a + cot b) / 2 >= 0 (intrinsic.is_delaunay)
     hc = intrinsic.half_cotangents(l)
@@ -86,7 +139,7 @@ def choose_method(m: Any) -> str:
         return "refined"
     fe = np.asarray(m.face_edges).reshape(-1)
     w = np.bincount(fe, weights=hc.reshape(-1), minlength=int(m.n_edges))
-    if float(w.min()) < -1e-9:
+    if float(w.min()) < -DELAUNAY_TOL:
         return "robust"
     return "standard"
 
@@ -161,18 +214,23 @@ class HeatGeodesicSolver:
         intrinsic Delaunay triangulation (potpourri3d's default).  ``"refined"``: one level of
         intrinsic midpoint refinement, then intrinsic Delaunay (4x the faces).
         ``"accurate"``: two levels, then intrinsic Delaunay (16x the faces, about 3x less
-        error).  ``"auto"`` chooses per mesh (:func:`choose_method`): ``"standard"`` when every
-        edge is Delaunay and no corner angle is below :data:`SLIVER_DEGREES` degree,
-        ``"refined"`` when some triangle is a sliver, ``"robust"`` otherwise (obtuse triangles).
-        Distances are always read back at the original vertices.  Keywords given explicitly
-        override the preset.
+        error).  ``"auto"`` chooses per mesh (:func:`choose_method`, which gives the measured
+        errors): ``"refined"`` on meshes of at most :data:`AUTO_REFINE_MAX_FACES` faces
+        (0.53-0.75x potpourri3d's error on the eleven meshes measured) and on larger ones with
+        a corner angle below :data:`SLIVER_DEGREES` degree; otherwise ``"robust"`` when some
+        edge is not Delaunay (obtuse triangles), ``"standard"`` when every edge is (then equal
+        to libigl's heat method, and the query time at 100k faces is unchanged).  Distances
+        are always read back at the original vertices.  Keywords given explicitly override
+        the preset.
     intrinsic_delaunay : bool, optional
         Build every operator (heat and Poisson Laplacians, gradient, divergence) on the intrinsic
-        Delaunay triangulation of the same surface (``igl.intrinsic_delaunay_triangulation`` on
-        the edge lengths).  Gradient and divergence must live on the same triangulation as the
-        Poisson Laplacian (``G^T A G = -L``), otherwise the integrated field is not the one that
-        was normalized; so all three move to the intrinsic mesh, whose vertices are the
-        original ones.
+        Delaunay triangulation of the same surface (edge flips on the lengths,
+        :func:`meschers_igl.intrinsic.intrinsic_delaunay` with ``tol = DELAUNAY_TOL``: edges
+        within round-off of cocircular are not flipped, so the result does not depend on the
+        vertex order or position).  Gradient and divergence must live on the same
+        triangulation as the Poisson Laplacian (``G^T A G = -L``), otherwise the integrated
+        field is not the one that was normalized; so all three move to the intrinsic mesh,
+        whose vertices are the original ones.
     boundary : {"average", "neumann", "dirichlet"}, default: "average"
         Boundary condition of the heat step on meshes with boundary: zero flux, zero value, or
         the mean of both solutions (Crane et al. 2013, Section 3.3, which recommend it).
@@ -251,7 +309,8 @@ class HeatGeodesicSolver:
                 fe = topology.edge_topology(F, nn, check=False)[1]
             h = float(lm.mean())
             if self.intrinsic_delaunay:
-                lm, F, fe = intrinsic.intrinsic_delaunay(lm, F)
+                # flips beyond round-off only: the result does not depend on vertex order
+                lm, F, fe = intrinsic.intrinsic_delaunay(lm, F, tol=DELAUNAY_TOL, face_edges=fe)
             L, M, G, area = intrinsic_operators(lm, F, nn)
         self.t = as_positive(t, "t") if t is not None else t_factor * h * h
         self.h = h

@@ -247,11 +247,29 @@ def is_delaunay(l, F, tol: float = 1e-9, face_edges=None) -> np.ndarray:
     return (w[inv] >= -tol).reshape(-1, 3)
 
 
-def intrinsic_delaunay(l, F) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The intrinsic Delaunay triangulation of the surface ``(l, F)`` (``igl``'s edge flips).
+def intrinsic_delaunay(
+    l, F, tol: float | None = None, face_edges=None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The intrinsic Delaunay triangulation of the surface ``(l, F)`` by edge flips.
 
-    Fisher et al. 2007 via ``igl.intrinsic_delaunay_triangulation``: same vertices, same
-    piecewise-flat surface, every edge Delaunay, so every cotangent weight is >= 0.
+    Fisher et al. 2007: same vertices, same piecewise-flat surface, every edge Delaunay, so
+    every cotangent weight is >= 0 (>= ``-tol``).
+
+    Parameters
+    ----------
+    l : (#F, 3) array_like
+    F : (#F, 3) int
+    tol : float, optional
+        ``None``: ``igl.intrinsic_delaunay_triangulation``, which flips every edge whose weight
+        ``(cot a + cot b) / 2`` is below 0 exactly, so the cocircular quads of a grid (weight 0
+        up to round-off) are flipped or not by the sign of their round-off, and the result
+        depends on the vertex numbering (two numberings of one torus gave heat distances 3.5%
+        apart).  A float: flip only edges whose weight is below ``-tol`` (geometry-central's
+        ``flipToDelaunay`` does the same with ``1e-6``), in a numba kernel; on meshes without
+        such ties the result equals libigl's (same faces, same Laplacian to round-off).
+    face_edges : (#F, 3) int, optional
+        Edge opposite each corner of ``F`` (found if omitted); with ``tol`` the returned
+        ``face_edges`` keep these edge numbers (a flipped edge keeps its number).
 
     Returns
     -------
@@ -264,9 +282,121 @@ def intrinsic_delaunay(l, F) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """
     l = _lengths(l)
     F = np.ascontiguousarray(F, dtype=np.int64)
-    lo, Fo, _E, _uE, emap, _ = igl.intrinsic_delaunay_triangulation(l, F)
-    nf = Fo.shape[0]
-    return lo, Fo, np.asarray(emap, dtype=np.int64).reshape(3, nf).T.copy()
+    if tol is None:
+        lo, Fo, _E, _uE, emap, _ = igl.intrinsic_delaunay_triangulation(l, F)
+        nf = Fo.shape[0]
+        return lo, Fo, np.asarray(emap, dtype=np.int64).reshape(3, nf).T.copy()
+    if face_edges is None:
+        from .topology import edge_topology
+
+        face_edges = edge_topology(F, check=False)[1]
+    fe = np.array(face_edges, dtype=np.int64, order="C")
+    lo, Fo, nf = np.array(l, order="C"), F.copy(), F.shape[0]
+    # the other side of each corner's edge, as 3 * face + corner; -1 on boundary and on
+    # non-manifold edges (neither is flipped)
+    key = fe.reshape(-1)
+    order = np.argsort(key, kind="stable")
+    sk = key[order]
+    pair = np.flatnonzero(sk[1:] == sk[:-1])
+    pair = pair[np.bincount(key)[sk[pair]] == 2]
+    opp = np.full(3 * nf, -1, dtype=np.int64)
+    opp[order[pair]], opp[order[pair + 1]] = order[pair + 1], order[pair]
+    _flip_kernel()(Fo, lo, opp.reshape(nf, 3), fe, float(tol), 50 * nf + 100)
+    return lo, Fo, fe
+
+
+_FLIP_JIT = None
+
+
+def _flip_kernel():
+    """The flip loop compiled by numba on first use (importing numba costs 0.3 s, which every
+    ``import meschers_igl.mescher`` would pay if it were compiled at import)."""
+    global _FLIP_JIT
+    if _FLIP_JIT is None:
+        import numba
+
+        _FLIP_JIT = numba.njit(cache=True, nogil=True)(_flip_to_delaunay)
+    return _FLIP_JIT
+
+
+def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - compiled
+    """Lawson flips, in place, of edges whose cotangent weight is below ``-tol``.
+
+    Face ``f`` = (a, b, c) and its neighbour ``g`` = (d, c, b) across edge b-c become
+    (a, b, d) and (d, c, a); the new diagonal's length comes from laying the quad out in the
+    plane.  A stack of edges to check, refilled with the four outer edges of each flip.
+    """
+    nf = F.shape[0]
+    stack = np.empty(3 * nf + 4 * max_flips + 1, dtype=np.int64)
+    top = 0
+    for h in range(3 * nf):
+        if opp[h // 3, h % 3] > h:
+            stack[top] = h
+            top += 1
+    nflip = 0
+    while top > 0 and nflip < max_flips:
+        top -= 1
+        f, i = stack[top] // 3, stack[top] % 3
+        o = opp[f, i]
+        if o < 0:
+            continue
+        g, j = o // 3, o % 3
+        i1, i2, j1, j2 = (i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3
+        a, b, c, d = F[f, i], F[f, i1], F[f, i2], F[g, j]
+        l_bc, l_ca, l_ab, l_bd, l_dc = l[f, i], l[f, i1], l[f, i2], l[g, j1], l[g, j2]
+        # twice the areas of both faces (Kahan, sides sorted x >= y >= z)
+        x, y, z = l_bc, l_ca, l_ab
+        if x < y:
+            x, y = y, x
+        if y < z:
+            y, z = z, y
+        if x < y:
+            x, y = y, x
+        A_f = 0.5 * np.sqrt(max((x + (y + z)) * (z - (x - y)) * (z + (x - y)) * (x + (y - z)), 0.0))
+        x, y, z = l_bc, l_bd, l_dc
+        if x < y:
+            x, y = y, x
+        if y < z:
+            y, z = z, y
+        if x < y:
+            x, y = y, x
+        A_g = 0.5 * np.sqrt(max((x + (y + z)) * (z - (x - y)) * (z + (x - y)) * (x + (y - z)), 0.0))
+        if A_f <= 0.0 or A_g <= 0.0 or l_bc <= 0.0:
+            continue
+        # weight (cot a + cot d) / 2, cot = (sum of the adjacent sides^2 - opposite^2) / (4 A)
+        w = 0.25 * ((l_ca * l_ca + l_ab * l_ab - l_bc * l_bc) / A_f)
+        w += 0.25 * ((l_bd * l_bd + l_dc * l_dc - l_bc * l_bc) / A_g)
+        if not w < -tol:
+            continue
+        X, Y, Z, W = opp[g, j1], opp[f, i2], opp[f, i1], opp[g, j2]
+        if a == d or g == f or X // 3 == f or X // 3 == g or Y // 3 == f or Y // 3 == g:
+            continue
+        if Z // 3 == f or Z // 3 == g or W // 3 == f or W // 3 == g:
+            continue
+        # the quad in the plane: b = (0, 0), c = (l_bc, 0), a above, d below
+        xa = (l_ab * l_ab + l_bc * l_bc - l_ca * l_ca) / (2.0 * l_bc)
+        xd = (l_bd * l_bd + l_bc * l_bc - l_dc * l_dc) / (2.0 * l_bc)
+        l_ad = np.sqrt((xa - xd) ** 2 + (A_f / l_bc + A_g / l_bc) ** 2)
+        if not np.isfinite(l_ad):
+            continue
+        e0, eX, eY, eZ, eW = fe[f, i], fe[g, j1], fe[f, i2], fe[f, i1], fe[g, j2]
+        F[f, 0], F[f, 1], F[f, 2] = a, b, d
+        l[f, 0], l[f, 1], l[f, 2] = l_bd, l_ad, l_ab
+        fe[f, 0], fe[f, 1], fe[f, 2] = eX, e0, eY
+        F[g, 0], F[g, 1], F[g, 2] = d, c, a
+        l[g, 0], l[g, 1], l[g, 2] = l_ca, l_ad, l_dc
+        fe[g, 0], fe[g, 1], fe[g, 2] = eZ, e0, eW
+        opp[f, 0], opp[f, 1], opp[f, 2] = X, 3 * g + 1, Y
+        opp[g, 0], opp[g, 1], opp[g, 2] = Z, 3 * f + 1, W
+        for k in range(4):
+            hh = (3 * f, 3 * f + 2, 3 * g, 3 * g + 2)[k]
+            nb = (X, Y, Z, W)[k]
+            if nb >= 0:
+                opp[nb // 3, nb % 3] = hh
+            stack[top] = hh
+            top += 1
+        nflip += 1
+    return nflip
 
 
 def midpoint_refine(
