@@ -61,8 +61,8 @@ _PRESETS = {
 #: "auto" picks "refined" when some corner angle is below this (degrees): a sliver
 SLIVER_DEGREES = 1.0
 #: "auto" picks "refined" on meshes with at most this many faces: the refined mesh then has at
-#: most 100k faces, and its query costs about what a standard query costs at 100k faces
-#: (16 ms against 18 ms measured on tori of 25k and 100k faces)
+#: most 100k faces, and the refined solver costs about what the standard one costs at 100k
+#: faces (query 16-20 ms against 18-21 ms, set-up 1.1-1.3 s against 0.9-1.0 s, on tori)
 AUTO_REFINE_MAX_FACES = 25_000
 
 
@@ -109,9 +109,12 @@ def choose_method(m: Any) -> str:
     before (rules 2-4 at every size) was worse than potpourri3d on the torus, both perturbed
     meshes and the impossible torus: the heat method on the mesh itself is within a few
     percent of potpourri3d's either way, and only a finer triangulation is clearly better.
-    Its price is 3.5-4x the query time and 5-6x the precomputation (a 25k-face torus: 16 ms
-    and 1.1 s against 4.6 ms and 0.19 s), which is why it stops at
-    :data:`AUTO_REFINE_MAX_FACES`.
+    Its price is 3.5-4.5x the query time and 6-7x the precomputation (two factorizations of
+    four times the size), which is why it stops at :data:`AUTO_REFINE_MAX_FACES`: there the
+    refined solver costs what the standard one costs at 100k faces (torus, 25k faces: 16-20 ms
+    per query and 1.1-1.3 s to set up, against 18-21 ms and 0.9-1.0 s for standard at 100k;
+    libigl at 25k: 3.7 ms and 0.11 s, potpourri3d 5.6 ms and 0.13 s;
+    ``benchmarks/bench_geodesics.py --sizes 25000 100000``).
 
     Above that size (rules 2-4) the default runs the same heat method as potpourri3d, so its
     error is within a few percent of potpourri3d's, either side: measured 1.005x (torus, 25k
