@@ -116,6 +116,16 @@ def choose_method(m: Any) -> str:
     libigl at 25k: 3.7 ms and 0.11 s, potpourri3d 5.6 ms and 0.13 s;
     ``benchmarks/bench_geodesics.py --sizes 25000 100000``).
 
+    Where refinement does not help: crumpled meshes, whose vertices are cones of large angle
+    defect (every vertex moved at random by 0.5-1 mean edge length; median defect 0.8-1.4
+    rad).  There the error is 1.12-1.22x potpourri3d's refined, 1.03-1.05x robust, and
+    0.79-0.93x standard (the plain mesh Laplacian, negative weights and all).  A likely reason:
+    shortest paths on such a surface pass through saddle vertices (a quarter of their inner
+    points are vertices, against 0-1% on a smooth torus or sphere), and the intrinsic Delaunay
+    flips and the refinement's flat midpoints both take the discrete heat flow away from the
+    mesh's own edges.  No rule here detects such meshes; pass ``method="standard"`` for scans
+    that noisy.
+
     Above that size (rules 2-4) the default runs the same heat method as potpourri3d, so its
     error is within a few percent of potpourri3d's, either side: measured 1.005x (torus, 25k
     faces), 1.018x (torus, 100k), 0.98x (icosphere 5, 20k), 0.92x (uv sphere, 40k), 1.011x
