@@ -69,6 +69,7 @@ _SADDLE_TOL = 1e-9  # angle excess (rad) above which a vertex is a saddle (pseud
 _REL = 1e-12  # relative slack in the pruning rules
 _MERGE = 1e-12  # relative: two windows whose unfolded sources differ by less are one window
 _TOUCH = 1e-12  # relative: window ends closer than this touch
+_SHADOW_SLACK = 1e-9  # rad: pseudo-sources' shadows are widened by this on each side
 _VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the window": a ray through
 # a vertex along a straight chain of edges (flat vertices) is the border of two windows and its
 # crossing is rounded by ~eps / sin(sliver angle); a distance taken this way is off by <= 2 _VIS L
@@ -270,9 +271,165 @@ def _trim_by_ends(da, db, L, b0, b1, sx, sy, sig):  # pragma: no cover - compile
     return b0, b1
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _ring_pos(cpos, csgn, k, psi):  # pragma: no cover - compiled
+    """Ring position of the direction at angle ``psi`` from corner ``k``'s first edge (towards
+    its second); NaN for a vertex without a ring (no shadow is then used)."""
+    if csgn[k] == 0:
+        return np.nan
+    return cpos[k] + csgn[k] * psi
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _shadow(b, p, sg, al, th, bnd, piece):  # pragma: no cover - compiled
+    """Part ``piece`` (0 or 1) of a corner's angles ``[0, al]`` into which a pseudo-source with
+    back direction ``b`` (a ring position) may send a shortest path on.
+
+    A shortest path through a vertex turns by at least ``pi`` on both sides (else a shortcut
+    past the vertex is shorter; Mitchell, Mount, Papadimitriou 1987), so from a vertex of total
+    angle ``th`` it goes on only at ring positions ``[b + pi, b + th - pi]`` (modulo ``th``: the
+    shadow, of width ``th - 2 pi``), and from a boundary vertex (ring ``[0, th]``) at
+    ``[0, b - pi]`` and ``[b + pi, th]``.  Any shortest path to the vertex gives the same shadow
+    (up to a round-off tie), so the one that set its distance is used, widened by
+    ``_SHADOW_SLACK``.  Returns the part as corner angles ``(psi0, psi1)``; empty if
+    ``psi1 <= psi0``.  ``p, sg``: the corner's first edge's ring position and turn.
+    """
+    lo = p if sg > 0 else p - al  # the corner as ring positions [lo, lo + al]
+    hi = lo + al
+    if bnd:
+        if piece == 0:
+            w0 = b + np.pi - _SHADOW_SLACK
+            w1 = th + _SHADOW_SLACK
+        else:
+            w0 = -_SHADOW_SLACK
+            w1 = b - np.pi + _SHADOW_SLACK
+    else:
+        w0 = b + np.pi - _SHADOW_SLACK
+        w1 = b + th - np.pi + _SHADOW_SLACK
+        k = np.floor(w0 / th)  # the wedge starting in [0, th), and shifted by -th
+        w0 -= k * th
+        w1 -= k * th
+        if piece == 1:
+            w0 -= th
+            w1 -= th
+    q0 = max(lo, w0)
+    q1 = min(hi, w1)
+    if q1 <= q0:
+        return 0.0, -1.0
+    if sg > 0:
+        return q0 - p, q1 - p
+    return p - q1, p - q0
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
+    """Where the ray from the apex ``C = (cx, cy)`` at angle ``psi`` from ``C->A`` (towards
+    ``C->B``) meets the edge ``AB`` (``A = (0, 0)``, ``B = (L, 0)``, ``cy > 0``)."""
+    cs = np.cos(psi)
+    sn = np.sin(psi)
+    dx = -cx * cs + cy * sn
+    dy = -cx * sn - cy * cs
+    if dy >= 0.0:
+        return np.inf
+    return cx - dx * cy / dy
+
+
+@numba.njit(cache=True, nogil=True)
+def _rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
+    """Walk each vertex's one-ring: ``cpos, csgn, theta, vbnd`` of :func:`_propagate`."""
+    n = twin.size
+    cpos = np.zeros(n)
+    csgn = np.zeros(n)
+    theta = np.zeros(nv)
+    vbnd = np.zeros(nv, np.bool_)
+    for v in range(nv):
+        k0 = vptr[v]
+        deg = vptr[v + 1] - k0
+        if deg == 0:
+            continue
+        # start at a corner with a boundary edge at v, entering through it, if there is one
+        h0 = vcorner[k0]
+        win = F[h0 // 3, (h0 % 3 + 1) % 3]
+        for k in range(k0, k0 + deg):
+            h = vcorner[k]
+            f = h // 3
+            c = h - 3 * f
+            if twin[3 * f + (c + 1) % 3] < 0:  # the edge from v to F[f, c+2]
+                h0 = h
+                win = F[f, (c + 2) % 3]
+                vbnd[v] = True
+                break
+            if twin[3 * f + (c + 2) % 3] < 0:  # the edge from v to F[f, c+1]
+                h0 = h
+                win = F[f, (c + 1) % 3]
+                vbnd[v] = True
+                break
+        h = h0
+        pos = 0.0
+        ok = True
+        for step in range(deg):
+            f = h // 3
+            c = h - 3 * f
+            a = cang[h]
+            if win == F[f, (c + 1) % 3]:
+                csgn[h] = 1.0
+                cpos[h] = pos
+                wout = F[f, (c + 2) % 3]
+                hout = 3 * f + (c + 1) % 3  # opposite F[f, c+1]: the edge v - F[f, c+2]
+            elif win == F[f, (c + 2) % 3]:
+                csgn[h] = -1.0
+                cpos[h] = pos + a
+                wout = F[f, (c + 1) % 3]
+                hout = 3 * f + (c + 2) % 3
+            else:
+                ok = False
+                break
+            pos += a
+            t = twin[hout]
+            if step == deg - 1:
+                # a closed ring comes back to its first corner, an open one ends at the boundary
+                ok = (t < 0) if vbnd[v] else (t >= 0 and (t // 3) == (h0 // 3))
+                break
+            if t < 0:
+                ok = False
+                break
+            g = t // 3
+            cg = -1
+            for j in range(3):
+                if F[g, j] == v:
+                    cg = j
+            if cg < 0:
+                ok = False
+                break
+            h = 3 * g + cg
+            win = wout
+        theta[v] = pos
+        if not ok:
+            for k in range(k0, k0 + deg):
+                csgn[vcorner[k]] = 0.0
+    return cpos, csgn, theta, vbnd
+
+
 @numba.njit(cache=True, nogil=True)
 def _propagate(  # pragma: no cover - compiled
-    F, fl, fx, fy, twin, rev, hedge, n_edges, pseudo, vptr, vcorner, cflip, sources
+    F,
+    fl,
+    fx,
+    fy,
+    twin,
+    rev,
+    hedge,
+    n_edges,
+    pseudo,
+    vptr,
+    vcorner,
+    cflip,
+    cang,
+    cpos,
+    csgn,
+    theta,
+    vbnd,
+    sources,
 ):
     """Exact distances from ``sources`` (see the module docstring).
 
@@ -281,7 +438,11 @@ def _propagate(  # pragma: no cover - compiled
     ``twin`` (#F*3,): the same edge seen from the other face (-1 on the boundary); ``rev``: the
     twin runs the other way; ``hedge``: the edge id; ``cflip``: the half-edge's frame is the
     mirror image (``x -> L - x``) of its edge's common frame (that of the edge's first half-edge).
-    Returns the distances and the number of windows created.
+    ``cang, cpos, csgn`` (#F*3,): for the corner opposite half-edge ``h``, its angle, the ring
+    position of its first edge (to ``F[f, c+1]``; the angle from the first edge of the one-ring
+    of the corner's vertex) and its turn (+1 or -1) in that ring (0: the vertex has no ring to
+    walk, non-manifold); ``theta`` (#V,): total angles; ``vbnd``: boundary vertices (their ring
+    starts at a boundary edge).  Returns the distances and the number of windows created.
 
     The windows queued on an edge are kept in one contiguous block per edge (ids and their
     extent in the edge's common frame), so that finding the ones a new window overlaps is a scan
@@ -292,6 +453,7 @@ def _propagate(  # pragma: no cover - compiled
     nv = pseudo.size
     dist = np.full(nv, np.inf)
     emitted = np.full(nv, np.inf)  # distance at which a pseudo-source last emitted
+    bpos = np.full(nv, np.nan)  # ring position of the direction each distance came from
     cap = 1024
     wh = np.empty(cap, np.int64)
     wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
@@ -324,8 +486,8 @@ def _propagate(  # pragma: no cover - compiled
     mdeg = 2
     for v in range(nv):
         mdeg = max(mdeg, vptr[v + 1] - vptr[v])
-    ch_h = np.empty(mdeg, np.int64)
-    ch_b = np.empty((mdeg, 5), np.float64)
+    ch_h = np.empty(2 * mdeg, np.int64)
+    ch_b = np.empty((2 * mdeg, 5), np.float64)
     upd = np.empty(3, np.int64)  # vertices whose distance a step lowered
     while nh > 0:
         key, item, nh = heap_pop(hk, hv, nh)
@@ -337,6 +499,7 @@ def _propagate(  # pragma: no cover - compiled
             if key > dist[v] or emitted[v] <= key:
                 continue  # stale event
             emitted[v] = key
+            b = bpos[v]
             for k in range(vptr[v], vptr[v + 1]):
                 h = vcorner[k]  # half-edge opposite v in its face
                 f = h // 3
@@ -347,6 +510,10 @@ def _propagate(  # pragma: no cover - compiled
                     du = key + fl[3 * f + (c + 2 - j) % 3]
                     if du < dist[u]:
                         dist[u] = du
+                        # u's path arrives along the edge from v: u's corner's second edge
+                        # (j = 0) or first edge (j = 1)
+                        cu = 3 * f + (c + 1 + j) % 3
+                        bpos[u] = _ring_pos(cpos, csgn, cu, cang[cu] if j == 0 else 0.0)
                         if pseudo[u]:
                             if nh == hk.size:
                                 hk, hv = _grow(hk, hv)
@@ -354,14 +521,32 @@ def _propagate(  # pragma: no cover - compiled
                 t = twin[h]
                 if t < 0:
                     continue
+                # the rays from v across the opposite edge: all of them from a source or a
+                # vertex without a ring, else those in its shadow (_shadow)
                 L = fl[h]
-                ch_h[nch] = t
-                ch_b[nch, 0] = 0.0
-                ch_b[nch, 1] = L
-                ch_b[nch, 2] = L - fx[h] if rev[h] else fx[h]
-                ch_b[nch, 3] = -fy[h]
-                ch_b[nch, 4] = key
-                nch += 1
+                al = cang[h]
+                for piece in range(2):
+                    if b != b or csgn[h] == 0:
+                        if piece == 1:
+                            break
+                        p0, p1 = 0.0, al
+                    else:
+                        p0, p1 = _shadow(b, cpos[h], csgn[h], al, theta[v], vbnd[v], piece)
+                        if p1 <= p0:
+                            continue
+                    x0 = 0.0 if p0 <= 0.0 else _ray_hit(fx[h], fy[h], p0)
+                    x1 = L if p1 >= al else _ray_hit(fx[h], fy[h], p1)
+                    x0 = min(max(x0, 0.0), L)
+                    x1 = min(max(x1, 0.0), L)
+                    if x1 <= x0:
+                        continue
+                    ch_h[nch] = t
+                    ch_b[nch, 0] = L - x1 if rev[h] else x0
+                    ch_b[nch, 1] = L - x0 if rev[h] else x1
+                    ch_b[nch, 2] = L - fx[h] if rev[h] else fx[h]
+                    ch_b[nch, 3] = -fy[h]
+                    ch_b[nch, 4] = key
+                    nch += 1
         else:
             # ---- a window enters face f through half-edge h
             w = item
@@ -399,12 +584,18 @@ def _propagate(  # pragma: no cover - compiled
                 dv = sig + np.hypot(sx, sy)
                 if dv < dist[ia]:
                     dist[ia] = dv
+                    # it arrives at A from below AB: past A's first edge (to B), away from C
+                    ca = 3 * f + (c + 1) % 3
+                    bpos[ia] = _ring_pos(cpos, csgn, ca, -np.arctan2(-sy, sx))
                     upd[nu] = ia
                     nu += 1
             if b1 >= L - tol:
                 dv = sig + np.hypot(L - sx, sy)
                 if dv < dist[ib]:
                     dist[ib] = dv
+                    # at B: past B's second edge (to A), away from C
+                    cb = 3 * f + (c + 2) % 3
+                    bpos[ib] = _ring_pos(cpos, csgn, cb, cang[cb] + np.arctan2(-sy, L - sx))
                     upd[nu] = ib
                     nu += 1
             # where the ray from s through the apex C crosses AB
@@ -413,6 +604,12 @@ def _propagate(  # pragma: no cover - compiled
                 dv = sig + np.hypot(cx - sx, cy - sy)
                 if dv < dist[ic]:
                     dist[ic] = dv
+                    # within C's corner: the angle from C->A to C->s (C->B is counterclockwise)
+                    qx = sx - cx
+                    qy = sy - cy
+                    bpos[ic] = _ring_pos(
+                        cpos, csgn, h, np.arctan2(-cx * qy + cy * qx, -cx * qx - cy * qy)
+                    )
                     upd[nu] = ic
                     nu += 1
             for side in range(2):
@@ -716,6 +913,10 @@ class ExactGeodesicSolver:
             np.array(pseudo, dtype=np.bool_, order="C"), i64[2], i64[3],
             np.array(cflip, dtype=np.bool_, order="C"),
         )  # fmt: skip
+        # one-rings, for the shadows of pseudo-sources (_shadow)
+        cang = np.ascontiguousarray(intrinsic.corner_angles(lf).reshape(-1), dtype=np.float64)
+        rings = _rings(self._data[0], self._data[4], cang, self._data[9], self._data[10], nv)
+        self._data = (*self._data, cang, *rings)
         self.n_windows = 0
 
     @staticmethod
