@@ -126,10 +126,14 @@ def choose_method(m: Any) -> str:
     mesh's own edges.  No rule here detects such meshes; pass ``method="standard"`` for scans
     that noisy.
 
-    Above that size (rules 2-4) the default runs the same heat method as potpourri3d, so its
-    error is within a few percent of potpourri3d's, either side: measured 1.005x (torus, 25k
-    faces), 1.018x (torus, 100k), 0.98x (icosphere 5, 20k), 0.92x (uv sphere, 40k), 1.011x
-    (bumpy sphere, 20k, robust).  Two differences remain, and neither is an accuracy choice one
+    Near the limit the margin holds (refined / potpourri3d at 20-24k faces, sources 0, 7,
+    2000, exact distances by window propagation: torus 0.75, icosphere 5 0.77, torus with
+    vertices moved by 0.2 edge lengths 0.81), except on crumpled meshes (bumpy sphere of 20k
+    faces, relief about one edge length: 1.15).  Above it (rules 2-4) the default runs the
+    same heat method as potpourri3d on the mesh itself, so its error is within a few percent
+    of potpourri3d's, either side: standard / potpourri3d measured 1.005 (torus, 25k faces),
+    1.018 (torus, 100k), 0.98 (icosphere 5), 0.92 (uv sphere, 40k); robust 1.011 (that bumpy
+    sphere).  Two differences remain, and neither is an accuracy choice one
     could copy to be never worse: potpourri3d lumps masses barycentrically (libigl's Voronoi
     masses here, so that "standard" equals libigl; on a Delaunay torus that is 0.0467 against
     0.0466, on the uv sphere 0.0169 against 0.0177), and it solves ``(L + 1e-6 I) phi = div X``
