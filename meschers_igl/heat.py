@@ -132,8 +132,8 @@ def choose_method(m: Any) -> str:
     faces, relief about one edge length: 1.15).  Above it (rules 2-4) the default runs the
     same heat method as potpourri3d on the mesh itself, so its error is within a few percent
     of potpourri3d's, either side: standard / potpourri3d measured 1.005 (torus, 25k faces),
-    1.018 (torus, 100k), 0.98 (icosphere 5), 0.92 (uv sphere, 40k); robust 1.011 (that bumpy
-    sphere).  Two differences remain, and neither is an accuracy choice one
+    1.018 (torus, 100k), 0.98 (icosphere 5), 0.92 (uv sphere, 40k); on that bumpy sphere
+    robust 1.034, standard 1.005.  Two differences remain, and neither is an accuracy choice one
     could copy to be never worse: potpourri3d lumps masses barycentrically (libigl's Voronoi
     masses here, so that "standard" equals libigl; on a Delaunay torus that is 0.0467 against
     0.0466, on the uv sphere 0.0169 against 0.0177), and it solves ``(L + 1e-6 I) phi = div X``
