@@ -442,7 +442,8 @@ def _propagate(  # pragma: no cover - compiled
     position of its first edge (to ``F[f, c+1]``; the angle from the first edge of the one-ring
     of the corner's vertex) and its turn (+1 or -1) in that ring (0: the vertex has no ring to
     walk, non-manifold); ``theta`` (#V,): total angles; ``vbnd``: boundary vertices (their ring
-    starts at a boundary edge).  Returns the distances and the number of windows created.
+    starts at a boundary edge).  Returns the distances, the number of windows created and how
+    many of them pseudo-sources (and sources) emitted.
 
     The windows queued on an edge are kept in one contiguous block per edge (ids and their
     extent in the edge's common frame), so that finding the ones a new window overlaps is a scan
@@ -473,6 +474,7 @@ def _propagate(  # pragma: no cover - compiled
     nfree = 0
     nw = 0  # slots used so far
     created = 0
+    emitted_windows = 0  # of them, sent by pseudo-sources (sources included)
     hk = np.empty(1024, np.float64)
     hv = np.empty(1024, np.int64)
     nh = 0
@@ -540,6 +542,7 @@ def _propagate(  # pragma: no cover - compiled
                     x1 = min(max(x1, 0.0), L)
                     if x1 <= x0:
                         continue
+                    emitted_windows += 1
                     ch_h[nch] = t
                     ch_b[nch, 0] = L - x1 if rev[h] else x0
                     ch_b[nch, 1] = L - x0 if rev[h] else x1
@@ -816,7 +819,7 @@ def _propagate(  # pragma: no cover - compiled
             if nh == hk.size:
                 hk, hv = _grow(hk, hv)
             nh = heap_push(hk, hv, nh, kk, w)
-    return dist, created
+    return dist, created, emitted_windows
 
 
 # ----------------------------------------------------------------------------------------------
@@ -917,7 +920,8 @@ class ExactGeodesicSolver:
         cang = np.ascontiguousarray(intrinsic.corner_angles(lf).reshape(-1), dtype=np.float64)
         rings = _rings(self._data[0], self._data[4], cang, self._data[9], self._data[10], nv)
         self._data = (*self._data, cang, *rings)
-        self.n_windows = 0
+        self.n_windows = 0  # windows created by the last query
+        self.n_emitted = 0  # of them, sent by pseudo-sources (and sources) into their shadows
 
     @staticmethod
     def _edge_ids(F: np.ndarray, nv: int) -> np.ndarray:
@@ -939,7 +943,7 @@ class ExactGeodesicSolver:
             ``inf`` on connected components without a source.
         """
         src = np.array(np.unique(as_index_array(sources, "sources", self.n_vertices)), np.int64)
-        d, self.n_windows = _propagate(*self._data, src)
+        d, self.n_windows, self.n_emitted = _propagate(*self._data, src)
         return d
 
 

@@ -192,6 +192,88 @@ def test_penrose_triangle_equals_covering():
         assert np.abs(d - exact_geodesic_distance(m, s, algorithm="covering")).max() < TOL
 
 
+def test_subdivided_impossible_cube_equals_covering_with_linear_windows():
+    """A gallery mescher, midpoint-subdivided (flat faces, creases, corners): exact against MMP
+    on a real 3D covering, and the pieces of one unfolded source are merged, so the windows
+    stay O(#F) (before the merge: 10-40 per face on such meshes, growing like sqrt(#F))."""
+    m = get_model("impossible_cube").mescher.subdivide(1)
+    S = ExactGeodesicSolver(m)
+    for s in (3, m.n_vertices // 2):
+        d = S.distance(s)
+        assert S.n_windows < 4 * m.n_faces, S.n_windows / m.n_faces
+        dc = exact_geodesic_distance(m, s, algorithm="covering")
+        assert np.abs(d - dc).max() < TOL
+
+
+@pytest.mark.parametrize("n", [41, 81])
+def test_flat_sheet_needs_a_few_windows_per_face(n):
+    """On a flat square (one unfolding: the distance field is a single piece) the windows per
+    face stay bounded as the mesh is refined; straight-boundary vertices (pseudo-sources, of
+    total angle pi) cast no shadow and emit nothing."""
+    V, F = _grid(n, 0.2)
+    m = Mescher.from_mesh(V, F)
+    S = ExactGeodesicSolver(m)
+    s = (n // 3) * n + n // 4
+    d = S.distance(s)
+    np.testing.assert_allclose(d, np.linalg.norm(V - V[s], axis=1), rtol=0, atol=TOL)
+    assert S.n_windows < 2.5 * m.n_faces, S.n_windows / m.n_faces
+
+
+def test_a_saddle_emits_only_into_its_shadow():
+    """A cone of total angle 3 pi at the apex of a flat fan (a saddle): a shortest path through
+    it turns by >= pi on both sides, so it lights only the wedge of width 3 pi - 2 pi = pi
+    opposite the source (4 of the 12 sectors); elsewhere the distance is the straight one in the
+    unfolded fan.  The rim's vertices (boundary, angle 3 pi / 4 < pi) cast no shadow at all."""
+    k = 12  # sectors of 3 pi / k around vertex 0, rings at radius 1 and 2
+    F = []
+    # intrinsic fan: vertex 0 at the centre, vertex 1 + i at radius 1, 1 + k + i at radius 2
+    n_in = 1 + 2 * k
+    for i in range(k):
+        j = (i + 1) % k
+        F.append([0, 1 + i, 1 + j])
+        F.append([1 + i, 1 + k + i, 1 + k + j])
+        F.append([1 + i, 1 + k + j, 1 + j])
+    F = np.array(F)
+    th = 3 * np.pi / k
+
+    # planar positions of each face's corners in its own unfolding (sector i spans [i th, j th])
+    def pos(v, i):
+        if v == 0:
+            return np.zeros(2)
+        r = 1.0 if v <= k else 2.0
+        idx = (v - 1) % k
+        a = i * th if idx == i else (i + 1) * th
+        return r * np.array([np.cos(a), np.sin(a)])
+
+    lens = []
+    for f, (a, b, c) in enumerate(F):
+        i = f // 3
+        P = [pos(a, i), pos(b, i), pos(c, i)]
+        lens.append(
+            [np.linalg.norm(P[1] - P[2]), np.linalg.norm(P[2] - P[0]), np.linalg.norm(P[0] - P[1])]
+        )
+    S = ExactGeodesicSolver(F=F, l=np.array(lens))
+    src = 1 + k  # on the outer ring at angle 0
+    d = S.distance(src)
+    assert S.n_vertices == n_in
+    # expected: straight in the unfolding when the angle between source and target, measured
+    # around the cone the short way, is < pi; else around the apex
+    for v in range(1, n_in):
+        r = 1.0 if v <= k else 2.0
+        a = ((v - 1) % k) * th
+        a = min(a, 3 * np.pi - a)
+        if a < np.pi:
+            e = np.sqrt(4 + r * r - 4 * r * np.cos(a))
+        else:
+            e = 2.0 + r
+        assert abs(d[v] - e) < TOL, (v, d[v], e)
+    assert d[0] == pytest.approx(2.0, abs=TOL)
+    # the source's 2 faces' opposite edges, and the apex's shadow: 4 sectors (+ a sliver of the
+    # round-off slack in each neighbour, the shadow's edges being sector edges here); a whole-fan
+    # emission would send 12 from the apex and 2 to 3 from each of the 12 rim vertices
+    assert S.n_emitted <= 2 + 4 + 3, S.n_emitted
+
+
 def test_bad_input():
     V, F = ordinary_torus(8, 4)
     m = Mescher.from_mesh(V, F)
