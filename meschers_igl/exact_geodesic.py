@@ -78,7 +78,7 @@ _VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the windo
 # ----------------------------------------------------------------------------------------------
 # compiled kernel
 # ----------------------------------------------------------------------------------------------
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
     """Xin-Wang pruning: True when every point of the window is strictly beaten via a vertex."""
     d0 = sig + np.sqrt((b0 - sx) ** 2 + sy * sy)
@@ -107,7 +107,7 @@ def _grow(hk, hv):  # pragma: no cover - compiled
     return hk2, hv2
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _cut(lo, hi, a, b, r1, r2, r3, nr, w0, w1, w2):  # pragma: no cover - compiled
     """Cut from the ends of ``[lo, hi]`` the pieces of the overlap ``[a, b]`` (pieces
     ``[a, r1], [r1, r2], [r2, r3]``, ``nr`` of them, the last ending at ``b``) that the other
@@ -140,7 +140,7 @@ def _cut(lo, hi, a, b, r1, r2, r3, nr, w0, w1, w2):  # pragma: no cover - compil
     return lo, hi
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _gap(x, wx, wy2, ws, ox, oy2, osg):  # pragma: no cover - compiled
     """``d_o(x) - d_w(x)`` for two windows' distance functions on one edge."""
     return osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
@@ -224,7 +224,7 @@ def _resolve(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cove
     return lo, hi, olo, ohi
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _block_remove(e, i, bstart, bn, aw, alo, ahi, pos):  # pragma: no cover - compiled
     """Remove entry ``i`` of edge ``e``'s block: its last entry moves into the hole."""
     base = bstart[e]
@@ -271,7 +271,7 @@ def _trim_by_ends(da, db, L, b0, b1, sx, sy, sig):  # pragma: no cover - compile
     return b0, b1
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _ring_pos(cpos, csgn, k, psi):  # pragma: no cover - compiled
     """Ring position of the direction at angle ``psi`` from corner ``k``'s first edge (towards
     its second); NaN for a vertex without a ring (no shadow is then used)."""
@@ -280,7 +280,7 @@ def _ring_pos(cpos, csgn, k, psi):  # pragma: no cover - compiled
     return cpos[k] + csgn[k] * psi
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _shadow(b, p, sg, al, th, bnd, piece):  # pragma: no cover - compiled
     """Part ``piece`` (0 or 1) of a corner's angles ``[0, al]`` into which a pseudo-source with
     back direction ``b`` (a ring position) may send a shortest path on.
@@ -321,7 +321,7 @@ def _shadow(b, p, sg, al, th, bnd, piece):  # pragma: no cover - compiled
     return p - q1, p - q0
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True)
 def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
     """Where the ray from the apex ``C = (cx, cy)`` at angle ``psi`` from ``C->A`` (towards
     ``C->B``) meets the edge ``AB`` (``A = (0, 0)``, ``B = (L, 0)``, ``cy > 0``)."""
