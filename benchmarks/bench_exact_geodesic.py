@@ -22,7 +22,7 @@ ordinary and impossible (climb 0.4 per turn), every vertex slightly curved.  Exa
 differ by orders of magnitude between the two kinds, for a reason no implementation avoids: the
 distance field is made of pieces (one per unfolded source) and every curved vertex starts a new
 piece boundary behind it that runs on until it meets another; with thousands of slightly curved
-vertices the pieces number ``O(n^1.5)`` (on the 20k-face torus at least 90% of the windows
+vertices the pieces number ``O(n^1.5)`` (on the 20k-face torus 94% of the windows
 propagated are the distance field's own pieces, sampled at 257 points per edge), while on a
 piecewise-flat mesh they are ``O(n)`` (pieces of one unfolding are merged).  The machine is
 shared: ratios, not seconds, matter.
