@@ -274,7 +274,7 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     d0 = accurate.distance(source) if sources.size > 1 else d_acc
     finite = np.isfinite(d0)
     target = int(np.flatnonzero(finite)[np.argmax(d0[finite])])
-    # exact distances at every vertex (window propagation: the whole field in well under 1 s)
+    # exact distances at every vertex (window propagation: the whole field in milliseconds)
     d_exact, how = exact_distance(m, sources)
     s.exact = d_exact
     rec: dict = {"sources": sources.tolist(), "exact": how}
