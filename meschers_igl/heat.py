@@ -47,7 +47,7 @@ _FAR_RATIO = 1e-290
 #: source sets up to this size are held at one common value in the Poisson step (k solves)
 _MAX_PINNED_SOURCES = 256
 _BOUNDARY = ("neumann", "dirichlet", "average")
-METHODS = ("auto", "standard", "robust", "refined", "accurate")
+METHODS = ("auto", "standard", "robust", "refined", "accurate", "geometry_central")
 #: presets: (levels of intrinsic midpoint refinement, intrinsic Delaunay).  "accurate": mean
 #: relative error on the 48 x 16 impossible torus (4 sources, against the covering oracle):
 #: standard 4.6%; refine=1: 2.6% (t = h^2), 2.2% (t = h^2 / 2); refine=2: 1.5%; refine=2 + iDT:
@@ -66,99 +66,90 @@ SLIVER_DEGREES = 1.0
 AUTO_REFINE_MAX_FACES = 25_000
 
 
+#: "auto" does not refine meshes whose :func:`saddle_relief` is above this (crumpled meshes)
+CRUMPLED_RELIEF = 6.0
+
+
 #: an edge is Delaunay when its cotangent weight (cot a + cot b) / 2 is >= -DELAUNAY_TOL; the
 #: intrinsic Delaunay flips use the same test (so the cocircular quads of a grid, weight 0 up
 #: to round-off, are left alone; see intrinsic.intrinsic_delaunay)
 DELAUNAY_TOL = 1e-9
 
 
-def choose_method(m: Any) -> str:
-    """The heat-method variant ``method="auto"`` uses on ``m``, and why (see the solver).
+#: geometry-central's ``flipToDelaunay`` tolerance on the edge weight (``delaunayEPS``)
+PEER_DELAUNAY_TOL = 1e-6
+#: geometry-central's Poisson shift, ``(L + 1e-6 I) phi = div X`` on the tufted cover
+PEER_POISSON_SHIFT = 1e-6
 
-    The rules, in this order:
 
-    1. ``"refined"`` (one intrinsic midpoint refinement, then intrinsic Delaunay) on meshes
-       with at most :data:`AUTO_REFINE_MAX_FACES` faces, whatever their triangles.
-    2. ``"refined"`` on larger meshes when some corner angle is below :data:`SLIVER_DEGREES`
-       (CAD tessellations, fans of needles): the gradient of a sliver is unreliable even after
-       flipping.
-    3. ``"robust"`` (intrinsic Delaunay, as potpourri3d's default) when some edge is not
-       Delaunay (weight below ``-DELAUNAY_TOL``: obtuse triangles).
-    4. ``"standard"`` otherwise (every edge Delaunay, no sliver): the mescher's own operators;
-       on an ordinary mesh the result equals libigl's heat method.
+def _flipped_double(l: np.ndarray, F: np.ndarray, fe: np.ndarray, n: int):
+    """The double of ``(l, F)`` (a mirror copy glued along the boundary) flipped to intrinsic
+    Delaunay with :data:`PEER_DELAUNAY_TOL`, its faces folded back onto the ``n`` vertices.
 
-    Why refine small meshes: the heat method's error is first order in the edge length, and
-    refinement halves it without changing the surface.  Against exact distances (mean relative
-    error over sources 0, 7, 20, 60, 100; ``tests/meschers_igl/test_heat.py``, potpourri3d
-    1.4's ``MeshHeatMethodDistanceSolver`` with its defaults)::
-
-        mesh (faces)                     potpourri3d  standard  robust   auto = refined
-        sliver box (228)                 0.1480       0.1857    0.1418   0.1010  (0.68x)
-        sliver box, finer (764)          0.1731       0.1903    0.1645   0.0922  (0.53x)
-        obtuse sheet (3042)              0.0130       0.4859    0.0105   0.0095  (0.73x)
-        torus 48 x 16 (1536)             0.0466       0.0467    0.0467   0.0261  (0.56x)
-        icosphere 3 (1280)               0.0151       0.0151    0.0151   0.0094  (0.62x)
-        uv sphere 40 x 20 (1520)         0.0177       0.0169    0.0169   0.0124  (0.70x)
-        perturbed torus (1536)           0.0548       0.0511    0.0567   0.0362  (0.66x)
-        perturbed icosphere (1280)       0.0129       0.0153    0.0129   0.0091  (0.71x)
-        PyVista's ant (912)              0.0792       0.0811    0.0780   0.0597  (0.75x)
-        PyVista's nut (1046)             0.0385       0.0385    0.0385   0.0230  (0.60x)
-        impossible torus (1536) [*]      0.0474       0.0464    0.0484   0.0267  (0.56x)
-
-    [*] exact distances on a 3-sheet covering; potpourri3d runs on that covering.  The choice
-    before (rules 2-4 at every size) was worse than potpourri3d on the torus, both perturbed
-    meshes and the impossible torus: the heat method on the mesh itself is within a few
-    percent of potpourri3d's either way, and only a finer triangulation is clearly better.
-    Its price is 3.5-4.5x the query time and 6-7x the precomputation (two factorizations of
-    four times the size), which is why it stops at :data:`AUTO_REFINE_MAX_FACES`: there the
-    refined solver costs what the standard one costs at 100k faces (torus, 25k faces: 16-20 ms
-    per query and 1.1-1.3 s to set up, against 18-21 ms and 0.9-1.0 s for standard at 100k;
-    libigl at 25k: 3.7 ms and 0.11 s, potpourri3d 5.6 ms and 0.13 s;
-    ``benchmarks/bench_geodesics.py --sizes 25000 100000``).
-
-    Where refinement does not help: crumpled meshes, whose vertices are cones of large angle
-    defect (every vertex moved at random by 0.5-1 mean edge length; median defect 0.8-1.4
-    rad).  There the error is 1.12-1.22x potpourri3d's refined, 1.03-1.05x robust, and
-    0.79-0.93x standard (the plain mesh Laplacian, negative weights and all).  A likely reason:
-    shortest paths on such a surface pass through saddle vertices (a quarter of their inner
-    points are vertices, against 0-1% on a smooth torus or sphere), and the intrinsic Delaunay
-    flips and the refinement's flat midpoints both take the discrete heat flow away from the
-    mesh's own edges.  No rule here detects such meshes; pass ``method="standard"`` for scans
-    that noisy.
-
-    Near the limit the margin holds (refined / potpourri3d at 20-24k faces, sources 0, 7,
-    2000, exact distances by window propagation: torus 0.75, icosphere 5 0.77, torus with
-    vertices moved by 0.2 edge lengths 0.81), except on crumpled meshes (bumpy sphere of 20k
-    faces, relief about one edge length: 1.15).  Above it (rules 2-4) the default runs the
-    same heat method as potpourri3d on the mesh itself, so its error is within a few percent
-    of potpourri3d's, either side: standard / potpourri3d measured 1.005 (torus, 25k faces),
-    1.018 (torus, 100k), 0.98 (icosphere 5), 0.92 (uv sphere, 40k); on that bumpy sphere
-    robust 1.034, standard 1.005.  Two differences remain, and neither is an accuracy choice one
-    could copy to be never worse: potpourri3d lumps masses barycentrically (libigl's Voronoi
-    masses here, so that "standard" equals libigl; on a Delaunay torus that is 0.0467 against
-    0.0466, on the uv sphere 0.0169 against 0.0177), and it solves ``(L + 1e-6 I) phi = div X``
-    on its intrinsic tufted cover, whose Laplacian is twice the mesh's on a closed manifold,
-    i.e. ``(L + 5e-7 I)`` on the mesh.  That screening shrinks every distance by an amount that
-    grows with the resolution: it helps on tori, where the heat method overestimates far
-    distances, and hurts on spheres.  With barycentric masses and that screening the heat
-    method here reproduces potpourri3d's distances to 3e-14 (48 x 16 torus, icosphere 3).
+    Interior vertices get a second copy ``n + v`` while flipping (they are distinct points of
+    the double), boundary vertices and boundary edges are shared by both sheets.
     """
+    ne = int(fe.max()) + 1
+    deg = np.bincount(fe.reshape(-1), minlength=ne)
+    bface, bcorner = np.nonzero(deg[fe] == 1)
+    back = np.arange(n, 2 * n)
+    back[F[bface, (bcorner + 1) % 3]] = F[bface, (bcorner + 1) % 3]
+    back[F[bface, (bcorner + 2) % 3]] = F[bface, (bcorner + 2) % 3]
+    rev = [0, 2, 1]  # the back sheet is oppositely oriented
+    l2 = np.r_[l, l[:, rev]]
+    F2 = np.r_[F, back[F][:, rev]]
+    fe2 = np.r_[fe, np.where(deg[fe] == 1, fe, fe + ne)[:, rev]]
+    lt, Ft, _ = intrinsic.intrinsic_delaunay(l2, F2, tol=PEER_DELAUNAY_TOL, face_edges=fe2)
+    return lt, np.where(Ft >= n, Ft - n, Ft)
+
+
+def saddle_relief(m: Any) -> float:
+    """How crumpled ``m`` is at the scale of its edges: ``sqrt(#F)`` times the mean saddle defect.
+
+    ``relief = sqrt(#F) * mean_v max(0, -K_v)`` over interior vertices, with ``K_v = 2 pi -
+    (sum of corner angles at v)`` the angle defect (intrinsic: from the edge lengths, so it
+    applies to meschers too).  On a smooth surface sampled with spacing ``h`` a vertex's defect
+    is its integrated curvature, ``O(h^2)``, so the relief is ``O(h)`` and vanishes under
+    refinement; vertex-scale relief (noise of the order of an edge length) makes ``O(1)``
+    saddle cones, and the relief grows like ``sqrt(#F)``.  The heat method's discretization
+    error is ``O(h)``, i.e. ``O(1 / sqrt(#F))`` of the size: refinement pays when that error,
+    not the cones, dominates (see :func:`choose_method` for the measured boundary).
+
+    Returns
+    -------
+    relief : float
+        0 on meshes without interior saddle vertices (convex shapes, flat sheets).
+    """
+    F = np.asarray(m.F, dtype=np.int64)
+    if F.shape[0] == 0:
+        return 0.0
+    n = int(m.n_vertices)
+    ang = intrinsic.corner_angles(np.asarray(m.face_edge_lengths(mollified=True)))
+    K = 2.0 * np.pi - np.bincount(F.reshape(-1), weights=ang.reshape(-1), minlength=n)
+    fe = np.asarray(m.face_edges)
+    bface, bcorner = np.nonzero(np.bincount(fe.reshape(-1))[fe] == 1)
+    inner = np.bincount(F.reshape(-1), minlength=n) > 0
+    inner[F[bface, (bcorner + 1) % 3]] = False
+    inner[F[bface, (bcorner + 2) % 3]] = False
+    if not inner.any():
+        return 0.0
+    return float(np.sqrt(F.shape[0]) * np.maximum(-K[inner], 0.0).mean())
+
+
+def choose_method(m: Any) -> str:
+    """The heat-method variant ``method="auto"`` uses on ``m`` (see the docstring below)."""
     F = np.asarray(m.F)
     if F.shape[0] == 0:
         return "standard"
+    if saddle_relief(m) > CRUMPLED_RELIEF:
+        return "geometry_central"
     if F.shape[0] <= AUTO_REFINE_MAX_FACES:
         return "refined"
-    l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
-    # one pass over the cotangents: an angle below SLIVER_DEGREES has cot above cot(SLIVER),
-    # an edge is Delaunay when its weight (cot a + cot b) / 2 >= 0 (intrinsic.is_delaunay)
-    hc = intrinsic.half_cotangents(l)
+    # one pass over the cotangents: an angle below SLIVER_DEGREES has cot above cot(SLIVER)
+    hc = intrinsic.half_cotangents(np.asarray(m.face_edge_lengths(mollified=True)))
     if float(hc.max()) > 0.5 / np.tan(np.radians(SLIVER_DEGREES)):
         return "refined"
-    fe = np.asarray(m.face_edges).reshape(-1)
-    w = np.bincount(fe, weights=hc.reshape(-1), minlength=int(m.n_edges))
-    if float(w.min()) < -DELAUNAY_TOL:
-        return "robust"
-    return "standard"
+    return "geometry_central"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -272,14 +263,40 @@ class HeatGeodesicSolver:
         t: float | None = None,
         method: str = "auto",
         intrinsic_delaunay: bool | None = None,
-        boundary: str = "average",
+        boundary: str | None = None,
         refine: int | None = None,
         t_factor: float | None = None,
         solver: str = "auto",
     ) -> None:
         method = as_choice(method, "method", METHODS)
+        requested = method
         if method == "auto":
             method = choose_method(m)
+        self.method = method
+        self.m = m
+        n = self.n_vertices = int(m.n_vertices)
+        self._solver = solver
+        self._far: list = []  # lazily factored heat steps with longer times, see _far_gradient
+        if method == "geometry_central":
+            for name, value in (("refine", refine), ("intrinsic_delaunay", intrinsic_delaunay)):
+                if value is not None:
+                    raise MescherError(
+                        f"{name}: method='geometry_central' fixes it (intrinsic Delaunay, no "
+                        f"refinement), found {value!r}"
+                    )
+            if boundary is not None and as_choice(boundary, "boundary", _BOUNDARY) != "neumann":
+                raise MescherError(
+                    "boundary: method='geometry_central' solves the heat step with Neumann "
+                    f"conditions (as potpourri3d), found {boundary!r}"
+                )
+            # potpourri3d's offsets on source sets when asked for by name; auto pins them
+            self._init_peer(m, t, 1.0 if t_factor is None else t_factor, solver)
+            self._pin_sets = requested != "geometry_central"
+            return
+        self._pin_sets = True
+        self._peer = False
+        if boundary is None:
+            boundary = "average"
         p_refine, p_idt = _PRESETS[method]
         if intrinsic_delaunay is None:
             intrinsic_delaunay = p_idt
@@ -295,11 +312,8 @@ class HeatGeodesicSolver:
             raise MescherError(f"refine: expected an integer in [0, 4], found {refine!r}")
         t_factor = as_positive(t_factor, "t_factor")
         self.boundary = as_choice(boundary, "boundary", _BOUNDARY)
-        self.method = method
         self.intrinsic_delaunay = bool(intrinsic_delaunay)
         self.refine = int(refine)
-        self.m = m
-        n = self.n_vertices = int(m.n_vertices)
         F = np.asarray(m.F, dtype=np.int64)
         # mollified lengths (Sharp & Crane 2020): equal to the plain ones unless some face is
         # nearly degenerate, and they keep every cotangent finite
@@ -346,10 +360,8 @@ class HeatGeodesicSolver:
             bnd[F[bface, (bcorner + 1) % 3]] = True
             bnd[F[bface, (bcorner + 2) % 3]] = True
         self._bnd = bnd
-        self._solver = solver
         self._Ah = _regularize_unused(M - self.t * L, F, nn)
         self._L, self._F_inner = L, F
-        self._far: list = []  # lazily factored heat steps with longer times, see _far_gradient
         self._heat_d = None
         if bnd.any() and self.boundary != "neumann":
             self._heat_d = self._dirichlet_factor(bnd)
@@ -380,6 +392,61 @@ class HeatGeodesicSolver:
         self._label = label[:n]
         self._label_inner = label
         self._ncomp = ncomp
+
+    # ------------------------------------------------------------------------------------------
+    def _init_peer(self, m: Any, t: float | None, t_factor: float, solver: str) -> None:
+        """Set up ``method="geometry_central"``: potpourri3d's heat method, operator for operator.
+
+        geometry-central's ``HeatMethodDistanceSolver`` (robust Laplacian on, potpourri3d's
+        default) builds the intrinsic tufted cover of the mesh: two copies of every face,
+        oppositely oriented, glued edge by edge (Sharp & Crane 2020).  On a manifold mesh that
+        is two sheets sharing the vertices, joined along the boundary (the double).  It mollifies
+        by ``1e-5`` mean edge lengths, flips edges of weight below ``-1e-6`` to Delaunay, and
+        factors ``M + t L`` (barycentric lumped masses, ``t`` the squared mean edge length of the
+        flipped cover) and ``L + 1e-6 I``.  Here: the mesh's intrinsic Delaunay triangulation
+        with the same tolerance, every operator doubled (two sheets); only when a boundary edge
+        of it would flip on the cover (opposite angle above 90 degrees: on the double its two
+        opposite angles are that one twice) is the double itself flipped and folded back onto
+        the vertices.
+        """
+        self.boundary = "neumann"
+        self.intrinsic_delaunay, self.refine = True, 0
+        self._peer = True
+        n = self._n_inner = self.n_vertices
+        F = np.asarray(m.F, dtype=np.int64)
+        l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
+        fe = np.asarray(m.face_edges, dtype=np.int64)
+        lt, Ft, fet = intrinsic.intrinsic_delaunay(l, F, tol=PEER_DELAUNAY_TOL, face_edges=fe)
+        sheets = 2.0
+        if F.shape[0]:
+            deg = np.bincount(fet.reshape(-1))
+            bcorner = deg[fet] == 1
+            # cover weight of a boundary edge: cot(opposite angle) from both of its copies
+            if bcorner.any() and 4.0 * intrinsic.half_cotangents(lt)[bcorner].min() < (
+                -2.0 * PEER_DELAUNAY_TOL
+            ):
+                lt, Ft = _flipped_double(l, F, fe, n)
+                sheets = 1.0
+        L, _, G, area = intrinsic_operators(lt, Ft, n)
+        mass = np.bincount(Ft.reshape(-1), weights=np.repeat(area / 3.0, 3), minlength=n)
+        h = float(lt.mean()) if lt.size else 1.0  # mean edge length of the cover (see above)
+        self.t = as_positive(t, "t") if t is not None else as_positive(t_factor, "t_factor") * h * h
+        self.h = h
+        self._dim = 2
+        self._G = G
+        self._GtA = sp.csr_matrix(G.T @ sp.diags(np.tile(sheets * area, 2)))
+        self._M = sp.diags(sheets * mass).tocsr()
+        self._L = sheets * L
+        self._F_inner = Ft
+        self._bnd = np.zeros(n, dtype=bool)
+        self._heat_d = None
+        self._Ah = _regularize_unused(self._M - self.t * self._L, Ft, n)
+        self._heat = factorize_spd(self._Ah, backend=solver)
+        K = sp.csr_matrix(-self._L + PEER_POISSON_SHIFT * sp.identity(n))
+        self._poisson = factorize_spd(K, backend=solver)
+        ncomp, label = topology.connected_components(F, n) if F.shape[0] else (n, np.arange(n))
+        self._label = self._label_inner = np.asarray(label)
+        self._ncomp = int(ncomp)
 
     # ------------------------------------------------------------------------------------------
     def _dirichlet_factor(self, fixed: np.ndarray):
@@ -427,7 +494,12 @@ class HeatGeodesicSolver:
         """
         src = as_index_array(sources, "sources", self.n_vertices)
         dim = self._dim
-        u = self._heat_solve(src)
+        if self._peer:  # potpourri3d: the heat of a unit at each source, no mass
+            b = np.zeros(self._n_inner)
+            np.add.at(b, src, 1.0)
+            u = self._heat(b)
+        else:
+            u = self._heat_solve(src)
         gu = (self._G @ u).reshape(dim, -1)
         self._far_gradient(u, src, gu)
         # Normalize after scaling by the largest component: far from the source the heat is
@@ -440,13 +512,19 @@ class HeatGeodesicSolver:
         rhs = self._GtA @ X.reshape(-1)
         d = self._poisson(rhs)
         S = np.unique(src)
-        if 1 < S.size <= _MAX_PINNED_SOURCES:
+        if self._pin_sets and 1 < S.size <= _MAX_PINNED_SOURCES:
             d = self._pin_sources(d, S)
         d = d[: self.n_vertices]
-        # shift per component so that the nearest source is at 0; no source: unreachable
         label = self._label
         shift = np.full(self._ncomp, np.inf)
-        np.minimum.at(shift, label[src], d[src])
+        if self._peer and not self._pin_sets:
+            # potpourri3d: the mean over the sources is 0 (per component here)
+            cnt = np.bincount(label[src], minlength=self._ncomp)
+            tot = np.bincount(label[src], weights=d[src], minlength=self._ncomp)
+            np.divide(tot, cnt, out=shift, where=cnt > 0)
+        else:  # shift per component so that the nearest source is at 0
+            np.minimum.at(shift, label[src], d[src])
+        # no source: unreachable
         out = d - shift[label]
         out[~np.isfinite(shift[label])] = np.inf
         return out

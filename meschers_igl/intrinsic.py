@@ -368,11 +368,9 @@ def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - comp
         w += 0.25 * ((l_bd * l_bd + l_dc * l_dc - l_bc * l_bc) / A_g)
         if not w < -tol:
             continue
+        if g == f:  # an edge glued to its own face (a vertex of degree 1): not flippable
+            continue
         X, Y, Z, W = opp[g, j1], opp[f, i2], opp[f, i1], opp[g, j2]
-        if a == d or g == f or X // 3 == f or X // 3 == g or Y // 3 == f or Y // 3 == g:
-            continue
-        if Z // 3 == f or Z // 3 == g or W // 3 == f or W // 3 == g:
-            continue
         # the quad in the plane: b = (0, 0), c = (l_bc, 0), a above, d below
         xa = (l_ab * l_ab + l_bc * l_bc - l_ca * l_ca) / (2.0 * l_bc)
         xd = (l_bd * l_bd + l_bc * l_bc - l_dc * l_dc) / (2.0 * l_bc)
@@ -386,14 +384,34 @@ def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - comp
         F[g, 0], F[g, 1], F[g, 2] = d, c, a
         l[g, 0], l[g, 1], l[g, 2] = l_ca, l_ad, l_dc
         fe[g, 0], fe[g, 1], fe[g, 2] = eZ, e0, eW
+        # an outer side of the quad may be glued to another side of the same quad (a vertex of
+        # degree 2, as on crumpled meshes; geometry-central flips these too, making a loop edge
+        # or a self-glued face): such neighbours get their new half-edge numbers
+        old_h = (3 * f + i1, 3 * f + i2, 3 * g + j1, 3 * g + j2)
+        new_h = (3 * g, 3 * f + 2, 3 * f, 3 * g + 2)
+        nbs = (X, Y, Z, W)
+        for k in range(4):
+            nbs_k = nbs[k]
+            inside = False
+            for q in range(4):
+                if nbs[k] == old_h[q]:
+                    nbs_k = new_h[q]
+                    inside = True
+            if not inside and nbs_k >= 0:
+                # outside the quad: point it back at its new partner
+                opp[nbs_k // 3, nbs_k % 3] = (3 * f, 3 * f + 2, 3 * g, 3 * g + 2)[k]
+            if k == 0:
+                X = nbs_k
+            elif k == 1:
+                Y = nbs_k
+            elif k == 2:
+                Z = nbs_k
+            else:
+                W = nbs_k
         opp[f, 0], opp[f, 1], opp[f, 2] = X, 3 * g + 1, Y
         opp[g, 0], opp[g, 1], opp[g, 2] = Z, 3 * f + 1, W
         for k in range(4):
-            hh = (3 * f, 3 * f + 2, 3 * g, 3 * g + 2)[k]
-            nb = (X, Y, Z, W)[k]
-            if nb >= 0:
-                opp[nb // 3, nb % 3] = hh
-            stack[top] = hh
+            stack[top] = (3 * f, 3 * f + 2, 3 * g, 3 * g + 2)[k]
             top += 1
         nflip += 1
     return nflip
