@@ -19,6 +19,10 @@ CACM 2017) in this module's sign conventions:
    pinned so that the matrix is positive definite; then ``d`` is shifted per component so that
    ``min(d[sources]) = 0``; components without a source get ``inf``.
 
+``method="geometry_central"`` is potpourri3d's variant of the same (barycentric masses, heat
+from a unit without mass, a screened Poisson step on the tufted cover); ``method="auto"``
+uses it or a refined triangulation, whichever is measured better (:func:`choose_method`).
+
 Shortest paths and exact distances are in :mod:`meschers_igl.paths`.
 """
 
@@ -40,6 +44,7 @@ __all__ = [
     "choose_method",
     "geodesic_distance",
     "heat_diffuse",
+    "saddle_relief",
 ]
 
 #: relative heat below which the gradient direction is not trusted (see _far_gradient)
@@ -137,7 +142,57 @@ def saddle_relief(m: Any) -> float:
 
 
 def choose_method(m: Any) -> str:
-    """The heat-method variant ``method="auto"`` uses on ``m`` (see the docstring below)."""
+    """The heat-method variant ``method="auto"`` uses on ``m``.
+
+    The rules, in this order:
+
+    1. ``"geometry_central"`` (potpourri3d's heat method itself, equal to round-off) when
+       :func:`saddle_relief` is above :data:`CRUMPLED_RELIEF` (= 6): crumpled meshes.
+    2. ``"refined"`` (one intrinsic midpoint refinement, then intrinsic Delaunay) on meshes
+       with at most :data:`AUTO_REFINE_MAX_FACES` faces.
+    3. ``"refined"`` on larger meshes with a corner angle below :data:`SLIVER_DEGREES`.
+    4. ``"geometry_central"`` otherwise.
+
+    So the default is never worse than potpourri3d's ``MeshHeatMethodDistanceSolver``: by
+    construction where it is that method, and by a measured margin where it refines.  Mean
+    relative error against exact distances, refined / potpourri3d (sources 0, 7, 20, 60, 100;
+    ``tests/meschers_igl/test_heat.py``, potpourri3d 1.4 with its defaults)::
+
+        auto = refined (relief <= 6)                 refined / potpourri3d
+        sliver boxes (228, 764 faces)                0.68, 0.53
+        obtuse sheet (3042)                          0.73
+        torus 48 x 16, impossible torus (1536)       0.56, 0.56
+        icosphere 3, uv sphere, PyVista's sphere     0.62, 0.70, 0.70
+        perturbed torus / icosphere (0.2 edges)      0.66, 0.71   (relief 5.5, 3.3)
+        PyVista's ant, nut                           0.75, 0.60   (relief 3.9, 0.8)
+        sphere 4 with 0.2-edge relief (5120)         0.85         (relief 5.5)
+        torus 25k faces with a sliver (rule 3)       0.88
+
+        auto = geometry_central (relief > 6)         refined would be
+        sphere 3 with 0.35-edge relief               0.96         (relief 6.6)
+        bumpy sphere 4 (5120), 5 (20k)               1.01, 1.16   (relief 16, 72)
+        sphere 5 with 0.2-edge relief (20k)          1.06         (relief 10.9)
+        vertices moved 0.5-1 edges (torus, sphere)   0.99-1.27    (relief 18-30)
+
+    The detector was chosen on 47 meshes (tori and icospheres with vertices moved at random
+    along the normal or in 3D by 0.1-1 edge lengths, bumpy spheres at three resolutions, the
+    test meshes, PyVista's models): refined / potpourri3d is at most 0.89 wherever the relief is
+    below 5.5 (none fell between 5.5 and 6.5), 0.89-0.99 between 6.5 and 10.8, and 1.04-1.27
+    on the sphere-like meshes above that; tori tolerate more (0.80 at 11.5), but 6 keeps a
+    margin of 10% wherever auto refines.  The median angle defect does not separate them
+    (PyVista's ant has 0.49 and gains 25%; the 20k-face sphere with 0.2-edge relief has 0.11
+    and loses 6%).  Refinement halves the heat method's first-order error but not the error
+    made at saddle cones, which shortest paths pass through; its price is 3.5-4.5x the query
+    time and 6-7x the set-up, hence rule 2's size limit (at 25k faces it costs what
+    potpourri3d's method costs at 100k).
+
+    ``"geometry_central"`` at 100k faces (torus): 0.73x potpourri3d's query time, 1.15-1.25x
+    its set-up (``benchmarks/bench_geodesics.py``, numba warmed up).  ``"standard"`` (the
+    mescher's operators, equal to libigl's heat method) and ``"robust"`` are never chosen:
+    they differ from potpourri3d's method by Voronoi masses and a pinned rather than screened
+    Poisson step, which leaves them within +-2% of its error either way (standard 1.005x on a
+    25k torus, 1.018x at 100k, 0.85-1.07x on the crumpled meshes).
+    """
     F = np.asarray(m.F)
     if F.shape[0] == 0:
         return "standard"
@@ -215,21 +270,26 @@ class HeatGeodesicSolver:
     t : float, optional
         Heat time.  Default ``t_factor * h^2`` with ``h`` the mean edge length of the mesh the
         heat flows on (after refinement): Crane et al.'s standard choice for ``t_factor = 1``.
-    method : {"auto", "standard", "robust", "refined", "accurate"}, default: "auto"
-        ``"standard"``: the heat method on the mescher's own operators (``m.cotmatrix()``,
-        ``m.massmatrix()``, ``m.grad()``) and its cached factorization of ``-L``; on an
-        ordinary mesh this equals libigl's heat method.  ``"robust"``: every operator on the
-        intrinsic Delaunay triangulation (potpourri3d's default).  ``"refined"``: one level of
+    method : {"auto", "standard", "robust", "refined", "accurate", "geometry_central"}
+        Default ``"auto"``.  ``"standard"``: the heat method on the mescher's own operators
+        (``m.cotmatrix()``, ``m.massmatrix()``, ``m.grad()``) and its cached factorization of
+        ``-L``; on an ordinary mesh this equals libigl's heat method.  ``"robust"``: every
+        operator on the intrinsic Delaunay triangulation.  ``"refined"``: one level of
         intrinsic midpoint refinement, then intrinsic Delaunay (4x the faces).
         ``"accurate"``: two levels, then intrinsic Delaunay (16x the faces, about 3x less
-        error).  ``"auto"`` chooses per mesh (:func:`choose_method`, which gives the measured
-        errors): ``"refined"`` on meshes of at most :data:`AUTO_REFINE_MAX_FACES` faces
-        (0.53-0.75x potpourri3d's error on the eleven meshes measured) and on larger ones with
-        a corner angle below :data:`SLIVER_DEGREES` degree; otherwise ``"robust"`` when some
-        edge is not Delaunay (obtuse triangles), ``"standard"`` when every edge is (then equal
-        to libigl's heat method, and the query time at 100k faces is unchanged).  Distances
-        are always read back at the original vertices.  Keywords given explicitly override
-        the preset.
+        error).  ``"geometry_central"``: potpourri3d's ``MeshHeatMethodDistanceSolver`` with its
+        defaults, reproduced to round-off (see ``_init_peer``): intrinsic Delaunay with
+        geometry-central's tolerance, barycentric masses, ``t = h^2``, heat from a unit at each
+        source, the screened Poisson step ``(L + 1e-6 I) phi = div X`` on its tufted cover,
+        and for source sets its shift (the mean over the sources is 0).  ``"auto"`` chooses
+        per mesh (:func:`choose_method`, with the measured errors): ``"refined"`` on meshes of
+        at most :data:`AUTO_REFINE_MAX_FACES` faces that are not crumpled
+        (:func:`saddle_relief` <= :data:`CRUMPLED_RELIEF`) and on larger ones with a sliver,
+        ``"geometry_central"`` elsewhere, so that it is never worse than potpourri3d; source
+        sets are then held at 0 together (see ``_pin_sources``; 0.23-0.96x potpourri3d's error
+        on sets of 2-4 sources, five meshes).  Distances are always read back at the original vertices.
+        Keywords given explicitly override the preset (``"geometry_central"`` takes only
+        ``t``, ``t_factor`` and ``solver``).
     intrinsic_delaunay : bool, optional
         Build every operator (heat and Poisson Laplacians, gradient, divergence) on the intrinsic
         Delaunay triangulation of the same surface (edge flips on the lengths,
@@ -239,9 +299,11 @@ class HeatGeodesicSolver:
         triangulation as the Poisson Laplacian (``G^T A G = -L``), otherwise the integrated
         field is not the one that was normalized; so all three move to the intrinsic mesh,
         whose vertices are the original ones.
-    boundary : {"average", "neumann", "dirichlet"}, default: "average"
+    boundary : {"average", "neumann", "dirichlet"}, optional
         Boundary condition of the heat step on meshes with boundary: zero flux, zero value, or
-        the mean of both solutions (Crane et al. 2013, Section 3.3, which recommend it).
+        the mean of both solutions (Crane et al. 2013, Section 3.3, which recommend it); the
+        default is ``"average"``, except ``"neumann"`` (the only one) for
+        ``"geometry_central"``, whose heat flows on the mesh's double.
     refine : int, optional
         Levels of intrinsic midpoint refinement (1-to-4 split; the surface is unchanged).
     t_factor : float, optional

@@ -276,7 +276,9 @@ def intrinsic_delaunay(
     l : (#F, 3) float64
     F : (#F, 3) int64
         May hold duplicate faces and non-manifold edges combinatorially (libigl's note); the
-        intrinsic geometry is well defined.
+        intrinsic geometry is well defined.  With ``tol``, an edge at a vertex of degree 2 is
+        flipped too, as geometry-central does, making a loop edge (a face with a repeated
+        vertex; the cotangent operators treat it correctly).
     face_edges : (#F, 3) int64
         Undirected edge opposite each corner (libigl's ``EMAP``), for boundary detection.
     """

@@ -606,7 +606,8 @@ def test_default_heat_is_never_worse_than_potpourri3d(name):
 def test_default_on_source_sets_is_never_worse_than_potpourri3d():
     """Source sets: auto holds every source at 0 (the Poisson step pinned at the set,
     _pin_sources), potpourri3d shifts its distances so that their mean over the sources is 0;
-    measured 0.45-0.96x its error (0.93-0.96x with its own operators on crumpled meshes)."""
+    measured 0.23-0.96x its error on five meshes (0.94-0.96x with its own operators, on
+    crumpled meshes)."""
     pp3d = pytest.importorskip("potpourri3d")
     sets = [[0, 100], [7, 300, 500], [20, 60, 200, 400]]
     for mk in (ordinary_torus, crumpled_torus):
