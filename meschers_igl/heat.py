@@ -289,7 +289,8 @@ class HeatGeodesicSolver:
         sets are then held at 0 together (see ``_pin_sources``; 0.23-0.96x potpourri3d's error
         on sets of 2-4 sources, five meshes).  Distances are always read back at the original vertices.
         Keywords given explicitly override the preset (``"geometry_central"`` takes only
-        ``t``, ``t_factor`` and ``solver``).
+        ``t``, ``t_factor`` and ``solver``; where auto would choose it, ``refine``,
+        ``intrinsic_delaunay`` or a ``boundary`` other than Neumann make it ``"robust"``).
     intrinsic_delaunay : bool, optional
         Build every operator (heat and Poisson Laplacians, gradient, divergence) on the intrinsic
         Delaunay triangulation of the same surface (edge flips on the lengths,
@@ -334,6 +335,12 @@ class HeatGeodesicSolver:
         requested = method
         if method == "auto":
             method = choose_method(m)
+            if method == "geometry_central" and (
+                refine is not None
+                or intrinsic_delaunay is not None
+                or boundary not in (None, "neumann")
+            ):
+                method = "robust"  # the closest preset that takes those keywords
         self.method = method
         self.m = m
         n = self.n_vertices = int(m.n_vertices)

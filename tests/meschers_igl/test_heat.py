@@ -667,6 +667,13 @@ def test_geometry_central_method_rejects_other_presets():
             HeatGeodesicSolver(m, method="geometry_central", **kw)
     with pytest.raises(MescherError, match="boundary"):
         HeatGeodesicSolver(m, method="geometry_central", boundary="dirichlet")
+    # where auto would choose it, such keywords fall back on the robust preset
+    c = Mescher.from_mesh(*crumpled_torus())
+    assert HeatGeodesicSolver(c).method == "geometry_central"
+    assert HeatGeodesicSolver(c, boundary="neumann").method == "geometry_central"
+    S = HeatGeodesicSolver(c, intrinsic_delaunay=False)
+    assert S.method == "robust" and not S.intrinsic_delaunay
+    assert HeatGeodesicSolver(c, refine=1).method == "robust"
 
 
 def test_saddle_relief_separates_smooth_from_crumpled():
