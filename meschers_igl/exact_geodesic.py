@@ -73,7 +73,7 @@ from typing import Any
 import numba
 import numpy as np
 
-from . import intrinsic
+from . import intrinsic, progress
 from .errors import MescherError
 from .heap import heap_pop, heap_push
 from .validate import as_index_array
@@ -112,15 +112,6 @@ def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover
         ):
             return True
     return False
-
-
-@numba.njit(cache=True, nogil=True)
-def _grow(hk, hv):  # pragma: no cover - compiled
-    hk2 = np.empty(2 * hk.size, hk.dtype)
-    hv2 = np.empty(2 * hv.size, hv.dtype)
-    hk2[: hk.size] = hk
-    hv2[: hv.size] = hv
-    return hk2, hv2
 
 
 @numba.njit(cache=True, nogil=True)
@@ -251,18 +242,6 @@ def _block_remove(e, i, bstart, bn, aw, alo, ahi, pos):  # pragma: no cover - co
         ahi[base + i] = ahi[base + last]
         pos[aw[base + i]] = i
     bn[e] = last
-
-
-@numba.njit(cache=True, nogil=True)
-def _grow_arena(aw, alo, ahi, need):  # pragma: no cover - compiled
-    n = max(2 * aw.size, need)
-    aw2 = np.empty(n, aw.dtype)
-    alo2 = np.empty(n, alo.dtype)
-    ahi2 = np.empty(n, ahi.dtype)
-    aw2[: aw.size] = aw
-    alo2[: alo.size] = alo
-    ahi2[: ahi.size] = ahi
-    return aw2, alo2, ahi2
 
 
 @numba.njit(cache=True, nogil=True)
@@ -428,26 +407,11 @@ def _rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
 
 @numba.njit(cache=True, nogil=True)
 def _propagate(  # pragma: no cover - compiled
-    F,
-    fl,
-    fx,
-    fy,
-    twin,
-    rev,
-    hedge,
-    n_edges,
-    pseudo,
-    vptr,
-    vcorner,
-    cflip,
-    cang,
-    cpos,
-    csgn,
-    theta,
-    vbnd,
-    sources,
-):
-    """Exact distances from ``sources`` (see the module docstring).
+    F, fl, fx, fy, twin, rev, hedge, pseudo, vptr, vcorner, cflip, cang, cpos, csgn, theta, vbnd,
+    mdeg, dist, emitted, bpos, wh, wb, state, pos, free, bstart, bcls, bn, fhead, aw, alo, ahi,
+    hk, hv, ctr, max_pops,
+):  # fmt: skip
+    """Exact distances from the sources queued in ``hk, hv`` (see the module docstring).
 
     ``fl, fx, fy`` (#F*3,): for half-edge ``h = 3 f + c`` (the edge opposite corner ``c``,
     from ``F[f, c+1]`` to ``F[f, c+2]``) its length and the apex ``F[f, c]`` in its frame.
@@ -458,8 +422,13 @@ def _propagate(  # pragma: no cover - compiled
     position of its first edge (to ``F[f, c+1]``; the angle from the first edge of the one-ring
     of the corner's vertex) and its turn (+1 or -1) in that ring (0: the vertex has no ring to
     walk, non-manifold); ``theta`` (#V,): total angles; ``vbnd``: boundary vertices (their ring
-    starts at a boundary edge).  Returns the distances, the number of windows created and how
-    many of them pseudo-sources (and sources) emitted.
+    starts at a boundary edge); ``mdeg``: the largest vertex degree.
+
+    The rest is the propagation's state, carried from call to call (:class:`_State`): the kernel
+    runs until the queue is empty (returns 0), ``max_pops`` items were taken out (1: time for a
+    progress report), or the heap (2), the window table (3) or the edge blocks' arena (4) might
+    not hold one more step; the caller then grows that array and calls again.  Room is checked
+    before each step, not at each write, so that a step is never left half done.
 
     The windows queued on an edge are kept in one contiguous block per edge (ids and their
     extent in the edge's common frame), so that finding the ones a new window overlaps is a scan
@@ -467,47 +436,33 @@ def _propagate(  # pragma: no cover - compiled
     window, and there are ``O(sqrt n)`` of them per edge (measured: 35 per new window at 100k
     faces, 3/4 of the time).
     """
-    nv = pseudo.size
-    dist = np.full(nv, np.inf)
-    emitted = np.full(nv, np.inf)  # distance at which a pseudo-source last emitted
-    bpos = np.full(nv, np.nan)  # ring position of the direction each distance came from
-    cap = 1024
-    wh = np.empty(cap, np.int64)
-    wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
-    state = np.empty(cap, np.int8)  # 0 queued (and in its edge's block), 2 dead
-    pos = np.empty(cap, np.int64)  # its index in its edge's block
-    # edge blocks: capacity 4 << bcls[e] at bstart[e] of the arena (aw: window id; alo, ahi: its
-    # extent in the edge's common frame), bn[e] used; freed blocks are reused per capacity
-    bstart = np.full(n_edges, -1, np.int64)
-    bcls = np.zeros(n_edges, np.int64)
-    bn = np.zeros(n_edges, np.int64)
-    aw = np.empty(4096, np.int64)
-    alo = np.empty(4096, np.float64)
-    ahi = np.empty(4096, np.float64)
-    atop = 0
-    fhead = np.full(64, -1, np.int64)  # free blocks of capacity 4 << k, linked through aw
-    free = np.empty(cap, np.int64)  # slots of popped windows, reused: memory ~ the wavefront
-    nfree = 0
-    nw = 0  # slots used so far
-    created = 0
-    emitted_windows = 0  # of them, sent by pseudo-sources (sources included)
-    hk = np.empty(1024, np.float64)
-    hv = np.empty(1024, np.int64)
-    nh = 0
-    for s in sources:
-        dist[s] = 0.0
-    for s in sources:
-        if nh == hk.size:
-            hk, hv = _grow(hk, hv)
-        nh = heap_push(hk, hv, nh, 0.0, -(s + 1))
+    nh, nfree, nw, atop = ctr[0], ctr[1], ctr[2], ctr[3]
+    created, emitted_windows, maxcap = ctr[4], ctr[5], ctr[6]
     # children produced by one step: half-edge; b0, b1, sx, sy, sigma
-    mdeg = 2
-    for v in range(nv):
-        mdeg = max(mdeg, vptr[v + 1] - vptr[v])
     ch_h = np.empty(2 * mdeg, np.int64)
     ch_b = np.empty((2 * mdeg, 5), np.float64)
     upd = np.empty(3, np.int64)  # vertices whose distance a step lowered
-    while nh > 0:
+    status = 0
+    pops = 0
+    while True:
+        # room for one more step: <= 2 mdeg children and <= 2 mdeg + 3 pseudo-source events,
+        # each child at most one new edge block of twice the largest capacity so far
+        if nh == 0:
+            status = 0
+            break
+        if pops >= max_pops:
+            status = 1
+            break
+        if nh + 4 * mdeg + 8 > hk.size:
+            status = 2
+            break
+        if nfree + wh.size - nw < 2 * mdeg + 2:
+            status = 3
+            break
+        if atop + 2 * mdeg * (2 * maxcap + 8) > aw.size:
+            status = 4
+            break
+        pops += 1
         key, item, nh = heap_pop(hk, hv, nh)
         nch = 0
         nu = 0
@@ -533,8 +488,6 @@ def _propagate(  # pragma: no cover - compiled
                         cu = 3 * f + (c + 1 + j) % 3
                         bpos[u] = _ring_pos(cpos, csgn, cu, cang[cu] if j == 0 else 0.0)
                         if pseudo[u]:
-                            if nh == hk.size:
-                                hk, hv = _grow(hk, hv)
                             nh = heap_push(hk, hv, nh, du, -(u + 1))
                 t = twin[h]
                 if t < 0:
@@ -690,8 +643,6 @@ def _propagate(  # pragma: no cover - compiled
         for j in range(nu):
             u = upd[j]
             if pseudo[u]:
-                if nh == hk.size:
-                    hk, hv = _grow(hk, hv)
                 nh = heap_push(hk, hv, nh, dist[u], -(u + 1))
         # ---- prune, trim against the windows already on the edge, queue
         for j in range(nch):
@@ -785,15 +736,6 @@ def _propagate(  # pragma: no cover - compiled
                 nfree -= 1
                 w = free[nfree]
             else:
-                if nw == wh.size:
-                    wh, pos = _grow(wh, pos)
-                    free = _grow(free, free)[0]
-                    state2 = np.empty(wh.size, np.int8)
-                    state2[:nw] = state[:nw]
-                    state = state2
-                    wb2 = np.empty((wh.size, 5), np.float64)
-                    wb2[:nw] = wb[:nw]
-                    wb = wb2
                 w = nw
                 nw += 1
             created += 1
@@ -813,10 +755,9 @@ def _propagate(  # pragma: no cover - compiled
                     nb = fhead[cls]
                     fhead[cls] = aw[nb]
                 else:
-                    if atop + size > aw.size:
-                        aw, alo, ahi = _grow_arena(aw, alo, ahi, atop + size)
                     nb = atop
                     atop += size
+                    maxcap = max(maxcap, size)
                 if bstart[e] >= 0:
                     ob = bstart[e]
                     aw[nb : nb + k] = aw[ob : ob + k]
@@ -832,15 +773,83 @@ def _propagate(  # pragma: no cover - compiled
             ahi[base + k] = L - b0 if cf else b1
             pos[w] = k
             bn[e] = k + 1
-            if nh == hk.size:
-                hk, hv = _grow(hk, hv)
             nh = heap_push(hk, hv, nh, kk, w)
-    return dist, created, emitted_windows
+    ctr[0], ctr[1], ctr[2], ctr[3] = nh, nfree, nw, atop
+    ctr[4], ctr[5], ctr[6] = created, emitted_windows, maxcap
+    return status
 
 
 # ----------------------------------------------------------------------------------------------
 # set-up (numpy) and public API
 # ----------------------------------------------------------------------------------------------
+#: items taken out of the queue per kernel call (about half a second); between calls a query
+#: reports its progress (a bar after a few seconds: smooth meshes of 1M faces take minutes)
+_POPS_PER_CALL = 1 << 20
+#: first sizes of the window table, the edge blocks' arena and the heap (doubled as needed)
+_FIRST_SIZE = 1024
+
+
+class _State:
+    """The state of one query's window propagation, carried across kernel calls.
+
+    The kernel writes into these arrays in place and never grows them: when one might overflow
+    in the next step it returns, and :meth:`grow` doubles it (see :func:`_propagate`).
+    """
+
+    def __init__(self, nv: int, n_edges: int, sources: np.ndarray) -> None:
+        cap = _FIRST_SIZE
+        self.dist = np.full(nv, np.inf)
+        self.dist[sources] = 0.0
+        self.emitted = np.full(nv, np.inf)  # distance at which a pseudo-source last emitted
+        self.bpos = np.full(nv, np.nan)  # ring position of the direction a distance came from
+        self.wh = np.empty(cap, np.int64)  # window table: half-edge
+        self.wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
+        self.state = np.empty(cap, np.int8)  # 0 queued (and in its edge's block), 2 dead
+        self.pos = np.empty(cap, np.int64)  # its index in its edge's block
+        self.free = np.empty(cap, np.int64)  # slots of popped windows, reused
+        # edge blocks: capacity 4 << bcls[e] at bstart[e] of the arena (aw: window id; alo, ahi:
+        # its extent in the edge's common frame), bn[e] used; freed blocks reused per capacity
+        self.bstart = np.full(n_edges, -1, np.int64)
+        self.bcls = np.zeros(n_edges, np.int64)
+        self.bn = np.zeros(n_edges, np.int64)
+        self.fhead = np.full(64, -1, np.int64)  # free blocks of capacity 4 << k, through aw
+        self.aw = np.empty(4 * cap, np.int64)
+        self.alo = np.empty(4 * cap, np.float64)
+        self.ahi = np.empty(4 * cap, np.float64)
+        # the queue: sources first (all keys 0: a heap as they stand)
+        k = sources.size
+        self.hk = np.zeros(max(cap, 2 * k), np.float64)
+        self.hv = np.empty(self.hk.size, np.int64)
+        self.hv[:k] = -(sources + 1)
+        # heap size, free slots, slots used, arena top, created, emitted, largest block
+        self.ctr = np.array([k, 0, 0, 0, 0, 0, 4], dtype=np.int64)
+
+    def arrays(self) -> tuple:
+        return (
+            self.dist, self.emitted, self.bpos, self.wh, self.wb, self.state, self.pos,
+            self.free, self.bstart, self.bcls, self.bn, self.fhead, self.aw, self.alo, self.ahi,
+            self.hk, self.hv,
+        )  # fmt: skip
+
+    def grow(self, status: int) -> None:
+        """Double the array the kernel ran short of (status 2: heap, 3: windows, 4: arena)."""
+
+        def twice(a: np.ndarray) -> np.ndarray:
+            b = np.empty((2 * a.shape[0], *a.shape[1:]), a.dtype)
+            b[: a.shape[0]] = a
+            return b
+
+        if status == 2:
+            self.hk, self.hv = twice(self.hk), twice(self.hv)
+        elif status == 3:
+            self.wh, self.wb, self.state = twice(self.wh), twice(self.wb), twice(self.state)
+            self.pos, self.free = twice(self.pos), twice(self.free)
+        elif status == 4:
+            self.aw, self.alo, self.ahi = twice(self.aw), twice(self.alo), twice(self.ahi)
+        else:  # pragma: no cover - the kernel returns 0-4 only
+            raise RuntimeError(f"exact geodesic kernel: unknown status {status}")
+
+
 class ExactGeodesicSolver:
     """Exact geodesic distances on a mescher (or any intrinsic triangle mesh), set up once.
 
@@ -926,16 +935,24 @@ class ExactGeodesicSolver:
         # so the kernel compiles (and caches) once
         f64 = [np.array(a, dtype=np.float64, order="C") for a in (L, fx, fy)]
         i64 = [np.array(a, dtype=np.int64, order="C") for a in (twin, he, vptr, vorder)]
-        self._data = (
-            np.array(F, dtype=np.int64, order="C"), *f64, i64[0],
-            np.array(rev, dtype=np.bool_, order="C"), i64[1], np.int64(ne),
-            np.array(pseudo, dtype=np.bool_, order="C"), i64[2], i64[3],
-            np.array(cflip, dtype=np.bool_, order="C"),
-        )  # fmt: skip
+        Fc = np.array(F, dtype=np.int64, order="C")
         # one-rings, for the shadows of pseudo-sources (_shadow)
         cang = np.ascontiguousarray(intrinsic.corner_angles(lf).reshape(-1), dtype=np.float64)
-        rings = _rings(self._data[0], self._data[4], cang, self._data[9], self._data[10], nv)
-        self._data = (*self._data, cang, *rings)
+        rings = _rings(Fc, i64[0], cang, i64[2], i64[3], nv)
+        mdeg = int(max(2, np.diff(vptr).max(initial=0)))
+        self._data = (
+            Fc, *f64, i64[0], np.array(rev, dtype=np.bool_, order="C"), i64[1],
+            np.array(pseudo, dtype=np.bool_, order="C"), i64[2], i64[3],
+            np.array(cflip, dtype=np.bool_, order="C"), cang, *rings, np.int64(mdeg),
+        )  # fmt: skip
+        self._n_edges = ne
+        # vertices per connected component, for the progress of a query
+        if nf:
+            from . import topology
+
+            _, self._label = topology.connected_components(F, nv)
+        else:
+            self._label = np.arange(nv)
         self.n_windows = 0  # windows created by the last query
         self.n_emitted = 0  # of them, sent by pseudo-sources (and sources) into their shadows
 
@@ -959,8 +976,20 @@ class ExactGeodesicSolver:
             ``inf`` on connected components without a source.
         """
         src = np.array(np.unique(as_index_array(sources, "sources", self.n_vertices)), np.int64)
-        d, self.n_windows, self.n_emitted = _propagate(*self._data, src)
-        return d
+        st = _State(self.n_vertices, self._n_edges, src)
+        # the vertices the query reaches: those of the sources' components
+        reach = int(np.isin(self._label, self._label[src]).sum()) if src.size else 0
+        with progress.Meter("exact geodesics", total=reach) as bar:
+            while True:
+                status = _propagate(*self._data, *st.arrays(), st.ctr, _POPS_PER_CALL)
+                if status == 0:
+                    break
+                if status == 1:
+                    bar.update(int(np.count_nonzero(st.dist < np.inf)))
+                else:
+                    st.grow(status)
+        self.n_windows, self.n_emitted = int(st.ctr[4]), int(st.ctr[5])
+        return st.dist
 
 
 def exact_geodesic(m: Any, sources: Any) -> np.ndarray:

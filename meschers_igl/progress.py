@@ -41,3 +41,53 @@ def track(
     yield from rich_track(
         items, description=description, total=total, transient=True, console=console
     )
+
+
+class Meter:
+    """A bar for work whose size is not known in advance: it appears once the work has run
+    ``after`` seconds (quick calls, and tests, stay silent), transient, on the standard error.
+
+    Use as a context manager; call :meth:`update` with the amount done so far.
+
+    Parameters
+    ----------
+    description : str
+    total : int
+        The amount :meth:`update` counts towards (e.g. vertices reached).
+    after : float, default: 2.0
+        Seconds before the bar is drawn.
+    """
+
+    def __init__(self, description: str, total: int, after: float = 2.0) -> None:
+        self.description = description
+        self.total = max(int(total), 1)
+        self.after = float(after)
+        self._t0 = 0.0
+        self._bar = None
+        self._task = None
+
+    def __enter__(self) -> Meter:
+        import time
+
+        self._t0 = time.perf_counter()
+        return self
+
+    def update(self, done: int) -> None:
+        """Report ``done`` of ``total``; draws the bar once ``after`` seconds have passed."""
+        import time
+
+        if self._bar is None:
+            if time.perf_counter() - self._t0 < self.after:
+                return
+            from rich.console import Console
+            from rich.progress import Progress
+
+            self._bar = Progress(console=Console(stderr=True), transient=True)
+            self._bar.start()
+            self._task = self._bar.add_task(self.description, total=self.total)
+        self._bar.update(self._task, completed=min(int(done), self.total))
+
+    def __exit__(self, *exc: object) -> None:
+        if self._bar is not None:
+            self._bar.stop()
+            self._bar = None

@@ -274,6 +274,40 @@ def test_a_saddle_emits_only_into_its_shadow():
     assert S.n_emitted <= 2 + 4 + 3, S.n_emitted
 
 
+def test_a_query_resumes_exactly_across_kernel_calls(monkeypatch):
+    """The kernel stops every few items (progress) and whenever an array might overflow; the
+    caller grows it and calls again.  Stopping after every 7 items, from the smallest arrays,
+    gives the same distances bit for bit, and a bar is drawn for a query that runs long."""
+    import meschers_igl.exact_geodesic as eg
+    import meschers_igl.progress as progress
+
+    V, F = ordinary_torus(40, 14)
+    m = Mescher.from_mesh(V, F).with_periods([0.3, 0.0])
+    S = ExactGeodesicSolver(m)
+    ref = S.distance([3, 200])
+    n_ref = S.n_windows
+    grown = []
+    real_grow = eg._State.grow
+    monkeypatch.setattr(eg, "_POPS_PER_CALL", 7)
+    monkeypatch.setattr(eg, "_FIRST_SIZE", 4)
+    monkeypatch.setattr(eg._State, "grow", lambda st, k: grown.append(k) or real_grow(st, k))
+    drawn = []
+    real_update = progress.Meter.update
+
+    def update(self, done):
+        self.after = 0.0  # draw at once
+        real_update(self, done)
+        drawn.append((done, self.total, self._bar is not None))
+
+    monkeypatch.setattr(progress.Meter, "update", update)
+    d = S.distance([3, 200])
+    np.testing.assert_array_equal(d, ref)
+    assert S.n_windows == n_ref
+    assert {2, 3, 4} <= set(grown)  # the heap, the window table and the arena all grew
+    assert drawn and all(bar for _, _, bar in drawn)
+    assert drawn[-1][1] == m.n_vertices and 0 < drawn[-1][0] <= m.n_vertices
+
+
 def test_bad_input():
     V, F = ordinary_torus(8, 4)
     m = Mescher.from_mesh(V, F)
