@@ -45,7 +45,8 @@ def track(
 
 class Meter:
     """A bar for work whose size is not known in advance: it appears once the work has run
-    ``after`` seconds (quick calls, and tests, stay silent), transient, on the standard error.
+    ``after`` seconds (quick calls, and tests, stay silent), transient, on the standard error
+    when that is a terminal.
 
     Use as a context manager; call :meth:`update` with the amount done so far.
 
@@ -82,7 +83,11 @@ class Meter:
             from rich.console import Console
             from rich.progress import Progress
 
-            self._bar = Progress(console=Console(stderr=True), transient=True)
+            console = Console(stderr=True)
+            if not console.is_terminal:  # a log or a pipe: a live bar would only add blank lines
+                self.after = float("inf")
+                return
+            self._bar = Progress(console=console, transient=True)
             self._bar.start()
             self._task = self._bar.add_task(self.description, total=self.total)
         self._bar.update(self._task, completed=min(int(done), self.total))

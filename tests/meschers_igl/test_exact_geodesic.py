@@ -300,6 +300,7 @@ def test_a_query_resumes_exactly_across_kernel_calls(monkeypatch):
         drawn.append((done, self.total, self._bar is not None))
 
     monkeypatch.setattr(progress.Meter, "update", update)
+    monkeypatch.setenv("FORCE_COLOR", "1")  # rich: stderr counts as a terminal
     d = S.distance([3, 200])
     np.testing.assert_array_equal(d, ref)
     assert S.n_windows == n_ref
