@@ -50,11 +50,11 @@ one (40 windows per face on a flat 100k-face sheet, ``O(n^1.5)``); with it, 2.
 the covering took 1198x a heat query at 20k faces, and ``pygeodesic`` (the same MMP) 74 s at
 102k faces (980x a heat query; session 2, issue 13).  Neither accepts a mescher's edge lengths,
 so an impossible mescher needed a covering of several sheets as well.  This module needs only
-the lengths and runs as one numba kernel (3.6x faster than ``igl.exact_geodesic`` on a 5k-face
+the lengths and runs as one numba kernel (4x faster than ``igl.exact_geodesic`` on a 5k-face
 torus, equal to 7e-15).  Per query at about 100k faces, against a prefactored heat query
 (``benchmarks/bench_exact_geodesic.py``, shared 2-core machine): the gallery's meschers,
-midpoint-subdivided (flat faces, creases and corners: the meschers people make), 3.3-5.7x, 2-3.3
-windows per face; smooth tori, ordinary or impossible, 250-280x, 74 windows per face.  On a
+midpoint-subdivided (flat faces, creases and corners: the meschers people make), 2.3-5.1x, 2-3.3
+windows per face; smooth tori, ordinary or impossible, 266-277x, 74 windows per face.  On a
 surface whose every vertex is slightly curved each vertex starts a boundary between pieces of
 the distance field (unfoldings) that runs on until it meets another, so the pieces number
 ``O(n^1.5)``: on the 20k-face torus 94% of the windows propagated (613,497 of 654,732) are
