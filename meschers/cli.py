@@ -257,14 +257,27 @@ def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint", force:
     return m.subdivide(levels, scheme=scheme, order=order, force=force)
 
 
+#: geodesic pictures are drawn on a copy midpoint-subdivided up to this many levels while it
+#: stays under this many faces (the study's defaults)
+_DISPLAY_LEVELS = 2
+_DISPLAY_FACES = 24_000
+
+
 def _cmd_geodesic(args: argparse.Namespace) -> int:
     from meschers_igl import HeatGeodesicSolver
 
     m, order, _ = load_input(args.input)
-    solver = (
-        HeatGeodesicSolver(m) if args.method is None else HeatGeodesicSolver(m, method=args.method)
-    )
-    d = solver.distance(args.source)
+    if args.method == "exact":
+        from meschers_igl.paths import exact_geodesic_distance
+
+        d = exact_geodesic_distance(m, args.source)  # window propagation, no heat solve
+    else:
+        solver = (
+            HeatGeodesicSolver(m)
+            if args.method is None
+            else HeatGeodesicSolver(m, method=args.method)
+        )
+        d = solver.distance(args.source)
     finite = np.isfinite(d)
     print(f"distance from vertex(es) {', '.join(map(str, args.source))}: max {d[finite].max():.6g}, "
           f"mean {d[finite].mean():.6g}, unreachable vertices {int((~finite).sum())}")  # fmt: skip
@@ -285,8 +298,26 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
         from .figures import overlay
 
         bounds = default_bounds(xy_box(np.asarray(m.xy)), args.size)
-        image = pvv.render(m, order=order, shading="smooth", scalars=d, isolines=args.isolines,
-                           window_size=args.size, bounds=bounds, anti_aliasing=True)  # fmt: skip
+        # drawn on a midpoint-subdivided copy, as the study does: on a coarse model (the gallery's
+        # 104-face triangle) smooth shading interpolates the vertex normals across whole bar
+        # faces and the flat faces came out blotched dark to light; subdivided, the blend stays
+        # in a narrow band at the creases.  The distances are interpolated linearly, so the
+        # isolines are those of the coarse field.
+        from .steps import subdivision_levels
+
+        levels = subdivision_levels(m.n_faces, _DISPLAY_LEVELS, _DISPLAY_FACES)
+        mv, order_v, dv = m, order, d
+        if levels:
+            if order is None:
+                mv, S = m.subdivide(levels, return_matrix=True)
+            else:
+                mv, order_v, S = m.subdivide(levels, order=order, return_matrix=True)
+            finite = np.isfinite(d)
+            dv = S @ np.where(finite, d, 0.0)
+            dv[(S @ (~finite).astype(float)) > 0] = np.inf  # a vertex next to an unreached one
+        image = pvv.render(mv, order=order_v, shading="smooth", scalars=dv,
+                           isolines=args.isolines, window_size=args.size, bounds=bounds,
+                           anti_aliasing=True)  # fmt: skip
         if path is not None:
             P = np.asarray(path.xy)
             image = overlay(image, bounds, segments=[(np.stack([P[:-1], P[1:]], 1), "#ff2020", 3)],
@@ -518,8 +549,8 @@ def build_parser() -> argparse.ArgumentParser:
     _force(p)
     p.set_defaults(func=_cmd_render)
 
-    p = sub.add_parser("geodesic", help="heat-method geodesic distance and a shortest path", formatter_class=raw,
-                       description="Geodesic distance from source vertices (heat method), optionally a shortest "
+    p = sub.add_parser("geodesic", help="geodesic distance (heat method or exact) and a shortest path", formatter_class=raw,
+                       description="Geodesic distance from source vertices (heat method, or exact), optionally a shortest "
                        "path to a target, a PNG with isolines and the path, and the distances as .npy.",
                        epilog=_examples("geodesic penrose_triangle --source 0 --target 30 -o distance.png"))  # fmt: skip
     _input(p)
@@ -528,8 +559,10 @@ def build_parser() -> argparse.ArgumentParser:
     _add(p, "--target", type=int, default=None, metavar="V",
          help="draw and report a shortest path from the first source to this vertex")  # fmt: skip
     _add(p, "--method", default=None, metavar="NAME",
-         help="heat-method preset of meschers_igl.HeatGeodesicSolver, e.g. standard or accurate "
-              "(intrinsic refinement, about 3x less error); default: the library's")  # fmt: skip
+         help="exact (window propagation: exact distances) or a heat-method preset of "
+              "meschers_igl.HeatGeodesicSolver, e.g. standard, geometry_central (potpourri3d's) "
+              "or accurate (intrinsic refinement, about 3x less error); default: the "
+              "library's heat method")  # fmt: skip
     _add(
         p, "-o", "--output", metavar="PNG", help="render the distance with isolines (and the path)"
     )

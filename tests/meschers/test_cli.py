@@ -222,6 +222,23 @@ def test_geodesic_saves_distances(tmp_path, capsys):
     assert "shortest path 3 -> 30" in capsys.readouterr().out
 
 
+def test_geodesic_exact(tmp_path, capsys):
+    """--method exact: the window-propagation distances, equal to MMP on a real 3D covering;
+    the shortest path's length equals the exact distance at the target."""
+    from meschers_igl.paths import exact_geodesic_distance
+
+    npy = tmp_path / "d.npy"
+    args = ["geodesic", "penrose_triangle", "--source", "3", "--target", "30", "--method", "exact"]
+    assert main([*args, "--save", str(npy)]) == 0
+    d = np.load(npy)
+    m = get_model("penrose_triangle").mescher
+    cov = exact_geodesic_distance(m, 3, algorithm="covering")
+    assert np.abs(d - cov).max() < 1e-9
+    out = capsys.readouterr().out
+    length = float(out.split("shortest path 3 -> 30: length ")[1].split(",")[0])
+    assert length == pytest.approx(d[30], rel=1e-5)  # printed to 6 digits
+
+
 @pytest.mark.skipif(DATA is None, reason="ParadoxToolkit models not installed")
 def test_convert_paradox_model(tmp_path, capsys):
     meta = json.loads((DATA / "penrose_triangle.json").read_text())
