@@ -910,8 +910,8 @@ def geodesic_distance(m: Any, sources: Any, method: str = "auto", **kwargs: Any)
     ----------
     m : Mescher
     sources : int or (k,) array_like of int
-    method : {"auto", "standard", "robust", "refined", "accurate", "exact"}, default: "auto"
-        ``"exact"``: :func:`exact_geodesic_distance` (window propagation on the intrinsic
+    method : {"auto", "standard", "robust", "refined", "accurate", "geometry_central", "exact"}
+        Default ``"auto"``.  ``"exact"``: :func:`exact_geodesic_distance` (window propagation on the intrinsic
         mesh; equals ``igl.exact_geodesic`` on an ordinary mesh to round-off).  Any other
         value: the heat method (:class:`meschers_igl.heat.HeatGeodesicSolver`, whose docstring
         says what ``"auto"`` chooses when).
