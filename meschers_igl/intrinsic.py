@@ -307,18 +307,46 @@ def intrinsic_delaunay(
     return lo, Fo, fe
 
 
+def double_area_kahan(a: float, b: float, c: float) -> float:
+    """Twice the area of one triangle from its side lengths: Kahan's stable Heron formula (the
+    scalar twin of :func:`double_areas`, for compiled kernels; :func:`double_area_kernel`)."""
+    if a < b:
+        a, b = b, a
+    if b < c:
+        b, c = c, b
+    if a < b:
+        a, b = b, a
+    arg = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))
+    return 0.5 * np.sqrt(max(arg, 0.0))
+
+
 _FLIP_JIT = None
+_AREA_JIT = None
+
+
+def double_area_kernel():
+    """:func:`double_area_kahan` compiled by numba (on first use: importing numba costs 0.3 s,
+    which every ``import meschers_igl.mescher`` would pay if it were compiled at import)."""
+    global _AREA_JIT
+    if _AREA_JIT is None:
+        import numba
+
+        _AREA_JIT = numba.njit(cache=True, nogil=True)(double_area_kahan)
+    return _AREA_JIT
 
 
 def _flip_kernel():
-    """The flip loop compiled by numba on first use (importing numba costs 0.3 s, which every
-    ``import meschers_igl.mescher`` would pay if it were compiled at import)."""
-    global _FLIP_JIT
+    """The flip loop compiled by numba on first use (see :func:`double_area_kernel`)."""
+    global _FLIP_JIT, _dbl_area
     if _FLIP_JIT is None:
         import numba
 
+        _dbl_area = double_area_kernel()  # a compiled global for the kernel to call
         _FLIP_JIT = numba.njit(cache=True, nogil=True)(_flip_to_delaunay)
     return _FLIP_JIT
+
+
+_dbl_area = double_area_kahan  # replaced by the compiled one before the flip kernel compiles
 
 
 def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - compiled
@@ -346,23 +374,9 @@ def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - comp
         i1, i2, j1, j2 = (i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3
         a, b, c, d = F[f, i], F[f, i1], F[f, i2], F[g, j]
         l_bc, l_ca, l_ab, l_bd, l_dc = l[f, i], l[f, i1], l[f, i2], l[g, j1], l[g, j2]
-        # twice the areas of both faces (Kahan, sides sorted x >= y >= z)
-        x, y, z = l_bc, l_ca, l_ab
-        if x < y:
-            x, y = y, x
-        if y < z:
-            y, z = z, y
-        if x < y:
-            x, y = y, x
-        A_f = 0.5 * np.sqrt(max((x + (y + z)) * (z - (x - y)) * (z + (x - y)) * (x + (y - z)), 0.0))
-        x, y, z = l_bc, l_bd, l_dc
-        if x < y:
-            x, y = y, x
-        if y < z:
-            y, z = z, y
-        if x < y:
-            x, y = y, x
-        A_g = 0.5 * np.sqrt(max((x + (y + z)) * (z - (x - y)) * (z + (x - y)) * (x + (y - z)), 0.0))
+        # twice the areas of both faces (Kahan)
+        A_f = _dbl_area(l_bc, l_ca, l_ab)
+        A_g = _dbl_area(l_bc, l_bd, l_dc)
         if A_f <= 0.0 or A_g <= 0.0 or l_bc <= 0.0:
             continue
         # weight (cot a + cot d) / 2, cot = (sum of the adjacent sides^2 - opposite^2) / (4 A)

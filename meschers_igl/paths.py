@@ -246,17 +246,7 @@ def _lower_end(Ff: np.ndarray, b: np.ndarray, d: np.ndarray) -> int:
     return int(cand[np.argmin(d[cand])])
 
 
-@numba.njit(cache=True)
-def _dbl_area(a: float, b: float, c: float) -> float:
-    """Kahan's stable Heron formula for one triangle (as :func:`intrinsic.double_areas`)."""
-    if a < b:
-        a, b = b, a
-    if b < c:
-        b, c = c, b
-    if a < b:
-        a, b = b, a
-    arg = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c))
-    return 0.5 * np.sqrt(max(arg, 0.0))
+_dbl_area = intrinsic.double_area_kernel()  # Kahan's Heron formula, compiled
 
 
 @numba.njit(cache=True)
