@@ -409,7 +409,7 @@ def _rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
 def _propagate(  # pragma: no cover - compiled
     F, fl, fx, fy, twin, rev, hedge, pseudo, vptr, vcorner, cflip, cang, cpos, csgn, theta, vbnd,
     mdeg, dist, emitted, bpos, wh, wb, state, pos, free, bstart, bcls, bn, fhead, aw, alo, ahi,
-    hk, hv, ctr, max_pops,
+    hk, hv, ctr, max_pops, targets,
 ):  # fmt: skip
     """Exact distances from the sources queued in ``hk, hv`` (see the module docstring).
 
@@ -428,7 +428,9 @@ def _propagate(  # pragma: no cover - compiled
     runs until the queue is empty (returns 0), ``max_pops`` items were taken out (1: time for a
     progress report), or the heap (2), the window table (3) or the edge blocks' arena (4) might
     not hold one more step; the caller then grows that array and calls again.  Room is checked
-    before each step, not at each write, so that a step is never left half done.
+    before each step, not at each write, so that a step is never left half done.  With
+    ``targets`` (non-empty) it also ends (0) once the least key left is at least every target's
+    distance: no later item can lower a distance below its key, so those are final.
 
     The windows queued on an edge are kept in one contiguous block per edge (ids and their
     extent in the edge's common frame), so that finding the ones a new window overlaps is a scan
@@ -453,6 +455,13 @@ def _propagate(  # pragma: no cover - compiled
         if pops >= max_pops:
             status = 1
             break
+        if targets.size and (pops & 1023) == 0:
+            far = 0.0  # the farthest target's distance so far (inf: one not reached yet)
+            for v in targets:
+                far = max(far, dist[v])
+            if hk[0] >= far:
+                status = 0
+                break
         if nh + 4 * mdeg + 8 > hk.size:
             status = 2
             break
@@ -963,25 +972,32 @@ class ExactGeodesicSolver:
         _, fe, _ = topology.edge_topology(F, nv, check=False)
         return np.asarray(fe, dtype=np.int64)
 
-    def distance(self, sources: Any) -> np.ndarray:
+    def distance(self, sources: Any, targets: Any = None) -> np.ndarray:
         """Exact distance to the nearest source.
 
         Parameters
         ----------
         sources : int or (k,) array_like of int
+        targets : int or (t,) array_like of int, optional
+            Stop as soon as these vertices' distances are final (the propagation grows like
+            the disc around the sources: a near pair costs a fraction of the whole field).
 
         Returns
         -------
         d : (#V,) float64
-            ``inf`` on connected components without a source.
+            ``inf`` on connected components without a source.  With ``targets``: exact at the
+            targets and at every vertex no farther than the farthest target, ``inf`` beyond.
         """
         src = np.array(np.unique(as_index_array(sources, "sources", self.n_vertices)), np.int64)
+        tgt = np.empty(0, np.int64)
+        if targets is not None:
+            tgt = np.array(np.unique(as_index_array(targets, "targets", self.n_vertices)), np.int64)
         st = _State(self.n_vertices, self._n_edges, src)
         # the vertices the query reaches: those of the sources' components
         reach = int(np.isin(self._label, self._label[src]).sum()) if src.size else 0
         with progress.Meter("exact geodesics", total=reach) as bar:
             while True:
-                status = _propagate(*self._data, *st.arrays(), st.ctr, _POPS_PER_CALL)
+                status = _propagate(*self._data, *st.arrays(), st.ctr, _POPS_PER_CALL, tgt)
                 if status == 0:
                     break
                 if status == 1:
@@ -989,16 +1005,21 @@ class ExactGeodesicSolver:
                 else:
                     st.grow(status)
         self.n_windows, self.n_emitted = int(st.ctr[4]), int(st.ctr[5])
-        return st.dist
+        d = st.dist
+        if tgt.size and st.ctr[0] > 0:  # stopped early: beyond the farthest target, not final
+            d[d > d[tgt].max()] = np.inf
+        return d
 
 
-def exact_geodesic(m: Any, sources: Any) -> np.ndarray:
+def exact_geodesic(m: Any, sources: Any, targets: Any = None) -> np.ndarray:
     """Exact geodesic distance from ``sources`` on a mescher's intrinsic mesh (one-off).
 
     Parameters
     ----------
     m : Mescher
     sources : int or (k,) array_like of int
+    targets : int or (t,) array_like of int, optional
+        Stop once these are final (:meth:`ExactGeodesicSolver.distance`).
 
     Returns
     -------
@@ -1006,4 +1027,4 @@ def exact_geodesic(m: Any, sources: Any) -> np.ndarray:
         Equal to ``igl.exact_geodesic`` on an ordinary mesh (to round-off); ``inf`` on
         connected components without a source.
     """
-    return ExactGeodesicSolver(m).distance(sources)
+    return ExactGeodesicSolver(m).distance(sources, targets)

@@ -791,7 +791,7 @@ def _cone_detours(md: _MeshData, pieces: list[tuple], tries: int = 8) -> list[tu
 # distances
 # ----------------------------------------------------------------------------------------------
 def exact_geodesic_distance(
-    m: Any, sources: Any, max_sheets: int = 64, algorithm: str = "window"
+    m: Any, sources: Any, max_sheets: int = 64, algorithm: str = "window", targets: Any = None
 ) -> np.ndarray:
     """Exact intrinsic distance on a mescher.
 
@@ -820,6 +820,9 @@ def exact_geodesic_distance(
     max_sheets : int, default: 64
         ``"covering"`` only: give up (``MescherError``) beyond this many sheets.
     algorithm : {"window", "covering"}, default: "window"
+    targets : int or (t,) array_like of int, optional
+        ``"window"`` only: stop once these vertices' distances are final; the result is then
+        exact up to the farthest target and ``inf`` beyond.
 
     Returns
     -------
@@ -834,7 +837,7 @@ def exact_geodesic_distance(
         ``max_sheets`` sheets needed.
     """
     if algorithm == "window":
-        return exact_geodesic(m, sources)
+        return exact_geodesic(m, sources, targets)
     if algorithm != "covering":
         raise MescherError(f'algorithm: expected "window" or "covering", found {algorithm!r}')
     import igl

@@ -309,11 +309,35 @@ def test_a_query_resumes_exactly_across_kernel_calls(monkeypatch):
     assert drawn[-1][1] == m.n_vertices and 0 < drawn[-1][0] <= m.n_vertices
 
 
+def test_targets_stop_early_with_the_same_distances():
+    """With targets the propagation stops once they are final: the same values there (and at
+    every vertex up to the farthest target), inf beyond, and far fewer windows for a near pair."""
+    V, F = ordinary_torus(60, 20)
+    m = Mescher.from_mesh(V, F).with_periods([0.3, 0.0])
+    S = ExactGeodesicSolver(m)
+    full = S.distance(7)
+    n_full = S.n_windows
+    near = int(np.argsort(full)[40])  # a vertex near the source
+    d = S.distance(7, targets=[near, 8])
+    assert S.n_windows < 0.5 * n_full
+    assert d[near] == full[near] and d[8] == full[8]
+    done = np.isfinite(d)
+    np.testing.assert_array_equal(d[done], full[done])
+    assert done.sum() < 0.5 * m.n_vertices
+    assert (full[~done] > max(full[near], full[8])).all()
+    # the farthest vertex as target: the whole field
+    np.testing.assert_array_equal(S.distance(7, targets=int(np.argmax(full))), full)
+    d1 = exact_geodesic_distance(m, 7, targets=[near])
+    assert d1[near] == full[near] and (d1[np.isfinite(d1)] == full[np.isfinite(d1)]).all()
+
+
 def test_bad_input():
     V, F = ordinary_torus(8, 4)
     m = Mescher.from_mesh(V, F)
     with pytest.raises(MescherError, match="sources"):
         exact_geodesic(m, len(V))
+    with pytest.raises(MescherError, match="targets"):
+        ExactGeodesicSolver(m).distance(0, targets=[-1])
     with pytest.raises(MescherError, match="algorithm"):
         exact_geodesic_distance(m, 0, algorithm="mmp")
     with pytest.raises(MescherError, match="F, l"):
