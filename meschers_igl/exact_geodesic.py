@@ -929,7 +929,8 @@ class ExactGeodesicSolver:
         hidx = np.arange(3 * nf)
         cflip = has & (twin < hidx) & rev
         # pseudo-sources: saddles and boundary vertices
-        ang = np.bincount(F.reshape(-1), intrinsic.corner_angles(lf).reshape(-1), minlength=nv)
+        cang = np.ascontiguousarray(intrinsic.corner_angles(lf).reshape(-1), dtype=np.float64)
+        ang = np.bincount(F.reshape(-1), cang, minlength=nv)
         pseudo = ang > _TWO_PI + _SADDLE_TOL
         bnd = ~has
         pseudo[start[bnd]] = True
@@ -946,7 +947,6 @@ class ExactGeodesicSolver:
         i64 = [np.array(a, dtype=np.int64, order="C") for a in (twin, he, vptr, vorder)]
         Fc = np.array(F, dtype=np.int64, order="C")
         # one-rings, for the shadows of pseudo-sources (_shadow)
-        cang = np.ascontiguousarray(intrinsic.corner_angles(lf).reshape(-1), dtype=np.float64)
         rings = _rings(Fc, i64[0], cang, i64[2], i64[3], nv)
         mdeg = int(max(2, np.diff(vptr).max(initial=0)))
         self._data = (
