@@ -257,12 +257,6 @@ def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint", force:
     return m.subdivide(levels, scheme=scheme, order=order, force=force)
 
 
-#: geodesic pictures are drawn on a copy midpoint-subdivided up to this many levels while it
-#: stays under this many faces (the study's defaults)
-_DISPLAY_LEVELS = 2
-_DISPLAY_FACES = 24_000
-
-
 def _cmd_geodesic(args: argparse.Namespace) -> int:
     from meschers_igl import HeatGeodesicSolver
 
@@ -303,9 +297,11 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
         # faces and the flat faces came out blotched dark to light; subdivided, the blend stays
         # in a narrow band at the creases.  The distances are interpolated linearly, so the
         # isolines are those of the coarse field.
+        from .settings import study_settings
         from .steps import subdivision_levels
 
-        levels = subdivision_levels(m.n_faces, _DISPLAY_LEVELS, _DISPLAY_FACES)
+        st = study_settings()  # the study's levels and face budget
+        levels = subdivision_levels(m.n_faces, st.levels, st.max_faces)
         mv, order_v, dv = m, order, d
         if levels:
             if order is None:
