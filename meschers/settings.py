@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from pyvista_views.theme import ENV_MAP, LIGHT_RIG
+
 __all__ = [
     "CITATION",
     "DOI_URL",
@@ -27,15 +29,10 @@ CITATION = (
 )
 DOI_URL = "https://doi.org/10.1145/3731422"
 
-#: Four directional lights (directions *toward* the light, camera frame) as in the paper's Fig. 5.
-LIGHTS: tuple[tuple[float, float, float], ...] = (
-    (1.0, 1.0, 1.0),
-    (-1.0, 1.0, 0.6),
-    (0.3, -1.0, 0.8),
-    (-0.6, -0.4, 1.0),
-)
-#: Environment map of the render figures (:mod:`pyvista_views.envmap`).
-ENV_MAP = "studio"
+#: The four directional lights of the paper's Fig. 5 and the environment map of the render
+#: figures: the rig is pyvista_views' (:data:`pyvista_views.theme.LIGHT_RIG`), named here for the
+#: study's steps.
+LIGHTS: tuple[tuple[float, float, float], ...] = LIGHT_RIG
 GEODESIC_CMAP = "viridis"
 HEAT_CMAP = "inferno"
 
