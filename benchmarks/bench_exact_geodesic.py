@@ -8,7 +8,7 @@ propagation against ``igl.exact_geodesic`` (and its time ratio to it).  Then, on
 ``--faces`` faces, times
 
 * exact: ``ExactGeodesicSolver(m)`` once (set-up) and ``.distance(s)`` per query
-  (:mod:`meschers_igl.exact_geodesic`: window propagation on the intrinsic mesh, numba; the
+  (:mod:`meschers_igl.geodesic.exact`: window propagation on the intrinsic mesh, numba; the
   compile is excluded by a warm-up call on a small mesh); with ``--covering`` also the old route,
   MMP (``igl.exact_geodesic``) on a covering (slow: minutes at 100k);
 * heat: ``HeatGeodesicSolver(m)`` once (precompute) and ``.distance(s)`` (per query);
@@ -41,10 +41,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _meshes import torus_with_faces  # noqa: E402
 
 from meschers_igl import Mescher, shapes  # noqa: E402
-from meschers_igl.exact_geodesic import ExactGeodesicSolver  # noqa: E402
+from meschers_igl.geodesic.exact import ExactGeodesicSolver  # noqa: E402
 from meschers_igl.gallery import get_model  # noqa: E402
-from meschers_igl.heat import HeatGeodesicSolver  # noqa: E402
-from meschers_igl.paths import exact_geodesic_distance  # noqa: E402
+from meschers_igl.geodesic.heat import HeatGeodesicSolver  # noqa: E402
+from meschers_igl.geodesic.paths import exact_geodesic_distance  # noqa: E402
 
 GALLERY = ("penrose_triangle", "penrose_stairs", "impossible_cube", "window", "impossibagel")
 TARGET = 10.0

@@ -12,7 +12,7 @@ On one ordinary torus per size (``_meshes.torus_with_faces``), the same run time
 and prints the ratios (ours / peer; < 1 is faster).  Targets (issue 3 item 8): per query
 <= 1.0x potpourri3d, precompute <= 1.5x libigl.  The machine is shared: run once or twice.
 
-Ours is the default, ``method="auto"`` (``meschers_igl.heat.choose_method``): above
+Ours is the default, ``method="auto"`` (``meschers_igl.geodesic.heat.choose_method``): above
 ``AUTO_REFINE_MAX_FACES`` (25k) faces, and on crumpled meshes, that is
 ``method="geometry_central"``, potpourri3d's own heat method (the printed max difference to
 potpourri3d is round-off); at or below it, on meshes that are not crumpled, auto refines once
@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _meshes import torus_with_faces  # noqa: E402
 
 from meschers_igl import Mescher  # noqa: E402
-from meschers_igl.heat import HeatGeodesicSolver  # noqa: E402
+from meschers_igl.geodesic.heat import HeatGeodesicSolver  # noqa: E402
 
 
 def _time(fn, repeat=1):

@@ -180,8 +180,8 @@ def exact_geodesic_figure() -> Path:
     """The impossibagel (a torus whose depth climbs around its hole), subdivided: exact distance
     from one vertex (window propagation on the intrinsic mesh), the heat method's default, and
     where they differ."""
-    from meschers_igl.exact_geodesic import ExactGeodesicSolver
-    from meschers_igl.heat import HeatGeodesicSolver
+    from meschers_igl.geodesic.exact import ExactGeodesicSolver
+    from meschers_igl.geodesic.heat import HeatGeodesicSolver
 
     gm = gallery.get_model("impossibagel")
     m, order = gm.mescher.subdivide(1, order=gm.order)

@@ -262,7 +262,7 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
 
     m, order, _ = load_input(args.input)
     if args.method == "exact":
-        from meschers_igl.paths import exact_geodesic_distance
+        from meschers_igl.geodesic.paths import exact_geodesic_distance
 
         d = exact_geodesic_distance(m, args.source)  # window propagation, no heat solve
     else:

@@ -32,7 +32,7 @@ def __getattr__(name: str):
 
         return DepthOrder
     if name == "HeatGeodesicSolver":
-        from .heat import HeatGeodesicSolver
+        from .geodesic import HeatGeodesicSolver
 
         return HeatGeodesicSolver
     if name in ("save", "load"):

@@ -2,7 +2,7 @@
 
 numba has no priority queue that compiled code can use with typed keys and values at this
 speed (``heapq`` on a typed list boxes each item), so the kernels of
-:mod:`meschers_igl.order_graph` (shortest-path integrals) and :mod:`meschers_igl.exact_geodesic`
+:mod:`meschers_igl.order_graph` (shortest-path integrals) and :mod:`meschers_igl.geodesic.exact`
 (window propagation) share this one: ``keys[:size]`` and ``vals[:size]`` hold the heap, the
 caller owns the arrays (and grows them when ``size`` reaches their length).  Four children per
 node: half the levels of a binary heap, and a node's children share a cache line (measured:

@@ -702,18 +702,18 @@ class Mescher:
 
     def heat_diffuse(self, u0, t: float, steps: int = 1) -> np.ndarray:
         """Backward Euler heat diffusion ``(M - tL) u = M u0`` (paper Eq. 5)."""
-        from .heat import heat_diffuse
+        from .geodesic import heat_diffuse
 
         return heat_diffuse(self, u0, t, steps=steps)
 
     def geodesic_distance(self, sources, **kwargs) -> np.ndarray:
         """(#V,) heat-method geodesic distance to the nearest source (one-off)."""
-        from .paths import geodesic_distance
+        from .geodesic import geodesic_distance
 
         return geodesic_distance(self, sources, **kwargs)
 
     def shortest_path(self, source: int, target: int, **kwargs):
         """A shortest polyline on the surface from ``source`` to ``target`` vertex."""
-        from .paths import shortest_path
+        from .geodesic import shortest_path
 
         return shortest_path(self, source, target, **kwargs)

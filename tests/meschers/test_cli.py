@@ -225,7 +225,7 @@ def test_geodesic_saves_distances(tmp_path, capsys):
 def test_geodesic_exact(tmp_path, capsys):
     """--method exact: the window-propagation distances, equal to MMP on a real 3D covering;
     the shortest path's length equals the exact distance at the target."""
-    from meschers_igl.paths import exact_geodesic_distance
+    from meschers_igl.geodesic.paths import exact_geodesic_distance
 
     npy = tmp_path / "d.npy"
     args = ["geodesic", "penrose_triangle", "--source", "3", "--target", "30", "--method", "exact"]

@@ -1,4 +1,4 @@
-"""Exact geodesic distance by window propagation (meschers_igl.exact_geodesic), issue 13 item 5.
+"""Exact geodesic distance by window propagation (meschers_igl.geodesic.exact), issue 13 item 5.
 
 Oracles: Euclidean distance on flat sheets (also around a reflex corner of an L-shaped sheet,
 where the geodesic bends at the corner), ``igl.exact_geodesic`` (Kirsanov's MMP) on ordinary
@@ -15,9 +15,9 @@ from scipy.sparse.csgraph import dijkstra
 from test_heat import obtuse_sheet, ordinary_torus, sliver_box
 
 from meschers_igl import Mescher, MescherError, shapes
-from meschers_igl.exact_geodesic import ExactGeodesicSolver, exact_geodesic
+from meschers_igl.geodesic.exact import ExactGeodesicSolver, exact_geodesic
 from meschers_igl.gallery import get_model
-from meschers_igl.paths import exact_geodesic_distance, geodesic_distance
+from meschers_igl.geodesic.paths import exact_geodesic_distance, geodesic_distance
 
 TOL = 1e-9
 
@@ -278,7 +278,7 @@ def test_a_query_resumes_exactly_across_kernel_calls(monkeypatch):
     """The kernel stops every few items (progress) and whenever an array might overflow; the
     caller grows it and calls again.  Stopping after every 7 items, from the smallest arrays,
     gives the same distances bit for bit, and a bar is drawn for a query that runs long."""
-    import meschers_igl.exact_geodesic as eg
+    import meschers_igl.geodesic.exact as eg
     import meschers_igl.progress as progress
 
     V, F = ordinary_torus(40, 14)

@@ -15,7 +15,7 @@ import scipy.sparse.csgraph
 
 from meschers_igl import Mescher, MescherError, shapes
 from meschers_igl.covering import covering_distance, covering_from_cut
-from meschers_igl.heat import (
+from meschers_igl.geodesic.heat import (
     AUTO_REFINE_MAX_FACES,
     CRUMPLED_RELIEF,
     HeatGeodesicSolver,
@@ -26,7 +26,7 @@ from meschers_igl.heat import (
 )
 from meschers_igl.intrinsic import midpoint_refine
 from meschers_igl.operators import intrinsic_operators
-from meschers_igl.paths import shortest_path
+from meschers_igl.geodesic.paths import shortest_path
 
 
 # ----------------------------------------------------------------------------------------------
@@ -776,7 +776,7 @@ def test_intrinsic_methods_do_not_depend_on_round_off(method):
 def test_solver_reuses_the_meschers_topology_and_poisson_factor(monkeypatch):
     """Issue 12: the standard solver factors only its heat matrix; the pinned -L is the
     mescher's own cached factorization (shared with the Hodge decomposition)."""
-    import meschers_igl.heat as heat
+    import meschers_igl.geodesic.heat as heat
     import meschers_igl.topology as topology
 
     V, F = ordinary_torus(24, 8)

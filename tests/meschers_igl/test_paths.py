@@ -1,4 +1,4 @@
-"""Shortest paths and exact distances (meschers_igl.paths) against exact geodesics.
+"""Shortest paths and exact distances (meschers_igl.geodesic.paths) against exact geodesics.
 
 Oracles: ``igl.exact_geodesic`` (MMP) on ordinary meshes -- a torus, an obtuse sheet, CAD-like
 boxes tessellated with 0.003-degree slivers, a bumpy "cow-like" sphere -- and on real 3D
@@ -23,8 +23,8 @@ from test_heat import (
 
 from meschers_igl import Mescher, MescherError, shapes
 from meschers_igl.covering import covering_distance, covering_from_cut
-from meschers_igl.heat import HeatGeodesicSolver
-from meschers_igl.paths import exact_geodesic_distance, geodesic_distance, shortest_path
+from meschers_igl.geodesic.heat import HeatGeodesicSolver
+from meschers_igl.geodesic.paths import exact_geodesic_distance, geodesic_distance, shortest_path
 
 REL = 1e-3  # acceptance: within 0.1% of the exact distance
 
@@ -199,7 +199,7 @@ def test_exact_distance_disconnected_and_bad_input():
 # beyond: paths through points, closed geodesics around the generators
 # ----------------------------------------------------------------------------------------------
 def test_shortest_path_through_points_concatenates_geodesics():
-    from meschers_igl.paths import shortest_path_through
+    from meschers_igl.geodesic.paths import shortest_path_through
 
     V, F = ordinary_torus()
     m = Mescher.from_mesh(V, F)
@@ -219,7 +219,7 @@ def test_shortest_path_through_points_concatenates_geodesics():
 
 
 def test_closed_geodesics_keep_their_class_and_the_period(itorus):
-    from meschers_igl.paths import shortest_loops
+    from meschers_igl.geodesic.paths import shortest_loops
 
     V, F = ordinary_torus(24, 8)
     for m in (Mescher.from_mesh(V, F), itorus):

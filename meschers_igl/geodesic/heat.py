@@ -23,7 +23,7 @@ CACM 2017) in this module's sign conventions:
 from a unit without mass, a screened Poisson step on the tufted cover); ``method="auto"``
 uses it or a refined triangulation, whichever is measured better (:func:`choose_method`).
 
-Shortest paths and exact distances are in :mod:`meschers_igl.paths`.
+Shortest paths and exact distances are in :mod:`meschers_igl.geodesic.paths`.
 """
 
 from __future__ import annotations
@@ -33,11 +33,11 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import intrinsic, topology
-from .errors import MescherError
-from .operators import intrinsic_operators
-from .solvers import factorize_spd
-from .validate import as_choice, as_index_array, as_positive
+from .. import intrinsic, topology
+from ..errors import MescherError
+from ..operators import intrinsic_operators
+from ..solvers import factorize_spd
+from ..validate import as_choice, as_index_array, as_positive
 
 __all__ = [
     "HeatGeodesicSolver",
@@ -669,7 +669,7 @@ def geodesic_distance(m: Any, sources: Any, **kwargs: Any) -> np.ndarray:
     **kwargs
         Passed to :class:`HeatGeodesicSolver` (``t``, ``method``, ``intrinsic_delaunay``,
         ``boundary``, ``refine``, ``t_factor``, ``solver``).  For exact distances see
-        :func:`meschers_igl.paths.geodesic_distance` (``method="exact"``).
+        :func:`meschers_igl.geodesic.paths.geodesic_distance` (``method="exact"``).
 
     Returns
     -------

@@ -4,13 +4,13 @@ A mescher's metric is its per-edge lengths (DESIGN "How operators are built"), s
 a polyline whose segments each lie in one face, measured in that face's intrinsic geometry
 (:mod:`meschers_igl.intrinsic`).
 
-* :func:`shortest_path`: candidates from the heat-method distance (:mod:`meschers_igl.heat`)
+* :func:`shortest_path`: candidates from the heat-method distance (:mod:`meschers_igl.geodesic.heat`)
   and from Dijkstra, unfolded and pulled taut (funnel), then shortened around the vertices they
   bend at until they are geodesics (FlipOut's wedge condition), and tried on the other side of
   nearby cone vertices; the shortest wins.  :func:`shortest_path_through` (waypoints) and
   :func:`shortest_loops` (a closed geodesic per homology generator) build on it.
 * :func:`exact_geodesic_distance`: window propagation on the intrinsic mesh
-  (:mod:`meschers_igl.exact_geodesic`), or MMP (``igl.exact_geodesic``) on a covering unrolled
+  (:mod:`meschers_igl.geodesic.exact`), or MMP (``igl.exact_geodesic``) on a covering unrolled
   as far as needed (:mod:`meschers_igl.covering`) as an independent oracle.
 * :func:`geodesic_distance`: the heat method, or ``method="exact"``.
 """
@@ -25,11 +25,11 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
-from . import intrinsic, topology
-from .errors import MescherError
-from .exact_geodesic import exact_geodesic
+from .. import intrinsic, topology
+from ..errors import MescherError
+from ..validate import as_index_array
+from .exact import exact_geodesic
 from .heat import HeatGeodesicSolver
-from .validate import as_index_array
 
 __all__ = [
     "SurfacePath",
@@ -555,7 +555,7 @@ def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
     points : (k,) array_like of int
         Vertices to visit, ``k >= 2`` (repeats allowed; a closed tour ends where it began).
     **kwargs
-        Passed to :class:`meschers_igl.heat.HeatGeodesicSolver` (built once, shared).
+        Passed to :class:`meschers_igl.geodesic.heat.HeatGeodesicSolver` (built once, shared).
 
     Returns
     -------
@@ -796,7 +796,7 @@ def exact_geodesic_distance(
     """Exact intrinsic distance on a mescher.
 
     ``algorithm="window"`` (default): window propagation on the intrinsic mesh, compiled
-    (:mod:`meschers_igl.exact_geodesic`; needs only the edge lengths, so no covering).
+    (:mod:`meschers_igl.geodesic.exact`; needs only the edge lengths, so no covering).
     ``algorithm="covering"``: MMP (``igl.exact_geodesic``) on a covering unrolled as far as
     needed, kept as an independent oracle; a query is 4.5x (ordinary torus) to 33x
     (impossible torus) slower at 20k faces.  The two agree to round-off (tested).  The rest of
@@ -842,7 +842,7 @@ def exact_geodesic_distance(
         raise MescherError(f'algorithm: expected "window" or "covering", found {algorithm!r}')
     import igl
 
-    from .covering import covering_from_cut
+    from ..covering import covering_from_cut
 
     n = int(m.n_vertices)
     src = np.unique(as_index_array(sources, "sources", n))
@@ -906,7 +906,7 @@ def geodesic_distance(m: Any, sources: Any, method: str = "auto", **kwargs: Any)
     method : {"auto", "standard", "robust", "refined", "accurate", "geometry_central", "exact"}
         Default ``"auto"``.  ``"exact"``: :func:`exact_geodesic_distance` (window propagation on the intrinsic
         mesh; equals ``igl.exact_geodesic`` on an ordinary mesh to round-off).  Any other
-        value: the heat method (:class:`meschers_igl.heat.HeatGeodesicSolver`, whose docstring
+        value: the heat method (:class:`meschers_igl.geodesic.heat.HeatGeodesicSolver`, whose docstring
         says what ``"auto"`` chooses when).
     **kwargs
         Passed to the heat solver, or ``algorithm``/``max_sheets`` to the exact one.

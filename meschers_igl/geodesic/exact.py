@@ -62,7 +62,7 @@ pieces of the final field (sampled at 257 points per edge), so no exact method t
 field gets far below that.  Queued windows live in contiguous per-edge blocks (a linked list cost a cache miss
 per queued window: 35 per new window at 100k faces), and each pair of overlapping windows is
 resolved with one root solve.
-``meschers_igl.paths.exact_geodesic_distance(..., algorithm="covering")`` keeps the libigl
+``meschers_igl.geodesic.paths.exact_geodesic_distance(..., algorithm="covering")`` keeps the libigl
 route as an independent oracle.
 """
 
@@ -73,10 +73,10 @@ from typing import Any
 import numba
 import numpy as np
 
-from . import intrinsic, progress
-from .errors import MescherError
-from .heap import heap_pop, heap_push
-from .validate import as_index_array
+from .. import intrinsic, progress
+from ..errors import MescherError
+from ..heap import heap_pop, heap_push
+from ..validate import as_index_array
 
 __all__ = ["ExactGeodesicSolver", "exact_geodesic"]
 
@@ -957,7 +957,7 @@ class ExactGeodesicSolver:
         self._n_edges = ne
         # vertices per connected component, for the progress of a query
         if nf:
-            from . import topology
+            from .. import topology
 
             _, self._label = topology.connected_components(F, nv)
         else:
@@ -967,7 +967,7 @@ class ExactGeodesicSolver:
 
     @staticmethod
     def _edge_ids(F: np.ndarray, nv: int) -> np.ndarray:
-        from . import topology
+        from .. import topology
 
         _, fe, _ = topology.edge_topology(F, nv, check=False)
         return np.asarray(fe, dtype=np.int64)
