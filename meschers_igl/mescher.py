@@ -671,6 +671,20 @@ class Mescher:
         m = smooth(self, t_xy=t_xy, t_zeta=t_zeta, iterations=iterations)
         return m if order is None else (m, order.follow(m))
 
+    def rotated(self, degrees: float, axis="y", order=None):
+        """The mescher turned by ``degrees`` about ``axis`` ("x", "y", "z" or a direction).
+
+        Each triangle's local 3D shape is turned; screen positions are re-projected onto
+        exact forms (a Poisson solve) and depths onto locally integrable forms, so periods
+        become ``R[2, 2] * periods()`` in this mescher's basis.  The identity at 0 degrees; a
+        mescher that embeds turns exactly like its 3D mesh.  With a :class:`DepthOrder`,
+        returns ``(mescher, order.follow(mescher))``.  See :func:`meschers_igl.rotation.rotate`.
+        """
+        from .rotation import rotate
+
+        turn = rotate(self, degrees, axis, order=order)
+        return turn.mescher if order is None else (turn.mescher, turn.order)
+
     def bent_embedding(self) -> tuple[np.ndarray, np.ndarray]:
         """``(V, F)``: 3D mesh with depth ``z`` from the Hodge decomposition (paper Sec. 4.6)."""
         from .embedding import bent_embedding
@@ -706,11 +720,15 @@ class Mescher:
 
         return heat_diffuse(self, u0, t, steps=steps)
 
-    def geodesic_distance(self, sources, **kwargs) -> np.ndarray:
-        """(#V,) heat-method geodesic distance to the nearest source (one-off)."""
+    def geodesic_distance(self, sources, method: str = "auto", **kwargs) -> np.ndarray:
+        """(#V,) geodesic distance to the nearest source (one-off), by any registered method.
+
+        See :func:`meschers_igl.geodesic.geodesic_distance` (default: the heat method,
+        ``method="exact"``: window propagation).
+        """
         from .geodesic import geodesic_distance
 
-        return geodesic_distance(self, sources, **kwargs)
+        return geodesic_distance(self, sources, method, **kwargs)
 
     def shortest_path(self, source: int, target: int, **kwargs):
         """A shortest polyline on the surface from ``source`` to ``target`` vertex."""
