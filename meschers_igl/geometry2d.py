@@ -176,19 +176,17 @@ def triangles_overlap(A: np.ndarray, B: np.ndarray, tol: float = 0.0) -> np.ndar
 def intersection_centroids(A: np.ndarray, B: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Centroid and area of the intersection polygon of each pair of triangles.
 
-    The boundary of the convex polygon ``A & B`` is made of the pieces of ``A``'s edges inside
-    ``B`` and of ``B``'s edges inside ``A``; each piece is found by clipping the edge's parameter
-    interval to the other triangle's three half-planes (Cyrus-Beck), a fixed amount of work
-    per pair with no polygon bookkeeping.  With both triangles counter-clockwise the pieces are
-    directed segments ``p -> q`` of the polygon's boundary, and Green's theorem gives
+    ``A`` is clipped by the three inner half-planes of ``B`` (Sutherland-Hodgman) and the
+    shoelace formula gives
 
     ``area = 1/2 sum p x q``,  ``centroid = sum (p + q) (p x q) / (6 area)``
 
-    without ordering the pieces.  An edge lying on the other triangle's edge line counts for
-    ``A`` only (inclusive for ``A``'s edges, strict for ``B``'s), so a boundary shared by a
-    folded pair is not counted twice.  Being the mean over a convex region inside both
-    triangles, the centroid lies in both, and any function linear on each triangle takes at it
-    its mean over the overlap.
+    over the clipped polygon's edges ``p -> q``.  Clipping is continuous in the corners, so
+    edges that nearly coincide (a folded pair, duplicated faces) change the result by about
+    their gap, and the centroid is as well-conditioned as the overlap (error about
+    ``eps * size^3 / area``).  Being the mean over a convex region inside both triangles, the
+    centroid lies in both, and any function linear on each triangle takes at it its mean over
+    the overlap.
 
     Parameters
     ----------

@@ -1,12 +1,17 @@
-"""Freeze today's (numpy) depth-order results, commit 62e4088, for the numba rewrite's test."""
+"""Store depth-order arcs, overlap pairs and centroids that ``test_order.py`` compares against.
+
+Runs from any working directory: ``python tests/meschers_igl/data/make_order_reference.py``.
+"""
 
 import hashlib
 import sys
+from pathlib import Path
 
 import igl
 import numpy as np
 
-sys.path.insert(0, "tests/meschers_igl")
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
 from test_order import _paradox, camera, folded_strip, torus
 
 from meschers_igl import DepthOrder, Mescher, shapes
@@ -58,7 +63,7 @@ T[1::11, 0] = T[0:-1:11, 1][: T[1::11].shape[0]]  # shared corners
 out["soup_T"] = T
 p, c = overlapping_pairs(T, centroids=True)
 out["soup_pairs"], out["soup_centroids"] = p, c
-np.savez_compressed("tests/meschers_igl/data/order_reference.npz", **out)
+np.savez_compressed(HERE / "order_reference.npz", **out)
 # a larger torus: hashes only
 Vb, Fb = shapes.torus(200, 60, 1.0, 0.4)
 mb = Mescher.from_mesh(Vb, Fb, view=view, up=up)
