@@ -12,10 +12,10 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from test_order import _paradox, camera, folded_strip, torus
+from test_order import _paradox, camera, folded_strip, torus  # noqa: E402
 
-from meschers_igl import DepthOrder, Mescher, shapes
-from meschers_igl.geometry2d import overlapping_pairs
+from meschers_igl import DepthOrder, Mescher, shapes  # noqa: E402
+from meschers_igl.geometry2d import overlapping_pairs  # noqa: E402
 
 out = {}
 view, up = (0.3, -0.8, 0.5), (0.0, 0.0, 1.0)
