@@ -675,7 +675,7 @@ def see_model(
                 E = perceived_frame(xy, Fb, Zb)
                 axes_model = model_face_axes(C, F, E)  # read from the model's own polygons
             Zb, report.snapped = perceive_manhattan(xy, Fb, Zb, axis=axes_model[sb], E=E)
-            glue, arcs = _reglue(glue, Zb, arcs, tol_abs)
+            glue, arcs = _reglue(glue, Fb, Zb, arcs, tol_abs)
         Fm, corner_vertex = _cut_and_glue(Fb, glue)
         h1, h2 = glue["h1"][~glue["glue"]], glue["h2"][~glue["glue"]]
         stuck = _stuck_cuts(Fm, h1, h2)
@@ -693,21 +693,52 @@ def see_model(
     return VisibleModel(F=Fm, xy=xym, Z=Zb, arcs=arcs, report=report)
 
 
-def _reglue(glue: dict, Z: np.ndarray, arcs: np.ndarray, tol: float):
+def _reglue(glue: dict, Fb: np.ndarray, Z: np.ndarray, arcs: np.ndarray, tol: float):
     """Glued edges whose (perceived) depths on the two sides are no longer parallel become
     occlusions (cut, far -> near arc); parallel jumps stay glued (perceived false edges)."""
     h1, h2, ok = glue["h1"], glue["h2"], glue["glue"].copy()
     a = _he_depth(Z, h1)
     b = _he_depth(Z, h2)[:, ::-1]  # the partner runs the other way
     d = b - a  # (k, 2): depth jump at tail and head
-    bad = ok & (np.abs(d[:, 0] - d[:, 1]) > tol)
+    # the model's own continuous edges stay glued (a crease a person sees; the projection onto
+    # integrable forms reconciles the snapped planes there)
+    jump = ok & (np.abs(d[:, 0] - d[:, 1]) > tol)
+    bad = jump & ~glue["cont"]
+    # the model's own continuous edges become cuts too, unless that cuts the loops a person
+    # follows (a relief whose snapped planes disagree at every crease): then they stay glued
+    # and the projection onto integrable forms reconciles the snapped planes there
+    cut_all = {"h1": h1, "h2": h2, "glue": ok & ~jump}
+    if _betti1(_cut_and_glue(Fb, cut_all)[0]) >= _betti1(
+        _cut_and_glue(Fb, {**cut_all, "glue": ok & ~bad})[0]
+    ):
+        bad = jump
     if bad.any():
         ok[bad] = False
         far1 = d[bad].sum(axis=1) > 0
         f1, f2 = h1[bad] // 3, h2[bad] // 3
         new = np.stack([np.where(far1, f1, f2), np.where(far1, f2, f1)], axis=1)
         arcs = np.vstack([arcs, new]).astype(np.int64)
-    return {"h1": h1, "h2": h2, "glue": ok}, arcs
+    return {"h1": h1, "h2": h2, "glue": ok, "cont": glue["cont"]}, arcs
+
+
+def _betti1(F: np.ndarray) -> int:
+    """First Betti number of a triangle mesh (orientable, manifold): ``E - V - F + C + closed``
+    with ``C`` its connected parts and ``closed`` those without boundary (``b2``)."""
+    he = np.stack([F[:, [1, 2]], F[:, [2, 0]], F[:, [0, 1]]], axis=1).reshape(-1, 2)
+    n = int(F.max(initial=0)) + 1
+    key = np.minimum(he[:, 0], he[:, 1]) * n + np.maximum(he[:, 0], he[:, 1])
+    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    A = sp.coo_matrix((np.ones(f.size), (f, he[:, 0])), shape=(F.shape[0], n)).tocsr()
+    A = sp.bmat([[None, A], [A.T, None]])
+    k, lab = csgraph.connected_components(A, directed=False)
+    comp = lab[: F.shape[0]]
+    used = np.unique(F)
+    parts = np.unique(comp)
+    open_part = np.zeros(k, dtype=bool)
+    open_part[comp[f[(cnt[inv] == 1)]]] = True
+    n_closed = int(np.count_nonzero(~open_part[parts]))
+    return int(cnt.size - used.size - F.shape[0] + parts.size + n_closed)
 
 
 def _stuck_cuts(Fm: np.ndarray, h1: np.ndarray, h2: np.ndarray) -> np.ndarray:
@@ -829,17 +860,20 @@ def _classify(xy, Fa, src, Z, C, F, front, tol):
         s = src[fs]
         k = _edge_on_source(xy, E, s, C, F, tol)
         nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
-        return (k >= 0) & ((nb < 0) | ~front[np.maximum(nb, 0)])
+        return k >= 0, (k >= 0) & ((nb < 0) | ~front[np.maximum(nb, 0)])
 
-    e1, e2 = ends(f1), ends(f2)
-    false_edge = ~continuous & parallel & e1 & e2
+    (on1, e1), (on2, e2) = ends(f1), ends(f2)
+    far1 = (dp + dq) > 0  # face 2 nearer
+    # a false edge: both sides lie on an edge of their own model face and the nearer side ends
+    # there (silhouette or boundary); the farther side may turn a crease whose other face the
+    # nearer one hides -- the viewer sees one crease or one flat continuation
+    false_edge = ~continuous & parallel & on1 & on2 & np.where(far1, e2, e1)
     glue = continuous | false_edge
     cut = ~glue
     # true occlusion: the far face gets an arc to the near one
-    far1 = (dp + dq) > 0  # face 2 nearer
     arcs = np.stack([np.where(far1, f1, f2), np.where(far1, f2, f1)], axis=1)[cut]
     return (
-        {"h1": h1, "h2": h2, "glue": glue, "he": he},
+        {"h1": h1, "h2": h2, "glue": glue, "he": he, "cont": continuous},
         arcs.astype(np.int64),
         {"h1": h1[false_edge], "f1": f1[false_edge], "f2": f2[false_edge],
          "E": E[false_edge], "gap": 0.5 * (dp + dq)[false_edge],
@@ -1017,6 +1051,7 @@ def _bridge(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=None):
         "h1": np.concatenate([glue["h1"], g1]).astype(np.int64),
         "h2": np.concatenate([glue["h2"], g2]).astype(np.int64),
         "glue": np.concatenate([glue["glue"], np.ones(len(g1), dtype=bool)]),
+        "cont": np.concatenate([glue["cont"], np.zeros(len(g1), dtype=bool)]),
     }
     # bridge faces lie behind the visible faces they overlap on screen
     Tb = xy[Fb]
