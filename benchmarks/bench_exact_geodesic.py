@@ -41,10 +41,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _meshes import torus_with_faces  # noqa: E402
 
 from meschers_igl import Mescher, shapes  # noqa: E402
-from meschers_igl.geodesic.exact import ExactGeodesicSolver  # noqa: E402
 from meschers_igl.gallery import get_model  # noqa: E402
+from meschers_igl.geodesic import geodesic_distance  # noqa: E402
+from meschers_igl.geodesic.exact import ExactGeodesicSolver  # noqa: E402
 from meschers_igl.geodesic.heat import HeatGeodesicSolver  # noqa: E402
-from meschers_igl.geodesic.paths import exact_geodesic_distance  # noqa: E402
 
 GALLERY = ("penrose_triangle", "penrose_stairs", "impossible_cube", "window", "impossibagel")
 TARGET = 10.0
@@ -113,7 +113,7 @@ def bench(name: str, m: Mescher, n_queries: int, covering: bool) -> tuple:
         flush=True,
     )
     if covering:
-        t_c, dc = _cpu(lambda: exact_geodesic_distance(m, int(srcs[0]), algorithm="covering"))
+        t_c, dc = _cpu(lambda: geodesic_distance(m, int(srcs[0]), "covering"))
         print(
             f"    covering (igl MMP) per query {t_c:8.3f} s: max |window - covering| "
             f"{np.abs(dc - d[0]).max():.2e}, ratio covering / window {t_c / t_ex:9.1f}x"

@@ -258,20 +258,10 @@ def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint", force:
 
 
 def _cmd_geodesic(args: argparse.Namespace) -> int:
-    from meschers_igl import HeatGeodesicSolver
+    from meschers_igl.geodesic import geodesic_solver
 
     m, order, _ = load_input(args.input)
-    if args.method == "exact":
-        from meschers_igl.geodesic.paths import exact_geodesic_distance
-
-        d = exact_geodesic_distance(m, args.source)  # window propagation, no heat solve
-    else:
-        solver = (
-            HeatGeodesicSolver(m)
-            if args.method is None
-            else HeatGeodesicSolver(m, method=args.method)
-        )
-        d = solver.distance(args.source)
+    d = geodesic_solver(m, args.method or "auto").distance(args.source)
     finite = np.isfinite(d)
     print(f"distance from vertex(es) {', '.join(map(str, args.source))}: max {d[finite].max():.6g}, "
           f"mean {d[finite].mean():.6g}, unreachable vertices {int((~finite).sum())}")  # fmt: skip

@@ -124,7 +124,7 @@ def loop_periods(m: Any, zeta: np.ndarray) -> np.ndarray:
 def exact_distance(m: Any, sources: Any, at: Any = None) -> tuple[np.ndarray | None, str]:
     """Exact geodesic distances on the mescher, or why there are none.
 
-    Window propagation on the intrinsic mesh (:func:`meschers_igl.geodesic.paths.exact_geodesic_distance`,
+    Window propagation on the intrinsic mesh (``geodesic_distance(m, sources, "exact")``,
     equal to ``igl.exact_geodesic`` on a real 3D covering to round-off, as its tests check), for
     the whole field: 3-66 ms on the gallery's meschers midpoint-subdivided twice (1.7k-33k
     faces, two sources), where libigl on a covering took up to 15 s for a quarter of the
@@ -142,10 +142,10 @@ def exact_distance(m: Any, sources: Any, at: Any = None) -> tuple[np.ndarray | N
     (d, how)
         ``d`` (#V,) float64 or ``None``; ``how`` says which, or why none.
     """
-    from meschers_igl.geodesic.paths import exact_geodesic_distance
+    from meschers_igl.geodesic import geodesic_distance
 
     try:
-        d = exact_geodesic_distance(m, sources)
+        d = geodesic_distance(m, sources, "exact")
     except MescherError as exc:
         return None, f"no exact distances: {exc}"
     how = "exact (window propagation on the intrinsic mesh)"

@@ -88,11 +88,11 @@ class Subject:
         return default_bounds(self.xy_box, (cell, cell))
 
     def solver(self, method: str = "standard"):
-        """The factored :class:`~meschers_igl.HeatGeodesicSolver` of ``m`` for ``method``."""
+        """The solver of ``m`` for ``method`` (:func:`meschers_igl.geodesic.geodesic_solver`)."""
         if method not in self._solvers:
-            from meschers_igl import HeatGeodesicSolver
+            from meschers_igl.geodesic import geodesic_solver
 
-            self._solvers[method] = HeatGeodesicSolver(self.m, method=method)
+            self._solvers[method] = geodesic_solver(self.m, method)
         return self._solvers[method]
 
     def smoothed(self, t: float):

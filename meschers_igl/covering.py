@@ -25,7 +25,7 @@ from . import topology
 from .errors import MescherError
 from .validate import as_count, as_index_array, check_budget
 
-__all__ = ["Covering", "covering_from_cut", "covering_distance"]
+__all__ = ["Covering", "CoveringGeodesicSolver", "covering_distance", "covering_from_cut"]
 
 
 @dataclass(frozen=True)
@@ -137,47 +137,136 @@ def covering_from_cut(
 
 
 def covering_distance(
-    m: Any, sources: Any, K: int = 3, covering: Covering | None = None, targets: Any = None
+    m: Any,
+    sources: Any,
+    K: int = 3,
+    covering: Covering | None = None,
+    targets: Any = None,
+    max_sheets: int = 64,
 ) -> np.ndarray:
-    """Exact intrinsic distance on a mescher from the lifts of ``sources`` in the middle sheet.
+    """Exact intrinsic distance on a mescher: MMP on its covering, from the sources' lifts.
 
-    ``d(v) = min_j exact_geodesic(covering, lifts of sources on sheet K // 2)(v, j)``: exact as
-    long as shortest paths stay within the ``K`` sheets built (``K = 3`` for paths up to one
-    loop around the impossible generator in either direction).
+    ``igl.exact_geodesic`` (Mitchell-Mount-Papadimitriou window propagation) runs on the
+    covering from the lifts of ``sources`` on the middle sheet ``K // 2``, and ``d(v)`` is the
+    minimum over the lifts of ``v``.  That is exact when no shorter path leaves the sheets
+    built: every path that leaves crosses a *frontier* edge (a covering boundary edge that is
+    interior on the mescher), and no point of a frontier edge ``ab`` is nearer than
+    ``min(d(a), d(b)) - |ab| / 2``; when some ``d(v)`` exceeds that bound the covering is
+    rebuilt with ``2 K + 1`` sheets (odd, so the middle stays the middle).  A possible mescher
+    is its own covering (one sheet, no frontier).  Independent of
+    :class:`~meschers_igl.geodesic.ExactGeodesicSolver` (which needs no covering): an oracle.
 
     Parameters
     ----------
     m : Mescher
     sources : int or (k,) array_like of int
+        A source that no face uses has no lift: it is at 0 and reaches nothing.
     K : int, default: 3
+        Sheets of the first covering built.
     covering : Covering, optional
-        A covering from :func:`covering_from_cut` to reuse.
+        A covering from :func:`covering_from_cut` to use as it is (no sheets are added).
     targets : (t,) array_like of int, optional
         Only these vertices' distances (the others are ``inf``): libigl's query costs about as
         much per target vertex as the whole window propagation costs per 2000 of them.
+    max_sheets : int, default: 64
+        Give up beyond this many sheets.
 
     Returns
     -------
     d : (#V,) float64
-        ``inf`` for vertices with no path to a source within the covering.
+        ``inf`` for vertices with no path to a source.
+
+    Raises
+    ------
+    MescherError
+        Bad sources or targets; a mescher whose periods are not multiples of one period; more
+        than ``max_sheets`` sheets needed.
     """
     n = int(m.n_vertices)
-    src = as_index_array(sources, "sources", n)
-    cov = covering_from_cut(m, K) if covering is None else covering
-    mid = cov.K // 2
+    src = np.unique(as_index_array(sources, "sources", n))
+    tgt = None if targets is None else as_index_array(targets, "targets", n)
+    max_sheets = as_count(max_sheets, "max_sheets", minimum=1)
+    while True:
+        cov = covering_from_cut(m, K) if covering is None else covering
+        a, b, half = _frontier(m, cov)
+        vt = None if tgt is None else np.union1d(np.flatnonzero(np.isin(cov.vmap, tgt)), [*a, *b])
+        d, dc = _covering_query(m, cov, src, vt)
+        if tgt is not None:
+            keep = np.zeros(n, dtype=bool)
+            keep[tgt] = True
+            d[~keep] = np.inf
+        reach = np.isfinite(d)
+        bound = np.minimum(dc[a], dc[b]) - half
+        if (
+            covering is not None
+            or a.size == 0
+            or not reach.any()
+            or d[reach].max() < bound.min(initial=np.inf)
+        ):
+            return d
+        if 2 * cov.K + 1 > max_sheets:
+            raise MescherError(
+                f"max_sheets: expected enough sheets for exact distances, found {max_sheets} "
+                "too few (shortest paths wind around the impossible loop more often)"
+            )
+        K = 2 * cov.K + 1
+
+
+def _frontier(m: Any, cov: Covering) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The frontier: covering boundary edges that are interior edges of the mescher (a path
+    that leaves the sheets crosses one).  Returns their ends ``a, b`` (covering vertices) and
+    half lengths: no point of edge ``ab`` is nearer than ``min(d(a), d(b)) - |ab| / 2``."""
+    e_count = np.bincount(np.asarray(m.face_edges).reshape(-1), minlength=int(m.n_edges))
+    lengths = np.asarray(m.edge_lengths(), dtype=np.float64)
+    _, fec, _ = topology.edge_topology(cov.F, cov.V.shape[0], check=False)
+    bf, bc = np.nonzero(np.bincount(fec.reshape(-1))[fec] == 1)
+    me = np.asarray(m.face_edges)[cov.fmap[bf], bc]
+    front = e_count[me] == 2
+    a = cov.F[bf[front], (bc[front] + 1) % 3]
+    b = cov.F[bf[front], (bc[front] + 2) % 3]
+    return a, b, 0.5 * lengths[me[front]]
+
+
+def _covering_query(
+    m: Any, cov: Covering, src: np.ndarray, vt: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(d, dc)``: mescher distances (min over lifts) and covering distances, computed at the
+    covering vertices ``vt`` (default all; ``inf`` elsewhere)."""
+    n = int(m.n_vertices)
     lift = np.full((cov.K, n), -1, dtype=np.int64)
     lift[cov.sheet, cov.vmap] = np.arange(cov.vmap.size)
-    vs = lift[mid, src]
-    if (vs < 0).any():
-        raise MescherError(f"sources: vertex {int(src[vs < 0][0])} has no lift on the middle sheet")
-    vt = np.arange(cov.V.shape[0], dtype=np.int64)
-    if targets is not None:
-        vt = vt[np.isin(cov.vmap, as_index_array(targets, "targets", n))]
-    dc = igl.exact_geodesic(cov.V, cov.F, VS=vs, VT=vt)
-    dc = np.asarray(dc, dtype=np.float64).reshape(-1)
-    # libigl returns 0 (or DBL_MAX) on components without a source: mark them unreachable
-    _, comp = topology.connected_components(cov.F, cov.V.shape[0])
-    dc[~np.isin(comp[vt], comp[vs]) | ~(dc < 1e300)] = np.inf
+    vs = lift[cov.K // 2, src]
+    vs = vs[vs >= 0]
+    nc = cov.V.shape[0]
+    vt = np.arange(nc, dtype=np.int64) if vt is None else np.asarray(vt, dtype=np.int64)
+    dc = np.full(nc, np.inf)
+    if vs.size and vt.size:
+        dt = igl.exact_geodesic(cov.V, cov.F, VS=vs, VT=vt)
+        dt = np.asarray(dt, dtype=np.float64).reshape(-1)
+        # libigl returns 0 (or DBL_MAX) on components without a source: unreachable
+        _, comp = topology.connected_components(cov.F, nc)
+        dt[~np.isin(comp[vt], comp[vs]) | ~(dt < 1e300)] = np.inf
+        dc[vt] = dt
     d = np.full(n, np.inf)
-    np.minimum.at(d, cov.vmap[vt], dc)
-    return d
+    np.minimum.at(d, cov.vmap, dc)
+    d[src] = 0.0
+    return d, dc
+
+
+class CoveringGeodesicSolver:
+    """Exact distance by MMP on the covering (:func:`covering_distance`): the oracle.
+
+    Parameters
+    ----------
+    m : Mescher
+    max_sheets : int, default: 64
+    """
+
+    def __init__(self, m: Any, max_sheets: int = 64) -> None:
+        self.m = m
+        self.n_vertices = int(m.n_vertices)
+        self.max_sheets = as_count(max_sheets, "max_sheets", minimum=1)
+
+    def distance(self, sources: Any, targets: Any = None) -> np.ndarray:
+        """(#V,) exact distance to the nearest source (``inf`` off the targets, if given)."""
+        return covering_distance(self.m, sources, targets=targets, max_sheets=self.max_sheets)

@@ -78,7 +78,7 @@ from ..errors import MescherError
 from ..heap import heap_pop, heap_push
 from ..validate import as_index_array
 
-__all__ = ["ExactGeodesicSolver", "exact_geodesic"]
+__all__ = ["ExactGeodesicSolver"]
 
 _TWO_PI = 2.0 * np.pi
 _SADDLE_TOL = 1e-9  # angle excess (rad) above which a vertex is a saddle (pseudo-source)
@@ -879,6 +879,7 @@ class ExactGeodesicSolver:
     """
 
     def __init__(self, m: Any = None, *, F: Any = None, l: Any = None) -> None:
+        self.m = m
         if m is not None:
             F = np.asarray(m.F, dtype=np.int64)
             fe = np.asarray(m.face_edges, dtype=np.int64)
@@ -1009,22 +1010,3 @@ class ExactGeodesicSolver:
         if tgt.size and st.ctr[0] > 0:  # stopped early: beyond the farthest target, not final
             d[d > d[tgt].max()] = np.inf
         return d
-
-
-def exact_geodesic(m: Any, sources: Any, targets: Any = None) -> np.ndarray:
-    """Exact geodesic distance from ``sources`` on a mescher's intrinsic mesh (one-off).
-
-    Parameters
-    ----------
-    m : Mescher
-    sources : int or (k,) array_like of int
-    targets : int or (t,) array_like of int, optional
-        Stop once these are final (:meth:`ExactGeodesicSolver.distance`).
-
-    Returns
-    -------
-    d : (#V,) float64
-        Equal to ``igl.exact_geodesic`` on an ordinary mesh (to round-off); ``inf`` on
-        connected components without a source.
-    """
-    return ExactGeodesicSolver(m).distance(sources, targets)

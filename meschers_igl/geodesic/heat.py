@@ -23,7 +23,7 @@ CACM 2017) in this module's sign conventions:
 from a unit without mass, a screened Poisson step on the tufted cover); ``method="auto"``
 uses it or a refined triangulation, whichever is measured better (:func:`choose_method`).
 
-Shortest paths and exact distances are in :mod:`meschers_igl.geodesic.paths`.
+Every method is reached through :func:`meschers_igl.geodesic.geodesic_solver`.
 """
 
 from __future__ import annotations
@@ -42,7 +42,6 @@ from ..validate import as_choice, as_index_array, as_positive
 __all__ = [
     "HeatGeodesicSolver",
     "choose_method",
-    "geodesic_distance",
     "heat_diffuse",
     "saddle_relief",
 ]
@@ -547,13 +546,15 @@ class HeatGeodesicSolver:
             return u_d
         return 0.5 * (self._heat(b) + u_d)
 
-    def distance(self, sources: Any) -> np.ndarray:
+    def distance(self, sources: Any, targets: Any = None) -> np.ndarray:
         """Geodesic distance from a vertex or a set of vertices (to the nearest one).
 
         Parameters
         ----------
         sources : int or (k,) array_like of int
             Vertex indices in ``[0, #V)``.
+        targets : int or (t,) array_like of int, optional
+            Checked only: the heat method solves for the whole field at once.
 
         Returns
         -------
@@ -562,6 +563,8 @@ class HeatGeodesicSolver:
             component that holds a source, ``inf`` on components without one.
         """
         src = as_index_array(sources, "sources", self.n_vertices)
+        if targets is not None:
+            as_index_array(targets, "targets", self.n_vertices)
         dim = self._dim
         if self._peer:  # potpourri3d: the heat of a unit at each source, no mass
             b = np.zeros(self._n_inner)
@@ -657,23 +660,3 @@ class HeatGeodesicSolver:
             rhs.append(0.0)
         mu = np.linalg.lstsq(np.array(rows), np.array(rhs), rcond=None)[0]
         return d0 + Gm @ mu
-
-
-def geodesic_distance(m: Any, sources: Any, **kwargs: Any) -> np.ndarray:
-    """One-off heat-method distance: ``HeatGeodesicSolver(m, **kwargs).distance(sources)``.
-
-    Parameters
-    ----------
-    m : Mescher
-    sources : int or (k,) array_like of int
-    **kwargs
-        Passed to :class:`HeatGeodesicSolver` (``t``, ``method``, ``intrinsic_delaunay``,
-        ``boundary``, ``refine``, ``t_factor``, ``solver``).  For exact distances see
-        :func:`meschers_igl.geodesic.paths.geodesic_distance` (``method="exact"``).
-
-    Returns
-    -------
-    d : (#V,) float64
-    """
-    as_index_array(sources, "sources", int(m.n_vertices))  # fail before factoring
-    return HeatGeodesicSolver(m, **kwargs).distance(sources)

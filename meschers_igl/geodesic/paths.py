@@ -1,18 +1,16 @@
-"""Shortest paths and exact geodesic distances on meschers.
+"""Shortest paths on meschers.
 
-A mescher's metric is its per-edge lengths (DESIGN "How operators are built"), so a path on it is
-a polyline whose segments each lie in one face, measured in that face's intrinsic geometry
+A mescher's metric is its per-edge lengths (:doc:`/conventions`), so a path on it is a polyline
+whose segments each lie in one face, measured in that face's intrinsic geometry
 (:mod:`meschers_igl.intrinsic`).
 
-* :func:`shortest_path`: candidates from the heat-method distance (:mod:`meschers_igl.geodesic.heat`)
-  and from Dijkstra, unfolded and pulled taut (funnel), then shortened around the vertices they
-  bend at until they are geodesics (FlipOut's wedge condition), and tried on the other side of
-  nearby cone vertices; the shortest wins.  :func:`shortest_path_through` (waypoints) and
-  :func:`shortest_loops` (a closed geodesic per homology generator) build on it.
-* :func:`exact_geodesic_distance`: window propagation on the intrinsic mesh
-  (:mod:`meschers_igl.geodesic.exact`), or MMP (``igl.exact_geodesic``) on a covering unrolled
-  as far as needed (:mod:`meschers_igl.covering`) as an independent oracle.
-* :func:`geodesic_distance`: the heat method, or ``method="exact"``.
+* :func:`shortest_path`: candidates from a distance field (any method of
+  :func:`~meschers_igl.geodesic.geodesic_solver`, the heat method by default) and from
+  Dijkstra, unfolded and pulled taut (funnel), then shortened around the vertices they bend at
+  until they are geodesics (FlipOut's wedge condition), and tried on the other side of nearby
+  cone vertices; the shortest wins.
+* :func:`shortest_path_through` (waypoints) and :func:`shortest_loops` (a closed geodesic per
+  homology generator) build on it.
 """
 
 from __future__ import annotations
@@ -28,13 +26,10 @@ import scipy.sparse.csgraph as csgraph
 from .. import intrinsic, topology
 from ..errors import MescherError
 from ..validate import as_index_array
-from .exact import exact_geodesic
-from .heat import HeatGeodesicSolver
+from .methods import GeodesicSolver, geodesic_solver
 
 __all__ = [
     "SurfacePath",
-    "exact_geodesic_distance",
-    "geodesic_distance",
     "shortest_loops",
     "shortest_path",
     "shortest_path_through",
@@ -424,7 +419,7 @@ def _segments(md: _MeshData, faces, tpar, il, ir) -> tuple[np.ndarray, np.ndarra
 
 
 def shortest_path(
-    m: Any, source: Any, target: Any, solver: HeatGeodesicSolver | None = None, **kwargs: Any
+    m: Any, source: Any, target: Any, solver: GeodesicSolver | None = None, **kwargs: Any
 ) -> SurfacePath:
     """Shortest path on a mescher from ``source`` to ``target`` (vertices): a geodesic.
 
@@ -447,8 +442,9 @@ def shortest_path(
     m : Mescher
     source, target : int
         Vertex indices.
-    solver : HeatGeodesicSolver, optional
-        A solver for ``m`` to reuse; otherwise one is built with ``**kwargs``
+    solver : GeodesicSolver, optional
+        A solver for ``m`` to reuse (any method); otherwise
+        :func:`~meschers_igl.geodesic.geodesic_solver` builds one with ``**kwargs``
         (default ``method="auto"``).
 
     Returns
@@ -469,10 +465,10 @@ def shortest_path(
     if t is None:
         raise MescherError(f"target: expected one vertex index, found {np.shape(target)}")
     if solver is None:
-        solver = HeatGeodesicSolver(m, **kwargs)
+        solver = geodesic_solver(m, **kwargs)
     elif solver.m is not m:
         raise MescherError(
-            "solver: expected a HeatGeodesicSolver built for this mescher, found one for another"
+            "solver: expected a geodesic solver built for this mescher, found one for another"
         )
     md = _MeshData(m)
     Fm = md.F
@@ -555,7 +551,7 @@ def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
     points : (k,) array_like of int
         Vertices to visit, ``k >= 2`` (repeats allowed; a closed tour ends where it began).
     **kwargs
-        Passed to :class:`meschers_igl.geodesic.heat.HeatGeodesicSolver` (built once, shared).
+        Passed to :func:`~meschers_igl.geodesic.geodesic_solver` (built once, shared).
 
     Returns
     -------
@@ -565,7 +561,7 @@ def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
     pts = as_index_array(points, "points", int(m.n_vertices))
     if pts.ndim != 1 or pts.size < 2:
         raise MescherError(f"points: expected at least two vertex indices, found {pts.size}")
-    solver = HeatGeodesicSolver(m, **kwargs)
+    solver = geodesic_solver(m, **kwargs)
     legs = [shortest_path(m, int(a), int(b), solver=solver) for a, b in zip(pts[:-1], pts[1:])]
     legs = [p for p in legs if p.n_points > 1] or legs[:1]
     faces = [legs[0].faces[:-1]] + [p.faces[:-1] for p in legs[1:]] + [legs[-1].faces[-1:]]
@@ -785,137 +781,3 @@ def _cone_detours(md: _MeshData, pieces: list[tuple], tries: int = 8) -> list[tu
             break
         length, pieces = best
     return pieces
-
-
-# ----------------------------------------------------------------------------------------------
-# distances
-# ----------------------------------------------------------------------------------------------
-def exact_geodesic_distance(
-    m: Any, sources: Any, max_sheets: int = 64, algorithm: str = "window", targets: Any = None
-) -> np.ndarray:
-    """Exact intrinsic distance on a mescher.
-
-    ``algorithm="window"`` (default): window propagation on the intrinsic mesh, compiled
-    (:mod:`meschers_igl.geodesic.exact`; needs only the edge lengths, so no covering).
-    ``algorithm="covering"``: MMP (``igl.exact_geodesic``) on a covering unrolled as far as
-    needed, kept as an independent oracle; a query is 4.5x (ordinary torus) to 33x
-    (impossible torus) slower at 20k faces.  The two agree to round-off (tested).  The rest of
-    this docstring describes the covering route.
-
-    A mescher is locally isometric to its covering (:mod:`meschers_igl.covering`): ``K`` copies
-    of the mescher cut open, glued so that depth climbs by the period from one to the next.
-    ``igl.exact_geodesic`` (Mitchell-Mount-Papadimitriou window propagation) runs on the
-    covering from the sources' lifts on the middle sheet, and ``d(v)`` is the minimum over the
-    lifts of ``v``.  That is exact when no shorter path leaves the sheets built: every path that
-    leaves crosses a *frontier* edge (a covering boundary edge that is interior on the mescher),
-    and no point of a frontier edge ``ab`` is nearer than ``min(d(a), d(b)) - |ab| / 2``; when
-    some ``d(v)`` exceeds that bound the covering is rebuilt with twice the sheets.  A possible
-    mescher is its own covering (one sheet, no frontier), so there this is
-    ``igl.exact_geodesic`` on the mescher's embedding.
-
-    Parameters
-    ----------
-    m : Mescher
-    sources : int or (k,) array_like of int
-    max_sheets : int, default: 64
-        ``"covering"`` only: give up (``MescherError``) beyond this many sheets.
-    algorithm : {"window", "covering"}, default: "window"
-    targets : int or (t,) array_like of int, optional
-        ``"window"`` only: stop once these vertices' distances are final; the result is then
-        exact up to the farthest target and ``inf`` beyond.
-
-    Returns
-    -------
-    d : (#V,) float64
-        ``inf`` on connected components without a source.
-
-    Raises
-    ------
-    MescherError
-        Bad sources or algorithm; for ``"covering"``: a mescher whose periods are not multiples
-        of one period (two independent impossible loops need a lattice of sheets), more than
-        ``max_sheets`` sheets needed.
-    """
-    if algorithm == "window":
-        return exact_geodesic(m, sources, targets)
-    if algorithm != "covering":
-        raise MescherError(f'algorithm: expected "window" or "covering", found {algorithm!r}')
-    import igl
-
-    from ..covering import covering_from_cut
-
-    n = int(m.n_vertices)
-    src = np.unique(as_index_array(sources, "sources", n))
-    e_count = np.bincount(np.asarray(m.face_edges).reshape(-1), minlength=int(m.n_edges))
-    lengths = np.asarray(m.edge_lengths(), dtype=np.float64)
-    K = 3
-    while True:
-        cov = covering_from_cut(m, K)
-        mid = cov.K // 2
-        lift = np.full((cov.K, n), -1, dtype=np.int64)
-        lift[cov.sheet, cov.vmap] = np.arange(cov.vmap.size)
-        vs = lift[mid, src]
-        vs = vs[vs >= 0]  # sources no face uses have no lift (their distance stays inf)
-        nc = cov.V.shape[0]
-        dc = np.full(nc, np.inf)
-        if vs.size:
-            dc = np.asarray(
-                igl.exact_geodesic(
-                    np.ascontiguousarray(cov.V),
-                    np.ascontiguousarray(cov.F),
-                    VS=np.ascontiguousarray(vs),
-                    VT=np.arange(nc, dtype=np.int64),
-                ),  # fmt: skip
-                dtype=np.float64,
-            ).reshape(-1)
-            # libigl returns 0 or DBL_MAX on components without a source: unreachable
-            _, comp = topology.connected_components(cov.F, nc)
-            dc[~np.isin(comp, comp[vs]) | ~(dc < 1e300)] = np.inf
-        d = np.full(n, np.inf)
-        np.minimum.at(d, cov.vmap, dc)
-        d[src] = 0.0
-        if cov.period == 0.0:
-            return d
-        # frontier: covering boundary edges that are interior edges of the mescher
-        _, fec, _ = topology.edge_topology(cov.F, nc, check=False)
-        cnt = np.bincount(fec.reshape(-1))
-        bf, bc = np.nonzero(cnt[fec] == 1)
-        me = np.asarray(m.face_edges)[cov.fmap[bf], bc]
-        front = e_count[me] == 2
-        a = cov.F[bf[front], (bc[front] + 1) % 3]
-        b = cov.F[bf[front], (bc[front] + 2) % 3]
-        bound = np.minimum(dc[a], dc[b]) - 0.5 * lengths[me[front]]
-        reach = np.isfinite(d)
-        if not front.any() or not reach.any() or d[reach].max() < bound.min(initial=np.inf):
-            return d
-        if 2 * K > max_sheets:
-            raise MescherError(
-                f"max_sheets: expected enough sheets for exact distances, found {max_sheets} "
-                "too few (shortest paths wind around the impossible loop more often)"
-            )
-        K = 2 * K + 1  # odd, so the middle sheet stays in the middle
-
-
-def geodesic_distance(m: Any, sources: Any, method: str = "auto", **kwargs: Any) -> np.ndarray:
-    """Geodesic distance on a mescher from a vertex or a set of vertices (to the nearest one).
-
-    Parameters
-    ----------
-    m : Mescher
-    sources : int or (k,) array_like of int
-    method : {"auto", "standard", "robust", "refined", "accurate", "geometry_central", "exact"}
-        Default ``"auto"``.  ``"exact"``: :func:`exact_geodesic_distance` (window propagation on the intrinsic
-        mesh; equals ``igl.exact_geodesic`` on an ordinary mesh to round-off).  Any other
-        value: the heat method (:class:`meschers_igl.geodesic.heat.HeatGeodesicSolver`, whose docstring
-        says what ``"auto"`` chooses when).
-    **kwargs
-        Passed to the heat solver, or ``algorithm``/``max_sheets`` to the exact one.
-
-    Returns
-    -------
-    d : (#V,) float64
-    """
-    if method == "exact":
-        return exact_geodesic_distance(m, sources, **kwargs)
-    as_index_array(sources, "sources", int(m.n_vertices))  # fail before factoring
-    return HeatGeodesicSolver(m, method=method, **kwargs).distance(sources)

@@ -225,14 +225,14 @@ def test_geodesic_saves_distances(tmp_path, capsys):
 def test_geodesic_exact(tmp_path, capsys):
     """--method exact: the window-propagation distances, equal to MMP on a real 3D covering;
     the shortest path's length equals the exact distance at the target."""
-    from meschers_igl.geodesic.paths import exact_geodesic_distance
+    from meschers_igl.geodesic import geodesic_distance
 
     npy = tmp_path / "d.npy"
     args = ["geodesic", "penrose_triangle", "--source", "3", "--target", "30", "--method", "exact"]
     assert main([*args, "--save", str(npy)]) == 0
     d = np.load(npy)
     m = get_model("penrose_triangle").mescher
-    cov = exact_geodesic_distance(m, 3, algorithm="covering")
+    cov = geodesic_distance(m, 3, "covering")
     assert np.abs(d - cov).max() < 1e-9
     out = capsys.readouterr().out
     length = float(out.split("shortest path 3 -> 30: length ")[1].split(",")[0])

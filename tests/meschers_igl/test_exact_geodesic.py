@@ -11,13 +11,13 @@ import igl
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from builders import obtuse_sheet, ordinary_torus, sliver_box
 from scipy.sparse.csgraph import dijkstra
-from test_heat import obtuse_sheet, ordinary_torus, sliver_box
 
 from meschers_igl import Mescher, MescherError, shapes
-from meschers_igl.geodesic.exact import ExactGeodesicSolver, exact_geodesic
 from meschers_igl.gallery import get_model
-from meschers_igl.geodesic.paths import exact_geodesic_distance, geodesic_distance
+from meschers_igl.geodesic import geodesic_distance
+from meschers_igl.geodesic.exact import ExactGeodesicSolver
 
 TOL = 1e-9
 
@@ -56,7 +56,7 @@ def _l_shape(n=17):
 
 def _check(V, F, sources):
     m = Mescher.from_mesh(V @ shapes.random_rotation(3).T, F, view=(0.3, -0.2, 1.0))
-    d = exact_geodesic(m, sources)
+    d = geodesic_distance(m, sources, "exact")
     de = _igl(V, F, sources)
     err = np.abs(d - de).max()
     assert err < TOL, err
@@ -138,7 +138,7 @@ def test_zero_area_face():
     V2 = V.copy()
     V2[c, 2] += 1e-9
     for s in (0, 40):
-        d = exact_geodesic(m, s)
+        d = geodesic_distance(m, s, "exact")
         assert np.isfinite(d).all()
         e0, e1 = m.edges.T
         assert np.all(np.abs(d[e0] - d[e1]) <= m.edge_lengths() * (1 + 1e-12) + 1e-15)
@@ -165,7 +165,7 @@ def test_lengths_only_and_components():
     assert np.isinf(d[n:]).all()
     assert np.abs(d[:n] - _igl(V, F, 5)).max() < TOL
     m = Mescher.from_mesh(V2, F2)
-    np.testing.assert_array_equal(exact_geodesic_distance(m, 5), d)
+    np.testing.assert_array_equal(geodesic_distance(m, 5, "exact"), d)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -177,7 +177,7 @@ def test_impossible_torus_equals_covering():
     assert np.abs(m.periods()).max() > 0.3
     for s in (0, 333, [5, 400]):
         d = geodesic_distance(m, s, method="exact")
-        dc = exact_geodesic_distance(m, s, algorithm="covering")
+        dc = geodesic_distance(m, s, "covering")
         assert np.abs(d - dc).max() < TOL
     # a metric: |d(a) - d(b)| <= |ab| on every edge
     a, b = m.edges.T
@@ -188,8 +188,8 @@ def test_penrose_triangle_equals_covering():
     m = get_model("penrose_triangle").mescher
     assert np.abs(m.periods()).max() > 1.0
     for s in (0, 7, m.n_vertices - 1):
-        d = exact_geodesic_distance(m, s)
-        assert np.abs(d - exact_geodesic_distance(m, s, algorithm="covering")).max() < TOL
+        d = geodesic_distance(m, s, "exact")
+        assert np.abs(d - geodesic_distance(m, s, "covering")).max() < TOL
 
 
 def test_subdivided_impossible_cube_equals_covering_with_linear_windows():
@@ -201,7 +201,7 @@ def test_subdivided_impossible_cube_equals_covering_with_linear_windows():
     for s in (3, m.n_vertices // 2):
         d = S.distance(s)
         assert S.n_windows < 4 * m.n_faces, S.n_windows / m.n_faces
-        dc = exact_geodesic_distance(m, s, algorithm="covering")
+        dc = geodesic_distance(m, s, "covering")
         assert np.abs(d - dc).max() < TOL
 
 
@@ -327,7 +327,7 @@ def test_targets_stop_early_with_the_same_distances():
     assert (full[~done] > max(full[near], full[8])).all()
     # the farthest vertex as target: the whole field
     np.testing.assert_array_equal(S.distance(7, targets=int(np.argmax(full))), full)
-    d1 = exact_geodesic_distance(m, 7, targets=[near])
+    d1 = geodesic_distance(m, 7, "exact", targets=[near])
     assert d1[near] == full[near] and (d1[np.isfinite(d1)] == full[np.isfinite(d1)]).all()
 
 
@@ -335,11 +335,11 @@ def test_bad_input():
     V, F = ordinary_torus(8, 4)
     m = Mescher.from_mesh(V, F)
     with pytest.raises(MescherError, match="sources"):
-        exact_geodesic(m, len(V))
+        geodesic_distance(m, len(V), "exact")
     with pytest.raises(MescherError, match="targets"):
         ExactGeodesicSolver(m).distance(0, targets=[-1])
-    with pytest.raises(MescherError, match="algorithm"):
-        exact_geodesic_distance(m, 0, algorithm="mmp")
+    with pytest.raises(MescherError, match="method"):
+        geodesic_distance(m, 0, "mmp")
     with pytest.raises(MescherError, match="F, l"):
         ExactGeodesicSolver(F=F, l=np.ones((len(F), 2)))
     with pytest.raises(MescherError, match="m"):

@@ -12,19 +12,19 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
-from test_heat import (
-    _square,
+from builders import (
     exact,
     impossible_tube,
     obtuse_sheet,
     ordinary_torus,
     sliver_box,
+    square_profile,
 )
 
 from meschers_igl import Mescher, MescherError, shapes
 from meschers_igl.covering import covering_distance, covering_from_cut
+from meschers_igl.geodesic import geodesic_distance, shortest_path
 from meschers_igl.geodesic.heat import HeatGeodesicSolver
-from meschers_igl.geodesic.paths import exact_geodesic_distance, geodesic_distance, shortest_path
 
 REL = 1e-3  # acceptance: within 0.1% of the exact distance
 
@@ -114,10 +114,10 @@ def test_shortest_path_on_a_torus_with_depth():
 
 def test_shortest_paths_on_impossible_meschers(itorus):
     """Exact distances on the impossible torus and a square ring come from their coverings."""
-    ring = impossible_tube(40, 16, R=2.0, profile=_square(0.5), c=-2.2)
+    ring = impossible_tube(40, 16, R=2.0, profile=square_profile(0.5), c=-2.2)
     for m in (itorus, ring):
         pairs = [(0, 100), (0, 555), (5, 300), (200, 300), (411, 100), (411, 555)]
-        rel = _rel_errors(m, pairs, lambda s, m=m: exact_geodesic_distance(m, s))
+        rel = _rel_errors(m, pairs, lambda s, m=m: geodesic_distance(m, s, "exact"))
         print(f"impossible: path / exact - 1 in [{rel.min():.2e}, {rel.max():.2e}]")
         assert rel.min() > -1e-9 and rel.max() < REL
     p = shortest_path(itorus, 411, 555)
@@ -158,7 +158,7 @@ def test_exact_distance_equals_libigl_on_ordinary_meshes():
 
 def test_exact_distance_on_impossible_meschers(itorus):
     m = itorus
-    d = exact_geodesic_distance(m, 200)
+    d = geodesic_distance(m, 200, "exact")
     # the covering with many sheets agrees (no shorter path winds further)
     np.testing.assert_allclose(d, covering_distance(m, 200, K=7), atol=1e-12)
     # a metric: |d(a) - d(b)| <= |ab| on every edge, 0 only at the source
@@ -179,20 +179,20 @@ def test_exact_distance_unrolls_more_sheets_when_needed():
         profile=lambda s: (0.5 * np.cos(2 * np.pi * s), 0.5 * np.sin(2 * np.pi * s)),
         c=0.2,
     )
-    d = exact_geodesic_distance(m, 0)
+    d = geodesic_distance(m, 0, "exact")
     np.testing.assert_allclose(d, covering_distance(m, 0, K=15), atol=1e-12)
     with pytest.raises(MescherError, match="max_sheets"):
-        exact_geodesic_distance(m, 0, max_sheets=3, algorithm="covering")
+        geodesic_distance(m, 0, "covering", max_sheets=3)
 
 
 def test_exact_distance_disconnected_and_bad_input():
     V, F = ordinary_torus(12, 6)
     n = len(V)
     m = Mescher.from_mesh(np.r_[V, V + [10, 0, 0]], np.r_[F, F + n])
-    d = exact_geodesic_distance(m, 3)
+    d = geodesic_distance(m, 3, "exact")
     assert np.isinf(d[n:]).all() and np.isfinite(d[:n]).all()
     with pytest.raises(MescherError, match="sources"):
-        exact_geodesic_distance(m, 2 * n)
+        geodesic_distance(m, 2 * n, "exact")
 
 
 # ----------------------------------------------------------------------------------------------
