@@ -84,6 +84,14 @@ def configure_headless() -> str | None:
     return os.environ.get(WINDOW_VARIABLE)
 
 
+def in_notebook() -> bool:
+    """Whether this is a Jupyter kernel, where a view is a widget (trame renders it off screen
+    on the server and streams it) rather than a window or a screenshot."""
+    import scooby
+
+    return bool(scooby.in_ipykernel())
+
+
 def is_offscreen(off_screen: bool | None = None) -> bool:
     """Whether views must render off screen: asked for, ``pyvista.OFF_SCREEN``, or no display."""
     if off_screen is not None:

@@ -306,7 +306,7 @@ class MescherViewer:
 
     def show(self, jupyter_backend: str | None = None, **kwargs: Any) -> np.ndarray | None:
         """Open the window (or the notebook widget, trame by default); offscreen: a screenshot."""
-        if self.off_screen:
+        if self.off_screen and not headless.in_notebook():
             image = self.screenshot()
             self.scene.close()
             return image

@@ -121,6 +121,27 @@ def test_notebook_uses_trame_and_its_cells_run(tmp_path):
     assert "BACKENDS ['trame'] IMAGE (200, 200, 3) 1" in proc.stdout, proc.stdout[-2000:]
 
 
+@pytest.mark.slow
+def test_notebook_runs_in_a_jupyter_kernel(tmp_path):
+    """The notebook as a user runs it: every cell in a real ``python3`` kernel (the ``[jupyter]``
+    extra installs the kernel; the ``[test]`` extra the client), no error, a trame widget shown."""
+    nbformat = pytest.importorskip("nbformat", reason="the [test] extra installs nbclient")
+    nbclient = pytest.importorskip("nbclient", reason="the [test] extra installs nbclient")
+    nb = nbformat.read(NOTEBOOK, as_version=4)
+    client = nbclient.NotebookClient(
+        nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+    )
+    client.execute()  # raises CellExecutionError, naming the cell, on any error
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])]
+    assert not [o for o in outputs if o.get("output_type") == "error"]
+    widgets = [
+        o for o in outputs if "application/vnd.jupyter.widget-view+json" in o.get("data", {})
+    ]
+    assert len(widgets) >= 2, "plot(...) and pl.show(...) each show a trame widget"
+    text = "".join(o.get("text", "") for o in outputs if o.get("output_type") == "stream")
+    assert "vertices," in text and "periods" in text
+
+
 def _rst_python(path: Path) -> str:
     """The ``.. code-block:: python`` blocks of a documentation page, in order, dedented."""
     code, lines, i = [], path.read_text().splitlines(), 0
