@@ -1,0 +1,766 @@
+"""Line drawings of meschers: the lines a person draws, with the right lines in front.
+
+A mescher drawn back to front in its depth order (paper Sec. 4.1, :mod:`.painter`) shows a
+picture; its line drawing is the set of curves where that picture changes from one piece of
+surface to another, or turns a sharp corner:
+
+* **sources** -- curves on the surface that may become lines:
+
+  - *boundary* edges (one face);
+  - *crease* edges, whose dihedral angle (between the two faces' normals, which zeta fixes
+    face by face) exceeds ``crease_angle``;
+  - *occluding contours*, where the surface turns away from the viewer.  On a faceted mescher
+    these are the mesh edges between a face seen from the front (counter-clockwise on screen)
+    and one seen from the back or edge-on; on a smooth one (e.g. after Loop subdivision) the
+    *interpolated* contour: the zero set of ``g = n_z`` linearly interpolated from the vertex
+    normals inside each face (Hertzmann and Zorin 2000, "Illustrating smooth surfaces"; the
+    construction the paper's occluding contours of meshes refer to), a curve that crosses
+    faces instead of zig-zagging along their edges.
+
+* **visibility**, exactly, from the order: a point ``p`` of a source on the faces ``S`` is
+  hidden when a face drawn after every face of ``S`` (a larger rank in the order's linear
+  extension) contains ``p`` in its interior.  Each source segment ``a + t (b - a)`` is clipped
+  against the interior of every later face whose box it meets (three half-planes: an interval
+  of ``t``); the union of those intervals is hidden, the rest visible, so a line stops exactly
+  where it passes behind a face (a T-junction).  For interpolated contours ``S`` is the
+  two-ring of the contour's face: the faces just beyond the contour fold under it, and a
+  vertex-normal curve cannot be made consistent with them (the known limit of interpolated
+  contours), so they neither hide it nor count as "beyond" it.
+
+* **kinds**, from what the picture shows on either side of a visible piece (the last face
+  drawn just left and just right of its midpoint): ``"outline"`` where the background is on
+  one side (the figure against the paper), ``"crease"`` where the two sides are the crease's
+  own two faces, ``"occlusion"`` otherwise (one piece of surface in front of another; visible
+  boundaries and contours over other surface are occlusion lines).
+
+Pieces of one kind and visibility that meet end to end are joined into polylines (a compiled
+walk), and points where a polyline goes straight on are dropped, so a bar's edge made of many
+mesh edges is one two-point line.  :func:`line_drawing` returns a :class:`LineDrawing`;
+``pyvista_views.draw`` writes it as SVG or PDF and overlays it on a render.
+
+Everything is vectorized: the broad phase bins boxes into a uniform grid
+(:func:`meschers_igl.geometry2d.candidate_pairs`' cell size rule), clipping and interval
+unions are array operations.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from numba import njit
+
+from .errors import MescherError
+from .geometry2d import _choose_cell, _grid_cells
+from .painter import _draw_order
+from .topology import edge_faces
+from .validate import as_choice, as_positive
+
+__all__ = [
+    "CONTOUR_MODES",
+    "KINDS",
+    "LineDrawing",
+    "crease_edges",
+    "interpolated_contours",
+    "line_drawing",
+    "visible_face_edges",
+]
+
+#: Line kinds, in the order of the codes in :attr:`LineDrawing.kind`.
+KINDS = ("outline", "occlusion", "crease")
+OUTLINE, OCCLUSION, CREASE = 0, 1, 2
+#: How occluding contours are found (see :func:`line_drawing`).
+CONTOUR_MODES = ("auto", "mesh", "interpolated")
+
+# A point is inside a face when all its barycentric coordinates exceed this (strictly inside:
+# a line lying on an occluder's edge, e.g. a glued seam or a collinear neighbour, stays visible).
+_INSIDE = 1e-9
+# Pieces shorter than this share of the model's size are dropped; side probes go this far.
+_MIN_PIECE = 1e-9
+_PROBE = 1e-7
+
+
+@dataclass(frozen=True)
+class LineDrawing:
+    """Polylines of a mescher's line drawing, in screen units.
+
+    Attributes
+    ----------
+    points : (#P, 2) float64
+        Polyline vertices, one polyline after another.
+    offsets : (#L + 1,) int64
+        Polyline ``i`` is ``points[offsets[i]:offsets[i + 1]]``; a closed one repeats its first
+        point at its end.
+    kind : (#L,) int8
+        Index into :data:`KINDS` (``"outline"``, ``"occlusion"``, ``"crease"``).
+    visible : (#L,) bool
+        False for hidden lines (only with ``hidden=True``).
+    closed : (#L,) bool
+    box : (xmin, xmax, ymin, ymax)
+        The mescher's screen box (the default framing of a picture of it).
+    """
+
+    points: np.ndarray
+    offsets: np.ndarray
+    kind: np.ndarray
+    visible: np.ndarray
+    closed: np.ndarray
+    box: tuple[float, float, float, float]
+
+    @property
+    def n_lines(self) -> int:
+        return int(self.kind.shape[0])
+
+    def _select(self, kind: Any, visible: Any) -> np.ndarray:
+        keep = np.ones(self.n_lines, dtype=bool)
+        if kind is not None:
+            names = (kind,) if isinstance(kind, str) else tuple(kind)
+            codes = [KINDS.index(as_choice(k, "kind", KINDS)) for k in names]
+            keep &= np.isin(self.kind, codes)
+        if visible is not None:
+            keep &= self.visible == bool(visible)
+        return np.flatnonzero(keep)
+
+    def polylines(self, kind: Any = None, visible: Any = True) -> list[np.ndarray]:
+        """The polylines of some kinds (a name or names of :data:`KINDS`; None: all) and
+        visibility (True, False, None: both), each a (k, 2) float64 array."""
+        return [
+            self.points[self.offsets[i] : self.offsets[i + 1]] for i in self._select(kind, visible)
+        ]
+
+    def segments(self, kind: Any = None, visible: Any = True) -> np.ndarray:
+        """(#S, 2, 2) float64: every segment of the chosen polylines."""
+        idx = self._select(kind, visible)
+        if idx.size == 0:
+            return np.zeros((0, 2, 2))
+        n = self.offsets[idx + 1] - self.offsets[idx] - 1
+        start = np.repeat(self.offsets[idx], n) + _ranges(n)
+        return np.stack([self.points[start], self.points[start + 1]], axis=1)
+
+    def length(self, kind: Any = None, visible: Any = True) -> float:
+        """Total length of the chosen lines (screen units)."""
+        s = self.segments(kind, visible)
+        return float(np.linalg.norm(s[:, 1] - s[:, 0], axis=1).sum())
+
+
+# ------------------------------------------------------------------------------- small helpers
+def _ranges(n: np.ndarray) -> np.ndarray:
+    """``concatenate([arange(k) for k in n])`` without a loop."""
+    n = np.asarray(n, dtype=np.int64)
+    total = int(n.sum())
+    if total == 0:
+        return np.zeros(0, dtype=np.int64)
+    return np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(n) - n, n)
+
+
+def _double_area(T: np.ndarray) -> np.ndarray:
+    e1, e2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
+    return e1[:, 0] * e2[:, 1] - e2[:, 0] * e1[:, 1]
+
+
+def _box_pairs(lo_a, hi_a, lo_b, hi_b) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs ``(i, j)`` of boxes ``a_i`` and ``b_j`` that meet (closed boxes), each once.
+
+    Both sets are binned into the uniform grid whose cell suits the ``b`` boxes
+    (:func:`meschers_igl.geometry2d.candidate_pairs`' rule); a pair is kept in the cell holding
+    the lower-left corner of the two boxes' intersection, so no pair is reported twice.
+    """
+    if len(lo_a) == 0 or len(lo_b) == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    origin = np.minimum(lo_a.min(axis=0), lo_b.min(axis=0))
+    h = _choose_cell(lo_b, hi_b, origin)
+    a0, a1 = _grid_cells(lo_a, hi_a, origin, h)
+    b0, b1 = _grid_cells(lo_b, hi_b, origin, h)
+    ny = int(max(a1[:, 1].max(), b1[:, 1].max())) + 1
+
+    def entries(c0, c1):
+        nx_, ny_ = c1[:, 0] - c0[:, 0] + 1, c1[:, 1] - c0[:, 1] + 1
+        k = nx_ * ny_
+        item = np.repeat(np.arange(len(c0)), k)
+        local = _ranges(k)
+        cx = c0[item, 0] + local // ny_[item]
+        cy = c0[item, 1] + local % ny_[item]
+        return item, cx * ny + cy
+
+    ia, ca = entries(a0, a1)
+    ib, cb = entries(b0, b1)
+    o = np.argsort(cb, kind="stable")
+    ib, cb = ib[o], cb[o]
+    start = np.searchsorted(cb, ca, "left")
+    stop = np.searchsorted(cb, ca, "right")
+    k = stop - start
+    pa = np.repeat(ia, k)
+    cell = np.repeat(ca, k)
+    pb = ib[np.repeat(start, k) + _ranges(k)]
+    # keep a pair in the cell of the lower-left corner of the boxes' intersection, if they meet
+    lo = np.maximum(lo_a[pa], lo_b[pb])
+    hi = np.minimum(hi_a[pa], hi_b[pb])
+    meet = np.all(lo <= hi, axis=1)
+    c = np.floor((lo - origin) / h).astype(np.int64)
+    own = (c[:, 0] * ny + np.minimum(c[:, 1], ny - 1)) == cell
+    keep = meet & own
+    return pa[keep], pb[keep]
+
+
+def _faces_of_points(P: np.ndarray, T: np.ndarray, ok: np.ndarray, scale: float):
+    """Candidate ``(point, face)`` pairs whose boxes meet, faces restricted to ``ok``."""
+    faces = np.flatnonzero(ok)
+    pad = 1e-12 * scale
+    pi, j = _box_pairs(P - pad, P + pad, T[faces].min(axis=1), T[faces].max(axis=1))
+    return pi, faces[j]
+
+
+def _contains(T: np.ndarray, P: np.ndarray, area2: np.ndarray, tol: float) -> np.ndarray:
+    """Barycentric coordinates of ``P[k]`` in ``T[k]`` all ``>= tol`` (orientation-free)."""
+    s = np.sign(area2)
+    ok = np.ones(len(P), dtype=bool)
+    for i in range(3):
+        a, b = T[:, i], T[:, (i + 1) % 3]
+        e, q = b - a, P - a
+        ok &= s * (e[:, 0] * q[:, 1] - e[:, 1] * q[:, 0]) / np.abs(area2) >= tol
+    return ok
+
+
+# ------------------------------------------------------------------------------ the sources
+def crease_edges(m: Any, crease_angle: float = 30.0) -> tuple[np.ndarray, np.ndarray]:
+    """Dihedral angles of a mescher's interior edges and which are creases.
+
+    The angle at edge ``e`` between faces ``f`` and ``g`` is the angle between their unit
+    normals, ``arccos(n_f . n_g)`` in degrees (0 for a flat edge, 90 at a box's edge); the
+    normals come from each face's local corners ``(x, y, depth)`` integrated from zeta
+    (:meth:`Mescher.face_normals`), so the angle is intrinsic to the surface a person sees.
+
+    Parameters
+    ----------
+    m : Mescher
+    crease_angle : float, default: 30
+        Degrees; edges with a larger dihedral angle are creases.
+
+    Returns
+    -------
+    angle : (#E,) float64
+        Degrees; NaN on boundary edges.
+    crease : (#E,) bool
+    """
+    crease_angle = as_positive(crease_angle, "crease_angle", allow_zero=True)
+    ef = edge_faces(np.asarray(m.face_edges), m.n_edges)
+    N = np.asarray(m.face_normals())
+    inner = ef[:, 1] >= 0
+    angle = np.full(m.n_edges, np.nan)
+    cos = np.einsum("ij,ij->i", N[ef[inner, 0]], N[ef[inner, 1]])
+    angle[inner] = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    return angle, inner & (np.nan_to_num(angle, nan=0.0) > crease_angle)
+
+
+def interpolated_contours(m: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The interpolated occluding contour: where ``n_z`` of the vertex normals, interpolated
+    linearly inside each face, is zero.
+
+    On each edge ``(i, j)`` whose ends have ``g_i = n_z(i)`` and ``g_j`` of opposite signs the
+    contour crosses at ``xy_i + t (xy_j - xy_i)``, ``t = g_i / (g_i - g_j)``; a face with two
+    such edges holds one contour segment between them.  A zero ``g`` counts as positive, so
+    every face has zero or two crossings and the segments join into closed curves or end on
+    the boundary.
+
+    Parameters
+    ----------
+    m : Mescher
+
+    Returns
+    -------
+    face : (#S,) int64
+        Face holding each segment.
+    edge : (#S, 2) int64
+        The two crossed edges (segment ends, shared with the neighbouring faces' segments).
+    P : (#E, 2) float64
+        Crossing point of every edge (NaN where the edge is not crossed).
+    """
+    g = np.asarray(m.vertex_normals())[:, 2]
+    pos = g >= 0
+    E = np.asarray(m.edges)
+    xy = np.asarray(m.xy)
+    crossed = pos[E[:, 0]] != pos[E[:, 1]]
+    P = np.full((m.n_edges, 2), np.nan)
+    gi, gj = g[E[crossed, 0]], g[E[crossed, 1]]
+    t = (gi / (gi - gj))[:, None]
+    P[crossed] = xy[E[crossed, 0]] + t * (xy[E[crossed, 1]] - xy[E[crossed, 0]])
+    fe = np.asarray(m.face_edges)
+    c = crossed[fe]
+    faces = np.flatnonzero(c.sum(axis=1) == 2)
+    cols = np.argsort(~c[faces], axis=1, kind="stable")[:, :2]
+    edge = np.take_along_axis(fe[faces], cols, axis=1)
+    return faces, edge, P
+
+
+# --------------------------------------------------------------------------- visibility
+def _hidden_intervals(
+    A: np.ndarray,
+    B: np.ndarray,
+    thr: np.ndarray,
+    anchor: np.ndarray,
+    T: np.ndarray,
+    area2: np.ndarray,
+    rank: np.ndarray,
+    near: sp.csr_matrix | None,
+    scale: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Parameter intervals ``(seg, t0, t1)`` where segment ``A + t (B - A)`` is hidden.
+
+    ``thr`` (#S, 2) holds, for the left and the right side of each segment, the last rank of
+    its own faces on that side (``-1``... ; ``len(rank)`` where it has none: that side never
+    shows it).  A side is covered where a face ``g`` with ``rank[g] > thr`` holds the segment
+    strictly inside, or has it on one of its edges and lies on that side; for segments with an
+    ``anchor`` face, faces ``near`` the anchor are skipped.  The segment is hidden where both
+    sides are covered: a line is seen wherever one of its own faces shows beside it.
+    """
+    n = len(A)
+    ok = area2 != 0
+    faces = np.flatnonzero(ok)
+    pad = 1e-12 * scale
+    lo_s, hi_s = np.minimum(A, B) - pad, np.maximum(A, B) + pad
+    s, j = _box_pairs(lo_s, hi_s, T[faces].min(axis=1), T[faces].max(axis=1))
+    g = faces[j]
+    keep = rank[g] > thr[s].min(axis=1)
+    s, g = s[keep], g[keep]
+    if near is not None and len(s):
+        anc = anchor[s]
+        has = anc >= 0
+        if has.any():
+            # membership of (anchor, g) in the sparse "near" relation, by sorted keys
+            coo = near.tocoo()
+            nn = np.int64(near.shape[1])
+            keys = np.sort(coo.row.astype(np.int64) * nn + coo.col)
+            q = anc[has] * nn + g[has]
+            pos = np.minimum(np.searchsorted(keys, q), max(len(keys) - 1, 0))
+            drop = np.zeros(len(s), dtype=bool)
+            drop[np.flatnonzero(has)] = (keys[pos] == q) if len(keys) else False
+            s, g = s[~drop], g[~drop]
+    Tg, a, d = T[g], A[s], B[s] - A[s]
+    inv = np.sign(area2[g]) / np.abs(area2[g])
+    t0 = np.zeros(len(s))
+    t1 = np.ones(len(s))
+    c0 = np.zeros(len(s))  # closed interval along an edge of g the segment lies on
+    c1 = np.ones(len(s))
+    along = np.zeros(len(s), dtype=bool)
+    side = np.zeros(len(s), dtype=bool)  # g lies left of the segment
+    for i in range(3):
+        v, w, u = Tg[:, i], Tg[:, (i + 1) % 3], Tg[:, (i + 2) % 3]
+        e = w - v
+        alpha = (e[:, 0] * (a[:, 1] - v[:, 1]) - e[:, 1] * (a[:, 0] - v[:, 0])) * inv
+        beta = (e[:, 0] * d[:, 1] - e[:, 1] * d[:, 0]) * inv
+        up, down = beta > 0, beta < 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = (_INSIDE - alpha) / beta  # alpha + beta t > _INSIDE: strictly inside
+            rc = (-_INSIDE - alpha) / beta  # alpha + beta t >= -_INSIDE: closed, widened
+        t0 = np.where(up, np.maximum(t0, r), t0)
+        t1 = np.where(down, np.minimum(t1, r), t1)
+        t1 = np.where(~(up | down) & (alpha <= _INSIDE), -1.0, t1)
+        on = (np.abs(alpha) <= _INSIDE) & (np.abs(beta) <= _INSIDE)
+        c0 = np.where(up & ~on, np.maximum(c0, rc), c0)
+        c1 = np.where(down & ~on, np.minimum(c1, rc), c1)
+        along |= on
+        left_of = (d[:, 0] * (u[:, 1] - a[:, 1]) - d[:, 1] * (u[:, 0] - a[:, 0])) > 0
+        side = np.where(on, left_of, side)
+    strict = t1 > t0
+    on_edge = along & (c1 > c0)
+    rg = rank[g]
+    none = np.arange(n)
+    parts = []
+    for k, this_side in ((0, side), (1, ~side)):
+        later = rg > thr[s, k]
+        cov = strict & later
+        cov_e = on_edge & this_side & later
+        no_own = none[thr[:, k] >= len(rank)]  # a side without its own face is always covered
+        cs = np.concatenate([s[cov], s[cov_e], no_own])
+        c_lo = np.concatenate([t0[cov], c0[cov_e], np.zeros(len(no_own))])
+        c_hi = np.concatenate([t1[cov], c1[cov_e], np.ones(len(no_own))])
+        parts.append(_complement(n, cs, c_lo, c_hi))  # where this side shows its own face
+    shown = [np.concatenate([p[i] for p in parts]) for i in range(3)]
+    return _complement(n, *shown)
+
+
+def _complement(n: int, seg: np.ndarray, t0: np.ndarray, t1: np.ndarray):
+    """``(seg, lo, hi)``: the parts of ``[0, 1]`` of each of ``n`` segments outside the union
+    of the intervals ``[t0, t1]`` given for it."""
+    o = np.lexsort((t0, seg))
+    seg, t0, t1 = seg[o], t0[o], t1[o]
+    # running maximum of the interval ends within each segment (keys of earlier segments are
+    # smaller, so one cumulative maximum over all serves every segment)
+    run = np.maximum.accumulate(seg * 4.0 + t1) - seg * 4.0
+    first = np.ones(len(seg), dtype=bool)
+    first[1:] = seg[1:] != seg[:-1]
+    prev = np.where(first, 0.0, np.concatenate([[0.0], run[:-1]]))
+    gap = t0 > prev
+    last = np.ones(len(seg), dtype=bool)
+    last[:-1] = seg[1:] != seg[:-1]
+    tail = last & (run < 1.0)
+    untouched = np.setdiff1d(np.arange(n), seg)
+    out_s = np.concatenate([seg[gap], seg[tail], untouched])
+    out_lo = np.concatenate([prev[gap], run[tail], np.zeros(len(untouched))])
+    out_hi = np.concatenate([t0[gap], np.ones(tail.sum()), np.ones(len(untouched))])
+    return out_s, out_lo, out_hi
+
+
+def _top_faces(P, T, area2, rank, anchor, near, scale) -> np.ndarray:
+    """The last face drawn that contains each point (closed faces), -1 for none; faces
+    ``near`` a point's anchor face are skipped."""
+    top = np.full(len(P), -1, dtype=np.int64)
+    if len(P) == 0:
+        return top
+    pi, g = _faces_of_points(P, T, area2 != 0, scale)
+    inside = _contains(T[g], P[pi], area2[g], -1e-12)
+    pi, g = pi[inside], g[inside]
+    if near is not None and len(pi):
+        anc = anchor[pi]
+        has = anc >= 0
+        if has.any():
+            hit = np.zeros(len(pi), dtype=bool)
+            hit[has] = np.asarray(near[anc[has], g[has]]).ravel() != 0
+            pi, g = pi[~hit], g[~hit]
+    best = np.full(len(P), -1, dtype=np.int64)
+    np.maximum.at(best, pi, rank[g])
+    order_faces = np.argsort(rank)
+    top[best >= 0] = order_faces[best[best >= 0]]
+    return top
+
+
+def _side_ranks(xy, F, E, f1, f2, rank, area2) -> np.ndarray:
+    """(#S, 2): last rank among an edge's own faces left and right of it (``len(rank)`` where
+    it has none; faces seen edge-on cover nothing and do not count)."""
+    n = len(rank)
+    out = np.full((len(E), 2), -1, dtype=np.int64)
+    a, d = xy[E[:, 0]], xy[E[:, 1]] - xy[E[:, 0]]
+    for f in (f1, f2):
+        has = (f >= 0) & (area2[np.maximum(f, 0)] != 0)
+        fs = np.maximum(f, 0)
+        # the face's corner off the edge decides its side
+        other = xy[F[fs]].sum(axis=1) - xy[E[:, 0]] - xy[E[:, 1]]
+        left = (d[:, 0] * (other[:, 1] - a[:, 1]) - d[:, 1] * (other[:, 0] - a[:, 0])) > 0
+        for k, on in ((0, left), (1, ~left)):
+            sel = has & on
+            out[sel, k] = np.maximum(out[sel, k], rank[fs[sel]])
+    out[out < 0] = n
+    return out
+
+
+# ------------------------------------------------------------------------------ joining
+@njit(cache=True)
+def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
+    """Join pieces ``(u[k], v[k])`` (node ids) into maximal chains through degree-2 nodes.
+
+    Returns the node sequence of all chains, their offsets and whether each is closed.
+    """
+    m = u.shape[0]
+    deg = np.zeros(n_nodes, np.int64)
+    for k in range(m):
+        deg[u[k]] += 1
+        deg[v[k]] += 1
+    start = np.zeros(n_nodes + 1, np.int64)
+    for i in range(n_nodes):
+        start[i + 1] = start[i] + deg[i]
+    fill = start[:-1].copy()
+    inc = np.empty(2 * m, np.int64)
+    for k in range(m):
+        inc[fill[u[k]]] = k
+        fill[u[k]] += 1
+        inc[fill[v[k]]] = k
+        fill[v[k]] += 1
+    used = np.zeros(m, np.bool_)
+    nodes = np.empty(2 * m + 1, np.int64)
+    offsets = np.zeros(m + 1, np.int64)
+    closed = np.zeros(m, np.bool_)
+    n_out = 0
+    n_lines = 0
+    for phase in range(2):
+        for s in range(n_nodes if phase == 0 else m):
+            if phase == 0:
+                if deg[s] == 2:
+                    continue
+                node = s
+            else:
+                if used[s]:
+                    continue
+                node = u[s]
+            while True:
+                k = -1
+                for a in range(start[node], start[node + 1]):
+                    if not used[inc[a]]:
+                        k = inc[a]
+                        break
+                if k < 0:
+                    break
+                first = node
+                nodes[n_out] = node
+                n_out += 1
+                cur = node
+                while k >= 0:
+                    used[k] = True
+                    cur = v[k] if u[k] == cur else u[k]
+                    nodes[n_out] = cur
+                    n_out += 1
+                    if deg[cur] != 2 and phase == 0:
+                        break
+                    k = -1
+                    for a in range(start[cur], start[cur + 1]):
+                        if not used[inc[a]]:
+                            k = inc[a]
+                            break
+                closed[n_lines] = cur == first
+                n_lines += 1
+                offsets[n_lines] = n_out
+                if phase == 1:
+                    break
+    return nodes[:n_out], offsets[: n_lines + 1], closed[:n_lines]
+
+
+def _join(P0, P1, key0, key1, group, scale):
+    """Polylines from pieces ``P0 -> P1`` whose ends carry node keys (equal keys: the same
+    point), joined within each ``group`` value; straight-on points dropped."""
+    m = len(P0)
+    if m == 0:
+        return (
+            np.zeros((0, 2)),
+            np.zeros(1, dtype=np.int64),
+            np.zeros(0, dtype=np.int64),
+            np.zeros(0, dtype=bool),
+        )
+    keys = np.stack([key0, key1], axis=1) * np.int64(8) + group[:, None]
+    uniq, inv = np.unique(keys.ravel(), return_inverse=True)
+    inv = inv.reshape(m, 2)
+    pts = np.zeros((len(uniq), 2))
+    pts[inv[:, 0]] = P0
+    pts[inv[:, 1]] = P1
+    nodes, offsets, closed = _walk_chains(len(uniq), inv[:, 0].copy(), inv[:, 1].copy())
+    line_group = (uniq[nodes[offsets[:-1]]] % 8).astype(np.int64)
+    X = pts[nodes]
+    # drop interior points where the polyline goes straight on
+    n = len(X)
+    inner = np.ones(n, dtype=bool)
+    inner[offsets[:-1]] = False
+    inner[offsets[1:] - 1] = False
+    idx = np.flatnonzero(inner)
+    a, b = X[idx] - X[idx - 1], X[idx + 1] - X[idx]
+    cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
+    dot = np.einsum("ij,ij->i", a, b)
+    straight = (cross <= 1e-9 * np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)) & (dot > 0)
+    keep = np.ones(n, dtype=bool)
+    keep[idx[straight]] = False
+    line_of = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    counts = np.bincount(line_of[keep], minlength=len(offsets) - 1)
+    new_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    return X[keep], new_off, line_group, closed
+
+
+# ------------------------------------------------------------------------------ front door
+def line_drawing(
+    m: Any,
+    order: Any = None,
+    *,
+    crease_angle: float = 30.0,
+    contours: str = "auto",
+    hidden: bool = False,
+) -> LineDrawing:
+    """The line drawing of a mescher seen in its depth order.
+
+    Parameters
+    ----------
+    m : Mescher
+    order : DepthOrder, optional
+        Faces are painted in ``order.linear_extension()`` (default: index order), as by the
+        renderer and :func:`meschers_igl.painter.visible_faces`.
+    crease_angle : float, default: 30
+        Dihedral angle (degrees) above which an edge is a crease (:func:`crease_edges`).
+    contours : {"auto", "mesh", "interpolated"}, default: "auto"
+        Occluding contours along mesh edges (between front- and back-facing faces: the
+        outline the picture shows face by face) or interpolated inside faces from the vertex
+        normals (smooth curves for smooth meschers, :func:`interpolated_contours`).  ``"auto"``:
+        interpolated when no edge is a crease (a smooth surface), else along mesh edges.
+    hidden : bool, default: False
+        Also return the hidden parts of the lines (``visible`` False).
+
+    Returns
+    -------
+    LineDrawing
+
+    Notes
+    -----
+    Cost: one grid broad phase of the source segments against the faces' boxes and one of the
+    side probes, then array clipping; linear in the number of (segment, face) box contacts.
+    """
+    contours = as_choice(contours, "contours", CONTOUR_MODES)
+    try:
+        F = np.asarray(m.F, dtype=np.int64)
+        xy = np.asarray(m.xy, dtype=np.float64)
+        E = np.asarray(m.edges, dtype=np.int64)
+    except AttributeError:
+        raise MescherError(f"m: expected a Mescher, found {type(m).__name__}") from None
+    nF, nV = len(F), len(xy)
+    rank = np.empty(nF, dtype=np.int64)
+    rank[_draw_order(m, order)] = np.arange(nF)
+    T = xy[F]
+    area2 = _double_area(T)
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    box = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
+    scale = float(max(hi - lo)) or 1.0
+
+    ef = edge_faces(np.asarray(m.face_edges), len(E))
+    _, crease = crease_edges(m, crease_angle)
+    boundary = ef[:, 1] < 0
+    f1, f2 = ef[:, 0], ef[:, 1]
+    front = area2 > 0
+    contour_edge = ~boundary & (front[f1] != front[np.maximum(f2, 0)])
+    if contours == "auto":
+        contours = "interpolated" if not crease.any() else "mesh"
+    src = boundary | crease | (contour_edge if contours == "mesh" else False)
+    # an edge whose faces all cover nothing on screen (seen edge-on) is never drawn
+    shows = (area2[f1] != 0) | (~boundary & (area2[np.maximum(f2, 0)] != 0))
+    src &= shows
+    src &= np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) > _MIN_PIECE * scale
+    e_src = np.flatnonzero(src)
+    A = [xy[E[e_src, 0]]]
+    B = [xy[E[e_src, 1]]]
+    thr = [_side_ranks(xy, F, E[e_src], f1[e_src], f2[e_src], rank, area2)]
+    anchor = [np.full(len(e_src), -1, dtype=np.int64)]
+    node0, node1 = [E[e_src, 0]], [E[e_src, 1]]
+    own = [np.stack([f1[e_src], f2[e_src]], axis=1)]
+    is_crease_src = [crease[e_src]]
+    near = None
+    if contours == "interpolated":
+        cf, cedge, CP = interpolated_contours(m)
+        ok = np.linalg.norm(CP[cedge[:, 1]] - CP[cedge[:, 0]], axis=1) > _MIN_PIECE * scale
+        cf, cedge = cf[ok], cedge[ok]
+        if len(cf):
+            VF = sp.csr_matrix(
+                (np.ones(3 * nF), (np.repeat(np.arange(nF), 3), F.ravel())), shape=(nF, nV)
+            )
+            ring1 = (VF @ VF.T).tocsr()
+            ring1.data[:] = 1.0
+            ring2 = (ring1 @ ring1).tocsr()
+            ring2.data[:] = 1.0
+            near = ring2
+            r1 = ring1[cf].tocsr()
+            # the local fold is drawn up to the last face of the one-ring
+            seg_thr = np.maximum.reduceat(rank[r1.indices], r1.indptr[:-1])
+            A.append(CP[cedge[:, 0]])
+            B.append(CP[cedge[:, 1]])
+            thr.append(np.stack([seg_thr, seg_thr], axis=1))
+            anchor.append(cf)
+            node0.append(nV + cedge[:, 0])
+            node1.append(nV + cedge[:, 1])
+            own.append(np.full((len(cf), 2), -1, dtype=np.int64))
+            is_crease_src.append(np.zeros(len(cf), dtype=bool))
+    A, B = np.concatenate(A), np.concatenate(B)
+    thr, anchor = np.concatenate(thr), np.concatenate(anchor)
+    node0, node1, own = np.concatenate(node0), np.concatenate(node1), np.concatenate(own)
+    is_crease_src = np.concatenate(is_crease_src)
+    n_seg = len(A)
+
+    hs, h0, h1 = _hidden_intervals(A, B, thr, anchor, T, area2, rank, near, scale)
+    vs, v0, v1 = _complement(n_seg, hs, h0, h1)
+    pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
+    if hidden:
+        ws, w0, w1 = _complement(n_seg, vs, v0, v1)
+        pieces.append((ws, w0, w1, np.zeros(len(ws), dtype=bool)))
+    ps = np.concatenate([p[0] for p in pieces])
+    p0 = np.concatenate([p[1] for p in pieces])
+    p1 = np.concatenate([p[2] for p in pieces])
+    vis = np.concatenate([p[3] for p in pieces])
+    d = B[ps] - A[ps]
+    seg_len = np.linalg.norm(d, axis=1)
+    long = (p1 - p0) * seg_len > _MIN_PIECE * scale
+    ps, p0, p1, vis, d, seg_len = ps[long], p0[long], p1[long], vis[long], d[long], seg_len[long]
+    Q0 = A[ps] + p0[:, None] * d
+    Q1 = A[ps] + p1[:, None] * d
+
+    # kinds from the faces drawn just left and right of each piece's midpoint
+    mid = 0.5 * (Q0 + Q1)
+    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / seg_len[:, None]
+    probe = _PROBE * scale
+    P = np.concatenate([mid + probe * nrm, mid - probe * nrm])
+    anc2 = np.concatenate([anchor[ps], anchor[ps]])
+    top = _top_faces(P, T, area2, rank, anc2, near, scale)
+    left, right = top[: len(ps)], top[len(ps) :]
+    o1, o2 = own[ps, 0], own[ps, 1]
+    is_crease = (o2 >= 0) & (((left == o1) & (right == o2)) | ((left == o2) & (right == o1)))
+    kind = np.where(
+        (left < 0) | (right < 0), OUTLINE, np.where(is_crease, CREASE, OCCLUSION)
+    ).astype(np.int64)
+    # a hidden piece is drawn by what it would be if seen: a crease or an occluding line
+    kind = np.where(vis, kind, np.where(is_crease_src[ps], CREASE, OCCLUSION))
+
+    # node keys: a piece end at t = 0 or 1 is the source's end node; T-junctions are new nodes
+    n_base = nV + len(E)
+    fresh = n_base + np.arange(2 * len(ps), dtype=np.int64)
+    k0 = np.where(p0 <= 0.0, node0[ps], fresh[: len(ps)])
+    k1 = np.where(p1 >= 1.0, node1[ps], fresh[len(ps) :])
+    group = kind * 2 + vis.astype(np.int64)
+    X, offsets, line_group, closed = _join(Q0, Q1, k0, k1, group, scale)
+    return LineDrawing(
+        points=X,
+        offsets=offsets,
+        kind=(line_group // 2).astype(np.int8),
+        visible=(line_group % 2).astype(bool),
+        closed=closed,
+        box=box,
+    )
+
+
+def visible_face_edges(
+    faces: np.ndarray, m: Any, *, crease_angle: float = 30.0, reach: int = 3
+) -> np.ndarray:
+    """Pixels where a visible-face map changes from one piece of surface to another: the line
+    pixels a correct line drawing must cover.
+
+    Two 4-neighbouring pixels showing faces ``f != g`` are a line pair unless ``g`` is within
+    ``reach`` steps of ``f`` across edges that are not lines (not boundary, crease, or between
+    a front- and a back-facing face), i.e. unless they show one smooth piece of surface.
+    Both pixels of a line pair are marked.
+
+    Parameters
+    ----------
+    faces : (H, W) int64
+        Visible face per pixel, -1 for background (:func:`meschers_igl.painter.visible_faces`,
+        or a renderer's face-id image).
+    m : Mescher
+    crease_angle : float, default: 30
+    reach : int, default: 3
+        Faces a pixel or smaller are skipped by some pixels; this many face steps still count as
+        one piece of surface.
+
+    Returns
+    -------
+    (H, W) bool
+    """
+    F = np.asarray(m.F)
+    nF = len(F)
+    ef = edge_faces(np.asarray(m.face_edges), m.n_edges)
+    _, crease = crease_edges(m, crease_angle)
+    area2 = _double_area(np.asarray(m.xy)[F])
+    front = area2 > 0
+    inner = ef[:, 1] >= 0
+    smooth = inner & ~crease
+    smooth[inner] &= front[ef[inner, 0]] == front[ef[inner, 1]]
+    a, b = ef[smooth, 0], ef[smooth, 1]
+    adj = sp.coo_matrix(
+        (np.ones(2 * len(a)), (np.r_[a, b], np.r_[b, a])), shape=(nF, nF)
+    ).tocsr() + sp.identity(nF, format="csr")
+    reach_m = adj
+    for _ in range(max(int(reach), 1) - 1):
+        reach_m = (reach_m @ adj).tocsr()
+        reach_m.data[:] = 1.0
+    out = np.zeros(faces.shape, dtype=bool)
+    for sl0, sl1 in (
+        ((slice(None), slice(None, -1)), (slice(None), slice(1, None))),
+        ((slice(None, -1), slice(None)), (slice(1, None), slice(None))),
+    ):
+        f, g = faces[sl0], faces[sl1]
+        diff = f != g
+        both = diff & (f >= 0) & (g >= 0)
+        line = diff.copy()
+        if both.any():
+            line[both] = np.asarray(reach_m[f[both], g[both]]).ravel() == 0
+        out[sl0] |= line
+        out[sl1] |= line
+    return out
