@@ -189,7 +189,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
 def _cmd_convert(args: argparse.Namespace) -> int:
     from meschers_igl import io
 
-    from .inputs import ModelSpec, load_artist, resolve
+    from .inputs import ModelSpec, resolve
 
     out = _out_path(args.output, (".ply", ".npz"))
     src = Path(args.input)
@@ -204,19 +204,13 @@ def _cmd_convert(args: argparse.Namespace) -> int:
 
         m, order = load_mescher(model)
     else:
+        from meshlab_filters import model_to_mescher  # one door: it picks the route, says why
+
         view = args.view or model.view or (0.0, 0.0, 1.0)
         up = args.up or model.up or (0.0, 1.0, 0.0)
-        if view == "auto" or args.perceive or args.visible:  # any model seen from the view
-            from meshlab_filters import model_to_mescher
-
-            m, order, report = model_to_mescher(model.path, view=view, up=up, perceive=args.perceive,
-                                                merge_tol=args.merge_tol, tol=args.tol)  # fmt: skip
-            print(report)
-            io.save(m, out, order=order)
-            _print_info(describe(m, order), f"wrote {out}")
-            return 0
-        model = ModelSpec("artist", model.name, model.path, tuple(view), tuple(up), model.meta)
-        m, order, _, _, report = load_artist(model, merge_tol=args.merge_tol, tol=args.tol)
+        m, order, report = model_to_mescher(model.path, view=view, up=up, perceive=args.perceive,
+                                            merge_tol=args.merge_tol, tol=args.tol,
+                                            route="seen" if args.visible else "auto")  # fmt: skip
         print(report)
     io.save(m, out, order=order)
     _print_info(describe(m, order), f"wrote {out}")
@@ -506,8 +500,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add(p, "--tol", type=float, default=None, metavar="T",
          help="gluing tolerance relative to the model's size (default: automatic)")  # fmt: skip
     _add(p, "--visible", action="store_true",
-         help="any model (closed solids, separate blocks, STL soups) as seen from the view: false "
-         "edges glued, hidden gaps bridged (implied by --view auto and --perceive)")  # fmt: skip
+         help="take the seen-from-the-view route even for a cut model (by default the route is "
+         "picked from the model: an open seam whose loops glue is glued there; anything else is "
+         "seen from the view, false edges glued, hidden gaps bridged)")  # fmt: skip
     _add(p, "--perceive", choices=["manhattan"], default=None,
          help="'manhattan': snap normals to the perceived right angles (sheared tricks, reliefs)")  # fmt: skip
     _add(p, "--merge-tol", type=_nonnegative, default=0.0, metavar="D",
@@ -608,6 +603,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="window size in pixels (default 900,900)",
     )
     p.set_defaults(func=_cmd_view)
+
+    from .studio import add_parser as add_studio_parser  # a studio in the browser (trame)
+
+    add_studio_parser(sub, formatter_class=raw,
+                      epilog=_examples("studio", "studio penrose_triangle --port 8090"))  # fmt: skip
 
     p = sub.add_parser("inverse", help="recover a mescher from a picture (needs torch)", formatter_class=raw,
                        add_help=False, description="Inverse rendering (paper Sec. 4.5); arguments go to "

@@ -219,7 +219,9 @@ class Mescher:
         cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), perceive=None, *,
         return_report=False, **kwargs,
     ):  # fmt: skip
-        """Any 3D model -- closed solids, separate blocks, reliefs, soups -- as seen from ``view``.
+        """Any 3D model -- cut models, closed solids, separate blocks, reliefs, soups -- as seen
+        from ``view``, by :func:`meschers_igl.models.model_to_mescher` (which picks the route:
+        a cut model open at a seam whose loops glue is glued there; anything else is seen).
 
         By default (``hidden="auto"``) the whole model, opened at its junctions and glued
         crosswise like a cut model: a closed surface whose false edges (two caps or edges that
@@ -235,11 +237,10 @@ class Mescher:
         -------
         Mescher, and the :class:`~meschers_igl.visible.ConversionReport` with ``return_report``.
         """
-        from .visible import see_model
+        from .models import model_to_mescher  # the one door: it picks the route
 
-        vm = see_model(V, F, view=view, up=up, perceive=perceive, **kwargs)
-        m = cls.from_corner_depths(vm.F, vm.xy, vm.Z)
-        return (m, vm.report) if return_report else m
+        m, _, report = model_to_mescher(V, F, view=view, up=up, perceive=perceive, **kwargs)
+        return (m, report) if return_report else m
 
     def with_xy(self, xy, order=None):
         """Same topology and depths, new screen positions.

@@ -26,7 +26,7 @@ from .order import DepthOrder
 from .validate import as_faces, as_points
 from .visible import ConversionReport, see_model
 
-__all__ = ["cut_model_to_mescher", "model_to_mescher"]
+__all__ = ["ROUTES", "cut_model_to_mescher", "drop_small_periods", "model_to_mescher"]
 
 
 def cut_model_to_mescher(
@@ -72,6 +72,71 @@ def cut_model_to_mescher(
     return m, DepthOrder.from_embedding(m, Zc)
 
 
+#: Routes :func:`model_to_mescher` takes ("auto": decided from the model).
+ROUTES = ("auto", "cut", "seen")
+#: A period counts only above this share of the model's size: the conversion glues within
+#: 1e-5 of the size per vertex, and a loop crosses a junction a handful of times.
+PERIOD_RTOL = 1e-4
+
+
+def _cut_route(V, F, view, up, tol):
+    """(mescher, order, report) of the cut-model route, or the reason it does not apply."""
+    import numpy as np
+
+    from .cutmesh import glue_cut_mesh
+    from .errors import MescherError
+    from .operators import view_frame
+    from .topology import boundary_loops
+    from .visible import Junction
+
+    loops = boundary_loops(F)
+    if not loops:
+        return None, "no open seam (a closed model)"
+    try:
+        g = glue_cut_mesh(V, F, view=view, up=up, tol=tol)
+        if not g["pairings"]:
+            return None, f"{len(loops)} boundary loop(s), none coincides with another on screen"
+        m, order = cut_model_to_mescher(V, F, view=view, up=up, tol=tol)
+    except MescherError as err:
+        return None, f"the boundary loops do not glue ({err})"
+    R = view_frame(view, up)
+    report = ConversionReport(view=R[2].copy(), up=R[1].copy(), route="cut")
+    report.reason = (
+        f"an open seam: {len(g['pairings'])} pair(s) of boundary loops coincide on screen and glue"
+    )
+    report.junctions = [
+        Junction("cut seam", g["xy"][g["vmap"][p.loop_a]].mean(axis=0), abs(p.depth_gap),
+                 int(p.loop_a.size))
+        for p in g["pairings"]
+    ]  # fmt: skip
+    report.arcs = np.asarray(order.arcs, dtype=np.int64).reshape(-1, 2)
+    report.n_arcs = order.n_arcs
+    report.source_face = np.arange(F.shape[0])
+    return (m, order, report), report.reason
+
+
+def drop_small_periods(m: Mescher, report: ConversionReport, rtol: float = PERIOD_RTOL) -> Mescher:
+    """Set the periods under ``rtol`` times the model's size to zero (noise of the gluing, not a
+    junction), keeping the exact part; said in ``report.repairs``.
+
+    Returns
+    -------
+    Mescher
+        ``m`` itself when nothing changed, else ``m.with_periods(p')``.
+    """
+    import numpy as np
+
+    p = np.asarray(m.periods())
+    small = (np.abs(p) <= rtol * m.scale()) & (p != 0)
+    if not small.any():
+        return m
+    report.repairs.append(
+        f"{int(small.sum())} period(s) under {rtol:g} of the size (at most "
+        f"{float(np.abs(p[small]).max()):.3g}) set to zero: gluing noise, not a junction"
+    )
+    return m.with_periods(np.where(small, 0.0, p))
+
+
 def model_to_mescher(
     V: Any,
     F: Any,
@@ -83,17 +148,23 @@ def model_to_mescher(
     bridge: bool = True,
     hidden: bool | str = "auto",
     view_start: Any = None,
+    route: str = "auto",
 ) -> tuple[Mescher, DepthOrder, ConversionReport]:
-    """Any 3D model seen from a view: the mescher of what the viewer sees, its depth order and
-    a conversion report.
+    """Any 3D model seen from a view -- the one door: it picks the route, and says which and why.
 
-    :func:`meschers_igl.visible.see_model` builds either the whole model opened at its
-    junctions and glued crosswise like a cut model (``hidden``: a closed surface that keeps
-    the hidden side, its order from the model's own depths) or the visible surface (false
-    edges glued crosswise, true occlusions kept apart, hidden gaps bridged); the mescher is
-    ``Mescher.from_corner_depths`` of its per-face depths (edge values averaged, then projected
-    onto locally integrable forms, paper Eq. 3-4) and the order holds the occlusion and bridge
-    arcs.
+    * **cut** route: an open model whose boundary loops coincide on screen and glue (a cut
+      model, open at a seam): :func:`cut_model_to_mescher`, face ``i`` is input face ``i``;
+    * **seen** route, everything else (closed solids, separate blocks, soups, scenes, ordinary
+      models, and every model with ``view="auto"``, ``perceive`` or ``hidden=False``):
+      :func:`meschers_igl.visible.see_model` builds either the whole model opened at its
+      junctions and glued crosswise (``report.route == "closed"``) or the visible surface
+      (``"visible"``: false edges glued crosswise, true occlusions kept apart, hidden gaps
+      bridged); the mescher is ``Mescher.from_corner_depths`` of its per-face depths (edge
+      values averaged, then projected onto locally integrable forms, paper Eq. 3-4) and the
+      order holds the occlusion and bridge arcs.
+
+    An ordinary model gives a possible mescher: periods under :data:`PERIOD_RTOL` of the size
+    are gluing noise and set to zero (:func:`drop_small_periods`).
 
     Parameters
     ----------
@@ -107,21 +178,51 @@ def model_to_mescher(
     bridge : bool, default: True
         Bridge hidden gaps (amodal completion).
     hidden : {"auto", True, False}, default: "auto"
-        Keep the hidden side where the gluing is unambiguous (see
+        Seen route: keep the hidden side where the gluing is unambiguous (see
         :func:`meschers_igl.visible.see_model`); ``False``: the visible surface only.
     view_start : (3,) array_like, optional
         With ``view="auto"``: a view near the intended one (within 10 degrees).
+    route : {"auto", "cut", "seen"}, default: "auto"
+        Override the choice: ``"cut"`` refuses a model whose loops do not glue.
 
     Returns
     -------
     m : Mescher
     order : DepthOrder
     report : ConversionReport
-        Junctions (screen position, depth gap), arcs, repairs, snapping, warnings, the view.
+        Route and reason, junctions (screen position, depth gap), arcs, repairs, snapping,
+        warnings, the view.
     """
+    from .errors import MescherError
+
+    if route not in ROUTES:
+        raise MescherError(f"route: expected one of {ROUTES}, found {route!r}")
+    if hidden not in ("auto", True, False):
+        raise MescherError(f"hidden: expected 'auto', True or False, found {hidden!r}")
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    auto_view = isinstance(view, str)
+    if route == "cut" or (route == "auto" and perceive is None and not auto_view and hidden):
+        if route == "cut" and (auto_view or perceive is not None):
+            raise MescherError(
+                f"route: expected 'auto' or 'seen' with view={view!r}, perceive={perceive!r}, "
+                "found 'cut'"
+            )
+        done, why = _cut_route(V, F, view, up, tol)
+        if done is not None:
+            return done
+        if route == "cut":
+            raise MescherError(f"route: expected a cut model whose loops glue, found {why}")
+    else:
+        why = "view='auto'" if auto_view else ("perceive=" + repr(perceive) if perceive else "")
+        why = "hidden=False" if hidden is False and not why else why
     vm = see_model(
         V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge, hidden=hidden,
         view_start=view_start,
     )  # fmt: skip
     m = Mescher.from_corner_depths(vm.F, vm.xy, vm.Z)
-    return m, DepthOrder(m.n_faces, vm.arcs, m=m), vm.report
+    report = vm.report
+    if why:
+        report.reason = f"{why}; {report.reason}" if report.reason else why
+    m = drop_small_periods(m, report)
+    return m, DepthOrder(m.n_faces, vm.arcs, m=m), report

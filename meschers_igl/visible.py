@@ -134,6 +134,11 @@ class ConversionReport:
         The depth-order arcs ``i -> j`` (face ``i`` behind face ``j``).
     cleanup : object or None
         A loader's clean-up report (``meshlab_filters`` puts its ``CleanupReport`` here).
+    route : {"cut", "closed", "visible"}
+        How the mescher was obtained: the cut model glued at its seam, the whole model opened
+        at its junctions and glued crosswise, or the visible surface.
+    reason : str
+        Why that route was taken.
     """
 
     junctions: list = field(default_factory=list)
@@ -146,9 +151,12 @@ class ConversionReport:
     up: np.ndarray | None = None
     source_face: np.ndarray | None = None
     cleanup: Any = None
+    route: str = "visible"
+    reason: str = ""
 
     def __str__(self) -> str:
-        lines = [f"view {np.round(self.view, 6).tolist()}, up {np.round(self.up, 6).tolist()}"]
+        lines = [f"route: {self.route} ({self.reason})" if self.reason else f"route: {self.route}"]
+        lines.append(f"view {np.round(self.view, 6).tolist()}, up {np.round(self.up, 6).tolist()}")
         for j in self.junctions:
             lines.append(
                 f"{j.kind} at screen ({j.position[0]:.4g}, {j.position[1]:.4g}): depth gap "
@@ -683,6 +691,13 @@ def see_model(
             break
         xy, Fa, src = _split_cut_faces(xy, Fa, src, h1[stuck], h2[stuck])
     report.junctions = _false_edge_junctions(xy, fe) + bridges
+    report.route = "visible"
+    if not report.reason:
+        report.reason = (
+            "perceived depths are read on the visible surface"
+            if perceive
+            else "no junction to open on the whole model: the surface the viewer sees"
+        )
     report.n_arcs = int(arcs.shape[0])
     report.source_face = np.where(is_bridge, -1, sb)
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
@@ -1511,6 +1526,10 @@ def _closed_surface(V, F, R, tol, rel, bridge, report, strict):
     Z = (V2 @ R.T)[F2][:, :, 2]
     order = DepthOrder.from_embedding(SimpleNamespace(F=g["F"], xy=g["xy"]), Z)
     report.junctions = junctions
+    report.route = "closed"
+    report.reason = (
+        f"{len(junctions)} junction(s) found: the whole model opened there and glued crosswise"
+    )
     report.arcs = np.asarray(order.arcs)
     report.n_arcs = order.n_arcs
     report.source_face = source

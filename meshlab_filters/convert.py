@@ -112,9 +112,12 @@ def model_to_mescher(
     tol: float | None = None,
     hidden: bool | str = "auto",
     view_start: Any = None,
+    route: str = "auto",
 ):
-    """Any artist model -- closed solids, separate blocks, reliefs, STL soups -- as seen from a
-    view: (mescher, depth order, report).
+    """Any artist model -- cut models, closed solids, separate blocks, reliefs, STL soups,
+    scenes -- as seen from a view: (mescher, depth order, report); the route (cut model glued
+    at its seam, or seen from the view) is picked by :func:`meschers_igl.models.model_to_mescher`
+    and named in ``report.route`` / ``report.reason``.
 
     A path is read with PyMeshLab (polygons triangulated); vertices that coincide in 3D are
     welded and pairs of coincident opposite faces -- blocks touching face to face -- removed
@@ -139,6 +142,8 @@ def model_to_mescher(
         surface only (see :func:`meschers_igl.visible.see_model`).
     view_start : (3,) array_like, optional
         With ``view="auto"``: a view near the intended one (within 10 degrees).
+    route : {"auto", "cut", "seen"}, default: "auto"
+        Override the route the model picks.
 
     Returns
     -------
@@ -177,7 +182,7 @@ def model_to_mescher(
         V, F = _mesh_pair(path_or_V_F)
     m, order, report = core_model_to_mescher(
         V, F, view=view, up=up, perceive=perceive, tol=tol, hidden=hidden,
-        view_start=view_start,
+        view_start=view_start, route=route,
     )  # fmt: skip
     report.cleanup = cleanup
     report.repairs[:0] = pre

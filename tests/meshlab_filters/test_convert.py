@@ -232,7 +232,7 @@ def test_model_to_mescher_keeps_the_hidden_side_of_a_cut_file_or_not():
     m, order, rep = model_to_mescher(pm.obj, view=pm.view, up=pm.up)
     assert m.n_faces == mc.n_faces and m.euler_characteristic() == mc.euler_characteristic()
     assert np.allclose(np.sort(np.abs(m.periods())), np.sort(np.abs(mc.periods())))
-    assert "kept the hidden side" in str(rep)
+    assert rep.route == "cut" and "route: cut (an open seam" in str(rep)
     mv, _, repv = model_to_mescher(pm.obj, view=pm.view, up=pm.up, hidden=False)
     assert np.all(np.asarray(mv.face_normals())[:, 2] > 0) and mv.n_faces != m.n_faces
     assert np.isclose(np.abs(mv.periods()).max(), np.abs(mc.periods()).max(), rtol=1e-6)
