@@ -1,4 +1,4 @@
-"""``meschers inverse TARGET --light X,Y,Z --out DIR [--init picture|torus] [--iters N]``.
+"""``meschers inverse TARGET [--light X,Y,Z] --out DIR [--init picture|torus] [--iters N]``.
 
 Recovers a mescher from a picture (paper Section 4.5, issue 14): the target image spans the
 screen square ``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights.  The
@@ -11,7 +11,8 @@ Writes into ``DIR``:
   the result; ``renders/step_NNNNN.png``: intermediate renders every ``--every`` steps;
 - ``loss.png``: the loss curve and the PSNR curve; ``before_after.png``: the three side by side;
 - ``metrics.json``: silhouette IoU, PSNR (start, end, curve), periods, the period around the
-  outline, CPU and wall time.
+  outline (``figure_period``), the light used (``light``; ``light_estimated`` when no
+  ``--light`` was given and the picture's creases and shades fixed it), CPU and wall time.
 
 ``TARGET`` may be a built-in: ``penrose`` (the Penrose triangle drawn by this package's own
 rasterizer) or ``tribar``, ``cube``, ``stairs``: real 3D box models
@@ -126,13 +127,29 @@ def _triple(text: str, name: str) -> tuple[float, float, float]:
     return vals  # type: ignore[return-value]
 
 
+def _join_negative_values(argv: list[str]) -> list[str]:
+    """``--light -0.5,0.35,1`` as ``--light=-0.5,0.35,1``: argparse takes a value that starts
+    with a dash and is not a plain number for an option."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("--light", "--light-color") and i + 1 < len(argv) and argv[i + 1][:1] == "-":
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``meschers inverse`` arguments to ``parser`` (returned)."""
     parser.add_argument("target", help="target PNG spanning the screen square, or a built-in: "
                         f"{', '.join(BUILTIN)}")  # fmt: skip
     parser.add_argument("--light", action="append", default=None, metavar="X,Y,Z",
-                        help=f"direction toward a light, camera frame; repeat for several "
-                        f"(default {DEFAULT_LIGHT})")  # fmt: skip
+                        help="direction toward a light, camera frame (negative components are "
+                        "fine: --light -0.5,0.35,1); repeat for several; default: estimated "
+                        f"from the picture with --init picture, else {DEFAULT_LIGHT}")  # fmt: skip
     parser.add_argument("--light-color", action="append", default=None, metavar="R,G,B",
                         help="RGB intensity of each --light, in the same order "
                         "(default white, (1 - ambient) / #lights each)")  # fmt: skip
@@ -255,7 +272,8 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     import sys
 
     if args is None or not isinstance(args, argparse.Namespace):
-        args = _parser().parse_args(None if args is None else list(args))
+        argv = sys.argv[1:] if args is None else list(args)
+        args = _parser().parse_args(_join_negative_values(argv))
     from meschers_igl import save
     from meschers_igl.inverse.metrics import (
         figure_period,
@@ -269,6 +287,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     from meschers_igl.inverse.targets import target_mask, torus_for_target
     from meschers_igl.validate import check_budget
 
+    given = bool(args.light)
     lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
     colors = None
     if args.light_color:
@@ -290,6 +309,11 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     else:
         target = _load_target(args.target, res)
     bg = _background(target)
+    if int(target_mask(target, bg).sum()) < 16:
+        raise MescherError(
+            f"TARGET: expected a figure on a plain background, found {args.target!r} with no "
+            "pixels unlike its corners"
+        )
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
@@ -300,7 +324,10 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
                 f"--init picture: expected one white --light, found {len(lights)} lights"
                 + (" with colours" if colors is not None else "")
             )
-        m0, _, _ = mescher_from_picture(target, lights[0], args.ambient, background=bg)
+        m0, _, info = mescher_from_picture(target, lights[0] if given else None, args.ambient,
+                                           background=bg)  # fmt: skip
+        lights = [tuple(float(v) for v in info["light"])]
+        shade["lights"] = lights
         off0 = None
         opts = fit_options(iters=iters, power=args.power, eval_every=every)
     else:
@@ -338,6 +365,8 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         "faces": int(m.n_faces),
         "iters": iters,
         "init": args.init,
+        "light": [list(v) for v in lights],
+        "light_estimated": not given and args.init == "picture",
     }
     if model is not None:
         metrics["true_gap"] = float(model[0].gap * model[1])
@@ -345,7 +374,9 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     print(
         f"silhouette IoU {metrics['silhouette_iou']:.4f}  PSNR {metrics['psnr_init_db']:.2f} -> "
         f"{metrics['psnr_db']:.2f} dB  period {metrics['figure_period']:.3f}  "
-        f"max |d12 zeta| {result.max_residual:.1e}  {result.seconds:.0f} s  -> {out}"
+        f"max |d12 zeta| {result.max_residual:.1e}  light "
+        f"{','.join(f'{v:.3f}' for v in lights[0])}"
+        f"{' (estimated)' if metrics['light_estimated'] else ''}  {result.seconds:.0f} s  -> {out}"
     )
     return 0
 

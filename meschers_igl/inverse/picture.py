@@ -57,48 +57,136 @@ class Segmentation:
 
 
 def segment_picture(
-    target: np.ndarray, background=(1.0, 1.0, 1.0), min_share: float = 0.02, tol: float = 0.05
+    target: np.ndarray,
+    background=(1.0, 1.0, 1.0),
+    min_share: float = 0.04,
+    tol: float = 0.05,
+    line_step: float = 1.5 / 255.0,
 ) -> Segmentation:
-    """Figure and flat-shaded regions of a picture.
+    """Figure, faces and face orientations of a flat-shaded picture.
 
-    Grey levels (mean of the channels, in 1/255 bins) of the figure's pixels are counted; every
-    level holding at least ``min_share`` of the figure and more than its neighbours within
-    ``tol`` is a shade, and each figure pixel goes to the nearest shade.
+    Faces come from lines: a *line* runs between two neighbouring pixels whose grey levels
+    (mean of the channels) differ by more than ``line_step``, and the faces are the connected
+    pieces of the figure that no line crosses (4-neighbours; a z-buffered face of a polyhedron
+    under one directional light is one flat grey, so two faces of shades only a few levels apart
+    are still two faces).  The faces' shades are then grouped into the three orientations of a
+    figure of boxes: the split of the sorted shades into three groups of least pixel-weighted
+    variance (1D k-means, solved exactly); small faces of other orientations (a mitred end)
+    join the nearest group.
 
     Parameters
     ----------
     target : (H, W, 3) float in [0, 1]
     background : (3,) float
     min_share : float
-        Smallest share of the figure a shade must cover.
+        Smallest share of the figure a group must cover to be an orientation of its own.
     tol : float
-        Shades closer than this are one shade.
+        Largest per-channel difference to ``background`` still counted as background.
+    line_step : float
+        Grey difference across a line.
 
     Returns
     -------
     Segmentation
+        ``labels`` holds the orientation group of each pixel (0, 1, 2 by increasing shade).
+
+    Raises
+    ------
+    MescherError
+        No figure (fewer than 16 pixels unlike the background), or fewer than three groups
+        whose shades differ by more than ``line_step`` (two orientations under one shade, e.g.
+        two face directions turned away from the light: nothing in the picture separates them).
     """
-    mask = target_mask(target, background)
+    import scipy.sparse.csgraph as csgraph
+
+    target = np.asarray(target, dtype=np.float64)
+    if target.ndim != 3 or target.shape[2] != 3:
+        raise MescherError(f"target: expected an (H, W, 3) image, found shape {target.shape}")
+    mask = target_mask(target, background, tol)
     if mask.sum() < 16:
         raise MescherError(
-            f"target: expected a figure of at least 16 pixels, found {int(mask.sum())}"
+            "target: expected a figure (at least 16 pixels unlike the background "
+            f"{np.round(np.asarray(background, dtype=float), 3).tolist()}), found "
+            f"{int(mask.sum())}"
         )
-    grey = np.asarray(target, dtype=np.float64).mean(axis=-1)
-    levels = np.round(grey[mask] * 255.0).astype(np.int64)
-    counts = np.bincount(levels, minlength=256).astype(np.float64)
-    w = max(1, int(round(tol * 255)))
-    # a peak: the largest count within +-w levels, and a big enough share of the figure
-    padded = np.pad(counts, w)
-    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * w + 1)
-    peaks = np.nonzero((counts >= windows.max(axis=1)) & (counts >= min_share * mask.sum()))[0]
-    if peaks.size == 0:
-        raise MescherError("target: expected flat-shaded regions, found no dominant grey level")
-    centres = peaks / 255.0
-    lab = np.argmin(np.abs(grey[mask][:, None] - centres[None]), axis=1)
-    labels = np.full(mask.shape, -1, dtype=np.int64)
-    labels[mask] = lab
-    shades = np.array([grey[labels == k].mean() for k in range(len(centres))])
+    grey = target.mean(axis=-1)
+    H, W = grey.shape
+    idx = np.arange(H * W).reshape(H, W)
+    # 4-neighbour pairs inside the figure that no line separates
+    pairs = []
+    for a, b, ga, gb in (
+        (idx[:, :-1], idx[:, 1:], grey[:, :-1], grey[:, 1:]),
+        (idx[:-1], idx[1:], grey[:-1], grey[1:]),
+    ):
+        same = mask.ravel()[a] & mask.ravel()[b] & (np.abs(ga - gb) <= line_step)
+        pairs.append(np.stack([a[same], b[same]], axis=1))
+    pr = np.concatenate(pairs)
+    G = sp.coo_matrix((np.ones(len(pr)), (pr[:, 0], pr[:, 1])), shape=(H * W, H * W))
+    _, comp = csgraph.connected_components(G, directed=False)
+    comp = np.where(mask.ravel(), comp, -1)
+    ids, cinv, size = np.unique(comp[mask.ravel()], return_inverse=True, return_counts=True)
+    cshade = np.bincount(cinv, weights=grey[mask]) / size
+    # the shades of the faces that matter (each at least a quarter of min_share) in three
+    # groups: exact weighted 1D 3-means; smaller faces join the nearest group
+    big = np.nonzero(size >= 0.25 * min_share * mask.sum())[0]
+    order = big[np.argsort(cshade[big])]
+    v, w = cshade[order], size[order].astype(np.float64)
+    groups = _three_means(v, w)
+    while len(v) > 3:
+        # a group under min_share is a few faces of other orientations: leave them out
+        gs = np.bincount(groups, weights=w, minlength=3) / mask.sum()
+        if gs.min() >= min_share:
+            break
+        keep = groups != int(np.argmin(gs))
+        if keep.sum() < 3:
+            break
+        v, w = v[keep], w[keep]
+        groups = _three_means(v, w)
+    centre = np.array([v[groups == k].mean() if np.any(groups == k) else np.nan
+                       for k in range(3)])  # fmt: skip
+    grp = np.argmin(np.abs(cshade[:, None] - np.nan_to_num(centre, nan=9.0)[None]), axis=1)
+    share = np.bincount(grp, weights=size, minlength=3) / mask.sum()
+    sep = np.diff(centre).min() if len(v) >= 3 else 0.0
+    if len(v) < 3 or not sep > line_step or share.min() < min_share:
+        found = 1 + int(np.sum(np.diff(v) > line_step))
+        raise MescherError(
+            "target: expected three face orientations of distinct shades (a figure of boxes "
+            f"under one light), found {found} distinct shade(s) (two orientations of one shade, e.g. both turned "
+            "away from the light, cannot be told apart; try a picture lit from another side)"
+        )
+    labels = np.full(H * W, -1, dtype=np.int64)
+    labels[mask.ravel()] = grp[cinv]
+    labels = labels.reshape(H, W)
+    shades = np.array([grey[labels == k].mean() for k in range(3)])
     return Segmentation(mask, labels, shades)
+
+
+def _three_means(v: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Group index (0, 1, 2) of sorted values ``v`` (weights ``w``): least weighted variance.
+
+    The optimal 1D k-means groups are contiguous in sorted order; with prefix sums every pair
+    of split points is tried at once (``O(n^2)``, ``n`` the number of distinct faces).
+    """
+    n = len(v)
+    if n < 3:
+        return np.minimum(np.arange(n), 2)
+    W1 = np.r_[0.0, np.cumsum(w)]
+    S1 = np.r_[0.0, np.cumsum(w * v)]
+    S2 = np.r_[0.0, np.cumsum(w * v * v)]
+
+    def cost(i, j):  # weighted sum of squares of v[i:j]
+        ww = W1[j] - W1[i]
+        return S2[j] - S2[i] - (S1[j] - S1[i]) ** 2 / np.maximum(ww, 1e-300)
+
+    a, b = np.meshgrid(np.arange(1, n), np.arange(1, n), indexing="ij")
+    ok = a < b
+    total = cost(0, a) + cost(a, b) + cost(b, n)
+    total = np.where(ok, total, np.inf)
+    i, j = np.unravel_index(int(np.argmin(total)), total.shape)
+    g = np.zeros(n, dtype=np.int64)
+    g[a[i, j] :] = 1
+    g[b[i, j] :] = 2
+    return g
 
 
 def _pixel_to_screen(res: int) -> float:
@@ -304,6 +392,8 @@ def normals_from_shading(
     s = (np.asarray(shades, dtype=np.float64) - ambient) / (1.0 - ambient)
     if s.shape != (3,):
         raise MescherError(f"shades: expected three face shades, found {s.shape}")
+    # a face at the ambient shade is turned away from the light: n . l < 0, not 0
+    s = _shadowed_root(s)
     lvec = np.asarray(light, dtype=np.float64)
     lvec = lvec / np.linalg.norm(lvec)
     s = s / np.linalg.norm(s)
@@ -340,6 +430,138 @@ def normals_from_shading(
             "consistent with the light"
         )
     return best[1].copy(), best[0]
+
+
+def crease_directions(dirs: np.ndarray, pairs: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """The screen direction of the crease between each two of three face groups.
+
+    The boundary between groups ``i`` and ``j`` runs mostly along their crease; occlusions run
+    elsewhere.  The crease is the mode of the boundary's orientations (length-weighted
+    histogram of 1-degree bins, smoothed over 5), refined by the weighted mean of the doubled
+    angles within 5 degrees of it.
+
+    Parameters
+    ----------
+    dirs : (B, 2) float
+        Boundary edge vectors (:func:`region_boundaries`).
+    pairs : (B, 2) int
+        The two groups on either side, in ``0, 1, 2``.
+    weights : (B,) float
+        Edge lengths.
+
+    Returns
+    -------
+    (3, 2) float64
+        Row ``k``: the unit crease direction between the two groups other than ``k`` (the
+        screen projection of group ``k``'s normal's direction, up to sign).
+
+    Raises
+    ------
+    MescherError
+        Two groups that never meet.
+    """
+    d = np.asarray(dirs, dtype=np.float64)
+    pr = np.sort(np.asarray(pairs, dtype=np.int64), axis=1)
+    wts = np.asarray(weights, dtype=np.float64)
+    ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), np.pi)
+    out = np.zeros((3, 2))
+    for k in range(3):
+        i, j = [g for g in range(3) if g != k]
+        sel = (pr[:, 0] == i) & (pr[:, 1] == j)
+        if not sel.any():
+            raise MescherError(
+                f"target: expected every two face orientations to meet along a crease, found "
+                f"none between the shades {i} and {j}"
+            )
+        a, wt = ang[sel], wts[sel]
+        hist = np.bincount(np.floor(np.degrees(a)).astype(np.int64) % 180, wt, minlength=180)
+        smooth = sum(np.roll(hist, s_) for s_ in range(-2, 3))
+        mode = math.radians(int(np.argmax(smooth)) + 0.5)
+        near = np.abs(np.angle(np.exp(2j * (a - mode)))) < 2.0 * math.radians(5.0)
+        z = (wt[near] * np.exp(2j * a[near])).sum()
+        th = 0.5 * math.atan2(z.imag, z.real)
+        out[k] = (math.cos(th), math.sin(th))
+    return out
+
+
+def frames_from_creases(creases: np.ndarray) -> np.ndarray:
+    """The two right-angled frames whose face normals project along ``creases``.
+
+    Under an orthographic view the unit normals ``n_k = (t_k d_k, z_k)`` of three orthogonal
+    face directions have screen parts along the creases ``d_k`` (row ``k`` of ``creases``), and
+    the screen rows of the orthonormal frame are orthonormal:
+    ``sum_k t_k^2 d_k d_k^T = I`` (three linear equations in ``t_k^2``).  Then
+    ``z_k = sqrt(1 - t_k^2)`` (facing the viewer) and the signs of ``t_k`` follow from
+    ``n_i . n_j = 0``, up to one sign for all three: the two readings of a Necker figure,
+    ``(x, y, z)`` and ``(-x, -y, z)``, the same picture under the light ``(l_x, l_y, l_z)``
+    and ``(-l_x, -l_y, l_z)``.
+
+    Parameters
+    ----------
+    creases : (3, 2) float
+        Unit screen directions (either sign).
+
+    Returns
+    -------
+    (2, 3, 3) float64
+        Two readings; row ``k`` of each is the unit normal of face direction ``k``.
+
+    Raises
+    ------
+    MescherError
+        Directions that no right-angled frame projects to (some ``t_k^2`` outside (0, 1)).
+    """
+    d = np.asarray(creases, dtype=np.float64)
+    d = d / np.linalg.norm(d, axis=1, keepdims=True)
+    A = np.stack([d[:, 0] ** 2, d[:, 0] * d[:, 1], d[:, 1] ** 2])
+    try:
+        t2 = np.linalg.solve(A, np.array([1.0, 0.0, 1.0]))
+    except np.linalg.LinAlgError:
+        t2 = np.full(3, np.nan)
+    if not np.all((t2 > 1e-6) & (t2 < 1.0 - 1e-6)):
+        deg = np.round(np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 180.0, 1).tolist()
+        raise MescherError(
+            "target: expected lines along the projections of three right-angled directions, "
+            f"found crease directions {deg} degrees, which no right-angled frame projects to"
+        )
+    t, z = np.sqrt(t2), np.sqrt(1.0 - t2)
+    s = np.array([1.0, -np.sign(d[0] @ d[1]), -np.sign(d[0] @ d[2])])
+    N = np.column_stack([(s * t)[:, None] * d, z])
+    return np.stack([N, N * np.array([-1.0, -1.0, 1.0])])
+
+
+def estimate_light(shades: np.ndarray, normals: np.ndarray, ambient: float) -> np.ndarray:
+    """The direction toward the light that shades faces of ``normals`` with ``shades``.
+
+    ``n_k . l = s_k = (shade_k - ambient) / (1 - ambient)`` for orthonormal ``n_k`` gives
+    ``l = sum_k s_k n_k``.  A face at the ambient shade is turned away: its ``s_k`` is the
+    negative root of ``|l| = 1``.
+
+    Parameters
+    ----------
+    shades : (3,) float
+    normals : (3, 3) float
+        Orthonormal rows.
+    ambient : float
+
+    Returns
+    -------
+    (3,) float64
+        Unit light direction, camera frame.
+    """
+    s = (np.asarray(shades, dtype=np.float64) - ambient) / (1.0 - ambient)
+    s = _shadowed_root(s)
+    lvec = np.asarray(normals, dtype=np.float64).T @ s
+    return lvec / np.linalg.norm(lvec)
+
+
+def _shadowed_root(s: np.ndarray, eps: float = 0.02) -> np.ndarray:
+    """``s`` with one face at the ambient shade given ``-sqrt(1 - |others|^2)``."""
+    s = np.array(s, dtype=np.float64)
+    dark = s <= eps
+    if dark.sum() == 1:
+        s[dark] = -math.sqrt(max(0.0, 1.0 - float((s[~dark] ** 2).sum())))
+    return s
 
 
 def _rotation_taking(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -458,7 +680,12 @@ def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray)
         return np.asarray(xy, dtype=np.float64), np.asarray(F, dtype=np.int64)
     V = np.column_stack([xy, np.zeros(n)])
     Vc, Fc, _ = igl.cut_mesh(V, np.asarray(F, dtype=np.int64), C)
-    return np.ascontiguousarray(Vc[:, :2]), np.asarray(Fc, dtype=np.int64)
+    # a cut through a vertex whose faces all stay on one side leaves a copy no face uses
+    Fc = np.asarray(Fc, dtype=np.int64)
+    used = np.unique(Fc)
+    remap = np.full(len(Vc), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return np.ascontiguousarray(np.asarray(Vc)[used, :2]), remap[Fc]
 
 
 def hidden_occlusions(
@@ -687,7 +914,7 @@ def lift(
 
 def mescher_from_picture(
     target: np.ndarray,
-    light,
+    light=None,
     ambient: float = 0.2,
     background=(1.0, 1.0, 1.0),
     max_area_px: float = 12.0,
@@ -705,8 +932,10 @@ def mescher_from_picture(
     ----------
     target : (N, N, 3) float in [0, 1]
         Spans the screen square ``[-1, 1]^2``.
-    light : (3,) float
-        Direction toward the (one, white) light, camera frame.
+    light : (3,) float, optional
+        Direction toward the (one, white) light, camera frame.  None: estimated
+        (:func:`estimate_light` on the frame :func:`frames_from_creases` reads from the
+        creases; of the two Necker readings, the one lit from above, ``l_y >= 0``).
     ambient : float
     background : (3,) float
     max_area_px, tolerance_px : float
@@ -728,7 +957,8 @@ def mescher_from_picture(
     info : dict
         ``normals`` (3, 3) per region, ``shades`` (3,), ``misfit`` (frame fit),
         ``occlusion_length`` (screen units of cut boundary), ``labels`` (H, W),
-        ``hidden_lines`` (list of (2, 2) segments, :func:`hidden_occlusions`).
+        ``hidden_lines`` (list of (2, 2) segments, :func:`hidden_occlusions`), ``light``
+        (3,) the unit light used (given or estimated).
     """
     import shapely
 
@@ -742,6 +972,14 @@ def mescher_from_picture(
     pixel = 2.0 / seg.labels.shape[1]
     xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
     edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
+    if light is None:
+        frames = frames_from_creases(crease_directions(d, pairs, lens))
+        lights = [estimate_light(seg.shades, N, ambient) for N in frames]
+        # the two Necker readings light the picture alike from (lx, ly, lz) and (-lx, -ly, lz):
+        # a person reads it lit from above
+        light = lights[0] if lights[0][1] >= lights[1][1] else lights[1]
+    light = np.asarray(light, dtype=np.float64)
+    light = light / np.linalg.norm(light)
     normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
     occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
     hidden = (
@@ -770,7 +1008,7 @@ def mescher_from_picture(
     m = lift(xy, F, normals[region])
     info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
             "occlusion_length": float(lens[occl].sum()), "labels": seg.labels,
-            "hidden_lines": hidden}  # fmt: skip
+            "hidden_lines": hidden, "light": light}  # fmt: skip
     return m, region, info
 
 

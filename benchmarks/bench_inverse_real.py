@@ -1,0 +1,253 @@
+"""Inverse rendering of pictures of real models under random lights: the acceptance table.
+
+Models: the development set of real files (a folder of models with a ``views.json`` giving each
+file's orthographic view, up vector and the depth gaps between vertices that coincide on
+screen; skipped when absent) and the project's own box models (``tribar``, ``cube``,
+``stairs`` of :mod:`meschers_igl.inverse.models`).  Each is rendered by PyVista's z-buffer
+(``meschers.inverse_cli.zbuffer_picture``, flat Lambertian, ambient 0.2) under ``--lights``
+directions drawn uniformly on the upper hemisphere (toward the viewer, seeded), on a pale blue
+ground: no grey face can take its colour, where on white a face turned to the light vanishes.
+
+Per picture: :func:`meschers_igl.inverse.picture.mescher_from_picture` with the light given,
+then :func:`meschers_igl.inverse.optimize.fit_mescher` (``fit_options``).  Also the light
+*estimated* from the picture alone (no light given) and its angle to the true light, and to
+the true light's Necker mirror ``(-x, -y, z)`` (which lights the mirrored reading the same).
+
+Columns (median and worst over the lights, per model), against the bar:
+PSNR >= 30 dB, silhouette IoU >= 0.98, share of figure pixels on faces within 10 degrees of
+the model's three axis directions (the three largest orthogonal face-normal directions of the
+model, area-weighted) >= 90%, impossible, period (around the outline or a hole) within 5% of
+the true depth gap (largest coincident gap of ``views.json`` or the box model's ``gap``, times
+the picture's scale; "-" where none is known), and wall seconds.  A picture refused with a
+``MescherError`` counts as failing every column.
+
+Run:  python benchmarks/bench_inverse_real.py [--models PATH] [--lights 6] [--iters 300]
+      [--resolution 128] [--only NAME,NAME] [--figures DIR] [--seed 0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+AMBIENT = 0.2
+GROUND = (0.55, 0.7, 0.9)
+DEFAULT_MODELS = Path(__file__).resolve().parents[2] / "shared" / "real_models"
+
+
+def hemisphere_lights(n: int, seed: int) -> np.ndarray:
+    """``n`` unit directions uniform on the hemisphere ``z > 0`` (seeded)."""
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=(n, 3))
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    v[:, 2] = np.abs(v[:, 2])
+    return v
+
+
+def model_axes(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """(3, 3) the model's axis directions: the face-normal direction of largest area, the
+    largest one orthogonal to it (within 5 degrees), and their cross product."""
+    e1, e2 = V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]
+    n = np.cross(e1, e2)
+    area = np.linalg.norm(n, axis=1)
+    ok = area > 1e-12 * area.max()
+    n, area = n[ok] / area[ok, None], area[ok]
+    score = (np.abs(n @ n.T) > math.cos(math.radians(2.0))) @ area
+    a = n[int(np.argmax(score))]
+    orth = np.abs(n @ a) < math.sin(math.radians(5.0))
+    b = n[orth][int(np.argmax(np.where(orth, score, -1.0)[orth]))]
+    b = b - (b @ a) * a
+    b /= np.linalg.norm(b)
+    return np.stack([a, b, np.cross(a, b)])
+
+
+def load_models(folder: Path | None, only: set | None):
+    from meschers_igl.inverse import models
+    from meschers_igl.inverse.models import BoxModel
+
+    out = []
+    if folder is not None and (folder / "views.json").is_file():
+        from meshlab_filters.load import load_artist_model
+
+        views = json.loads((folder / "views.json").read_text())
+        for name, v in views.items():
+            if name.startswith("_") or (only and name not in only):
+                continue
+            V, F, _ = load_artist_model(folder / name)
+            view = np.asarray(v["view"], float)
+            view /= np.linalg.norm(view)
+            up = np.asarray(v["up"], float)
+            up -= (up @ view) * view
+            up /= np.linalg.norm(up)
+            gaps = v.get("coincident_depth_gaps") or []
+            gap = max(gaps) if gaps else math.nan
+            out.append((BoxModel(name, V, np.asarray(F), view, up, gap), model_axes(V, F)))
+    for name, make in (("tribar", models.penrose_tribar), ("cube", models.impossible_cube),
+                       ("stairs", models.penrose_stairs)):  # fmt: skip
+        if only and name not in only:
+            continue
+        m = make()
+        out.append((m, model_axes(m.V, m.F)))
+    return out
+
+
+def run_case(model, axes, light, res: int, iters: int) -> dict:
+    from meschers.inverse_cli import zbuffer_picture
+    from meschers_igl.errors import MescherError
+    from meschers_igl.inverse.metrics import (
+        axis_aligned_share,
+        figure_period,
+        image_psnr,
+        silhouette_iou,
+    )
+    from meschers_igl.inverse.optimize import extract_order, fit_mescher
+    from meschers_igl.inverse.picture import fit_options, mescher_from_picture
+    from meschers_igl.inverse.rasterizer import render_mescher
+    from meschers_igl.inverse.targets import target_mask
+    from meschers_igl.painter import visible_faces
+
+    target, scale = zbuffer_picture(model, res, light=light, ambient=AMBIENT, background=GROUND)
+    R = model.camera_frame()
+    out = {"model": model.name, "light": [float(v) for v in light], "target_img": target}
+    t0 = time.perf_counter()
+    try:
+        m0, _, info = mescher_from_picture(target, light, AMBIENT, background=GROUND)
+    except MescherError as exc:
+        out["error"] = str(exc)
+        return out
+    try:
+        _, _, est = mescher_from_picture(target, None, AMBIENT, background=GROUND)
+        le = est["light"]
+        out["light_err"] = math.degrees(math.acos(np.clip(le @ light, -1, 1)))
+        mir = light * np.array([-1.0, -1.0, 1.0])
+        out["light_err_mirror"] = math.degrees(math.acos(np.clip(le @ mir, -1, 1)))
+    except MescherError as exc:
+        out["light_error"] = str(exc)
+    init_img = render_mescher(m0, None, lights=[light], ambient=AMBIENT, resolution=res,
+                              sigma=1e-6, background=GROUND)  # fmt: skip
+    r = fit_mescher(target, m0, None, lights=[light], ambient=AMBIENT, background=GROUND,
+                    options=fit_options(iters=iters))  # fmt: skip
+    m = r.mescher
+    order = extract_order(m, r.offsets)
+    vis = visible_faces(m, order, size=res, bounds=(-1.0, 1.0, -1.0, 1.0))
+    gap = model.gap * scale
+    period = figure_period(m)
+    out.update(
+        psnr=image_psnr(r.image, target),
+        psnr_init=image_psnr(init_img, target),
+        iou=silhouette_iou(r.alpha > 0.5, target_mask(target, GROUND)),
+        axis=axis_aligned_share(vis, m.face_normals(), axes @ R.T, 10.0),
+        impossible=bool(m.is_impossible()),
+        period=period,
+        gap=gap,
+        period_err=abs(period - gap) / gap if math.isfinite(gap) else math.nan,
+        wall=time.perf_counter() - t0,
+        faces=m.n_faces,
+        init_img=init_img,
+        fit_img=r.image,
+    )
+    return out
+
+
+def passes(r: dict) -> bool:
+    if "error" in r:
+        return False
+    per = r["period_err"]
+    return (r["psnr"] >= 30 and r["iou"] >= 0.98 and r["axis"] >= 0.9 and r["impossible"]
+            and (not math.isfinite(per) or per <= 0.05))  # fmt: skip
+
+
+def save_panel(path: Path, r: dict) -> None:
+    from PIL import Image
+
+    imgs = [r["target_img"]] + ([r["init_img"], r["fit_img"]] if "fit_img" in r else [])
+    row = np.concatenate([np.clip(i, 0, 1) for i in imgs], axis=1)
+    Image.fromarray((row * 255 + 0.5).astype(np.uint8)).save(path)
+
+
+def _median_worst(ok: list, n: int, key: str, worst=min, fmt: str = "{:.2f}") -> str:
+    if not ok:
+        return "refused"
+    v = np.array([r[key] for r in ok], dtype=float)
+    if np.all(~np.isfinite(v)):
+        return "-"
+    w = worst(v[np.isfinite(v)])
+    if len(ok) < n:  # a refused picture is the worst
+        return f"{fmt.format(np.nanmedian(v))}/refused"
+    return f"{fmt.format(np.nanmedian(v))}/{fmt.format(w)}"
+
+
+def table(rows: list[dict]) -> str:
+    lines = [f"{'model':22s} {'pass':>5s} {'PSNR med/worst':>15s} {'IoU med/worst':>14s} "
+             f"{'axis10 med/worst':>17s} {'imposs':>7s} {'period err med/worst':>21s} "
+             f"{'light est err':>14s} {'wall s':>7s}"]  # fmt: skip
+    names = list(dict.fromkeys(r["model"] for r in rows))
+    for name in names:
+        rs = [r for r in rows if r["model"] == name]
+        ok = [r for r in rs if "error" not in r]
+        npass = sum(passes(r) for r in rs)
+
+        le = [min(r.get("light_err", np.inf), r.get("light_err_mirror", np.inf)) for r in ok]
+        le_s = f"{np.median(le):.1f} deg" if le and np.isfinite(np.median(le)) else "-"
+        n = len(rs)
+        lines.append(
+            f"{name:22s} {npass:>2d}/{n:<2d} {_median_worst(ok, n, 'psnr'):>15s} "
+            f"{_median_worst(ok, n, 'iou', fmt='{:.3f}'):>14s} "
+            f"{_median_worst(ok, n, 'axis', fmt='{:.0%}'):>17s} "
+            f"{sum(r.get('impossible', False) for r in rs):>3d}/{n:<3d} "
+            f"{_median_worst(ok, n, 'period_err', worst=max, fmt='{:.1%}'):>21s} {le_s:>14s} "
+            f"{(np.median([r['wall'] for r in ok]) if ok else float('nan')):7.1f}"
+        )
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--models", default=str(DEFAULT_MODELS), help="folder with views.json")
+    ap.add_argument("--only", default=None, help="comma-separated model names")
+    ap.add_argument("--lights", type=int, default=6)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--iters", type=int, default=300)
+    ap.add_argument("--resolution", type=int, default=128)
+    ap.add_argument("--figures", default=None, metavar="DIR",
+                    help="save target | start | fit strips as DIR/<model>_<k>.png")  # fmt: skip
+    ap.add_argument("--log", default=None, help="append one JSON line per picture")
+    ap.add_argument("--table-from", default=None, metavar="LOG",
+                    help="only print the table of a --log file")  # fmt: skip
+    args = ap.parse_args(argv)
+    if args.table_from:
+        rows = [json.loads(t) for t in Path(args.table_from).read_text().splitlines() if t]
+        print(table(rows))
+        return 0
+    only = set(args.only.split(",")) if args.only else None
+    folder = Path(args.models)
+    lights = hemisphere_lights(args.lights, args.seed)
+    print(f"{args.resolution}^2, {args.iters} steps, {args.lights} lights (seed {args.seed}), "
+          f"ambient {AMBIENT}, torch 1 thread")  # fmt: skip
+    rows = []
+    for model, axes in load_models(folder if folder.is_dir() else None, only):
+        for k, light in enumerate(lights):
+            r = run_case(model, axes, light, args.resolution, args.iters)
+            rows.append(r)
+            if args.figures:
+                Path(args.figures).mkdir(parents=True, exist_ok=True)
+                save_panel(Path(args.figures) / f"{Path(model.name).stem}_{k}.png", r)
+            brief = {k_: v for k_, v in r.items() if not k_.endswith("_img")}
+            print(json.dumps(brief), flush=True)
+            if args.log:
+                with open(args.log, "a") as fh:
+                    fh.write(json.dumps(brief) + "\n")
+    print(table(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
