@@ -7,6 +7,7 @@ mescher draw as fast as an ordinary mesh).  The names they used to have here are
 
 from __future__ import annotations
 
+import logging
 from typing import Any
 
 import numpy as np
@@ -18,6 +19,7 @@ from .camera import DEFAULT_MARGIN, as_bounds, default_bounds, set_view, xy_box
 from .envmap import as_env_map
 from .gl import flat_varyings_work, use_early_z, use_flat_varyings
 from .lights import as_lights
+from .overlays import as_path_marks, as_point_marks
 from .polydata import SHADINGS
 from .scene import (
     DEFAULT_COLOR,
@@ -31,6 +33,8 @@ from .scene import (
     relight,
 )
 
+_LOG = logging.getLogger(__name__)
+
 __all__ = [
     "DEFAULT_COLOR",
     "DEFAULT_LIGHTS",
@@ -41,6 +45,7 @@ __all__ = [
     "add_mescher",
     "as_bounds",
     "default_bounds",
+    "default_depth",
     "embedding_of",
     "flat_varyings_work",
     "relight",
@@ -81,7 +86,10 @@ def render(
         A mescher, or an ordinary 3D mesh (``V`` (#V, 3) in the camera frame) drawn z-buffered
         with the same camera and lights.
     order : None, DepthOrder or (#F,) array_like
-        Back-to-front order of a mescher's faces (``None``: face-index order).
+        Back-to-front order of a mescher's faces.  ``None``: resolved so that no back face
+        shows (:func:`default_depth`: the z-buffer for a possible mescher in one piece, else an
+        order from local depth; logged, and kept as ``scene.layers[-1].depth``); pass
+        ``np.arange(#F)`` for face-index order.
     lights : direction, sequence of directions / DirectionalLight / non-positional pyvista.Light
         Directions *toward* directional lights in the camera frame (x right, y up, z toward the
         viewer); ``None`` or ``[]`` for none.  VTK's light kit and headlight are off.
@@ -104,7 +112,12 @@ def render(
     **kwargs
         ``representation`` ("mescher", or "cut" / "bent" to draw ``m.cut_embedding()`` /
         ``m.bent_embedding()`` with identical camera and default bounds), ``color``, ``cmap``,
-        ``clim``, ``isolines``, ``isoline_color``, ``isoline_width`` (2), ``ambient`` (0.2),
+        ``clim``, ``paths`` (a SurfacePath, ``(xy, faces)`` or a dict with ``path``,
+        ``color``, ``width``, ``hidden`` ("omit" or "dashed") and ``label``, or a list of them:
+        drawn only where they lie on the visible surface,
+        :meth:`MescherScene.add_path`), ``points`` (vertex ids, or a dict with ``vertices``,
+        ``color``, ``radius``, ``labels``: discs on the visible surface, clipped to the
+        figure, :meth:`MescherScene.add_points`), ``isolines``, ``isoline_color``, ``isoline_width`` (2), ``ambient`` (0.2),
         ``diffuse`` (0.8), ``anti_aliasing`` (False), ``scalar_bar`` (with ``scalars``, a colour
         bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default bounds
         then frame the figure in the rest of the window.  Default: on unless ``bounds`` is
@@ -124,6 +137,32 @@ def render(
         m, order, lights, shading, scalars, env_map, window_size, bounds, background, **kwargs
     ) as scene:
         return scene.screenshot()
+
+
+def default_depth(m: Any) -> tuple[object, str]:
+    """How :func:`render` resolves overlaps of a mescher given without an order.
+
+    A possible mescher in one piece (every period 0) is an ordinary surface: its bent
+    embedding (depth from zeta) is drawn with the z-buffer, exactly as the 3D mesh it is.
+    Otherwise the order is built from the mescher's relative depths
+    (:meth:`meschers_igl.DepthOrder.from_local_depth`).  Which one was used is logged and
+    kept as the layer's ``depth``.
+
+    Returns
+    -------
+    ((V, F), "z-buffer") or (DepthOrder, "local depth")
+    """
+    from meschers_igl import DepthOrder
+    from meschers_igl.topology import connected_components
+
+    F = np.asarray(m.F, dtype=np.int64)
+    n_parts, _ = connected_components(F, int(np.asarray(m.xy).shape[0]))
+    if n_parts == 1 and not m.is_impossible():
+        depth: tuple[object, str] = (m.bent_embedding(), "z-buffer")
+    else:
+        depth = (DepthOrder.from_local_depth(m), "local depth")
+    _LOG.info("render: no order given; overlaps resolved by %s", depth[1])
+    return depth
 
 
 def render_scene(
@@ -148,6 +187,8 @@ def render_scene(
         kwargs.pop("representation", "mescher"), "representation", REPRESENTATIONS
     )
     anti_aliasing = bool(kwargs.pop("anti_aliasing", False))
+    paths = kwargs.pop("paths", None)
+    points = kwargs.pop("points", None)
     scalar_bar = kwargs.pop("scalar_bar", None)
     if scalar_bar is None:  # by default only where the default framing leaves it its strip
         scalar_bar = bounds is None
@@ -180,11 +221,25 @@ def render_scene(
                 )
             scene.add_embedding(m[0], m[1], shading=shading, scalars=scalars, **kwargs)
         elif representation == "mescher":
-            if order is not None and not hasattr(m, "F"):
+            if not hasattr(m, "F"):
                 raise MescherError(f"m: expected a Mescher, found {type(m).__name__}")
-            scene.add(m, order=order, shading=shading, scalars=scalars, **kwargs)
+            depth = "order"
+            if order is None:
+                order, depth = default_depth(m)
+            if depth == "z-buffer":
+                V, F = order
+                scene.add_embedding(V, F, shading=shading, scalars=scalars, **kwargs)
+            else:
+                scene.add(m, order=order, shading=shading, scalars=scalars, **kwargs)
+            scene.layers[-1].depth = depth
         else:
             scene.add_embedding(m, kind=representation, shading=shading, scalars=scalars, **kwargs)
+        for spec in as_path_marks(paths, scene.layers[-1].source[1].shape[0]):
+            scene.add_path((spec.xy, spec.faces), color=spec.color, width=spec.width,
+                           hidden=spec.hidden, label=spec.label)  # fmt: skip
+        for spec in as_point_marks(points, scene.layers[-1].source[0].shape[0]):
+            scene.add_points(spec.vertices, color=spec.color, radius=spec.radius,
+                             labels=spec.labels)  # fmt: skip
         if scalar_bar:
             scene.add_scalar_bar(bar_title)
         if bounds is None:

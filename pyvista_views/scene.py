@@ -54,6 +54,19 @@ from .lights import (
     set_vtk_lights,
     tone_map_curve,
 )
+from .overlays import (
+    PATH_COLORS,
+    PathMark,
+    PointMark,
+    as_path_marks,
+    as_point_marks,
+    clip_polyline,
+    disc_on_figure,
+    place_labels,
+    polyline_pieces_mesh,
+    triangles_mesh,
+    visible_vertices,
+)
 from .polydata import (
     SHADINGS,
     as_scalars,
@@ -73,6 +86,14 @@ REPRESENTATIONS = ("mescher", "cut", "bent")
 #: Share of the window's width on the right that :meth:`MescherScene.add_scalar_bar` takes.
 SCALAR_BAR_STRIP = 0.2
 _BAKED = "_shaded_rgb"
+#: Smallest label font in pixels (readable at page width).
+MIN_LABEL_PX = 12
+
+
+def label_font_size(window: tuple[int, int]) -> int:
+    """Font size in pixels of in-figure labels: 1/40 of the window's height, at least
+    :data:`MIN_LABEL_PX`."""
+    return int(max(MIN_LABEL_PX, round(min(window) / 40)))
 
 
 @dataclass
@@ -122,6 +143,13 @@ class Layer:
     _contour_key: tuple | None = field(default=None, repr=False)
     _mapper_state: tuple = field(default=(), repr=False)
     _folds_split: bool = field(default=False, repr=False)
+    #: screen positions and faces of what the layer draws (the mescher, or V[:, :2] and F)
+    source: tuple | None = field(default=None, repr=False)
+    #: how overlaps are resolved: "order" (a given depth order), "local depth" (an order built
+    #: from the mescher's relative depths), "z-buffer" (a possible mescher drawn as its 3D
+    #: embedding) or "index" (face-index order)
+    depth: str = "order"
+    _face_map: tuple | None = field(default=None, repr=False)
 
     @property
     def xy_box(self) -> tuple[float, float, float, float]:
@@ -179,7 +207,7 @@ class Layer:
             plotter.remove_actor(self.isolines, render=False)
             self.isolines = None
         xy, F, values, levels, color, width = self._contour
-        face_map = face_id_image(self.mesh, window, bounds, self.early_z)
+        face_map = self.face_map(plotter, bounds)
         b = self.mesh.bounds
         lift = 1e-3 * float(np.hypot(b[1] - b[0], b[3] - b[2]) or 1.0)
         lines = visible_isolines(xy, F, values, levels, face_map, bounds, z=b[5] + lift)
@@ -193,6 +221,20 @@ class Layer:
                 reset_camera=False,
             )
         self._contour_key = key
+
+    def face_map(self, plotter: pv.Plotter, bounds: Sequence[float]) -> np.ndarray:
+        """The face drawn at each pixel of ``plotter``'s window for the image ``bounds``
+        (:func:`~pyvista_views.gl.face_id_image`; -1 on the background), computed once per view.
+
+        Returns
+        -------
+        (height, width) int64
+        """
+        window = (int(plotter.window_size[0]), int(plotter.window_size[1]))
+        key = (as_bounds(bounds), window, id(self.mesh))
+        if self._face_map is None or self._face_map[0] != key:
+            self._face_map = (key, face_id_image(self.mesh, window, key[0], self.early_z))
+        return self._face_map[1]
 
     def albedo(self) -> np.ndarray:
         """(n, 3) linear RGB base colour at :attr:`shading_location` (colour-mapped or plain)."""
@@ -637,6 +679,10 @@ class MescherScene:
         self._view_key: tuple | None = None
         self._reserve = 0.0  # share of the window's width kept for a colour bar
         self.exposure, self.tone_map, self.normalize = 1.0, "none", True
+        #: paths and points on the visible surface, with the layer each lies on
+        self.overlays: list[tuple[Any, Layer]] = []
+        self._overlay_actors: list[Any] = []
+        self._overlay_key: tuple | None = None
 
     # -- content ---------------------------------------------------------------------------
     def add(
@@ -659,6 +705,7 @@ class MescherScene:
         except Exception:
             self._box.pop()
             raise
+        layer.source = (np.asarray(m.xy, dtype=np.float64), np.asarray(m.F, dtype=np.int64))
         return self._adopt(layer)
 
     def add_embedding(
@@ -683,7 +730,202 @@ class MescherScene:
             V, F, scalars = embedding_of(m_or_V, kind, scalars)
             self._box.append(xy_box(np.asarray(m_or_V.xy)))
         layer = add_embedding(self.plotter, V, F, shading, scalars, **kwargs)
+        layer.depth = "z-buffer"
+        layer.source = (
+            np.ascontiguousarray(np.asarray(V, dtype=np.float64)[:, :2]),
+            np.asarray(F, dtype=np.int64),
+        )
         return self._adopt(layer)
+
+    # -- marks on the visible surface ------------------------------------------------------
+    def _overlay_layer(self, layer: Layer | None) -> Layer:
+        if layer is not None:
+            return layer
+        drawn = [la for la in self.layers if la.source is not None]
+        if not drawn:
+            raise MescherError("layer: expected a mescher added before its paths, found none")
+        return drawn[-1]
+
+    def add_path(
+        self,
+        path: Any,
+        *,
+        color: object = None,
+        width: float = 3.0,
+        hidden: str = "omit",
+        label: str | None = None,
+        layer: Layer | None = None,
+    ) -> None:
+        """Draw a polyline on a mescher's surface where that surface is the visible one.
+
+        Parameters
+        ----------
+        path : SurfacePath or (xy (n, 2), faces (n,))
+            Segment ``k`` lies in face ``faces[k]`` of the layer's mescher (e.g.
+            ``m.shortest_path(...)`` or a closed geodesic of ``shortest_loops(m)``).
+        color : color, optional
+            Default: the next of :data:`~pyvista_views.overlays.PATH_COLORS`.
+        width : float
+            Pixels.
+        hidden : {"omit", "dashed"}
+            Pieces on sheets hidden by others are left out, or drawn dashed.
+        label : str, optional
+            Placed beside the path's longest visible run, clear of other labels.
+        layer : Layer, optional
+            Default: the last layer added.
+        """
+        layer = self._overlay_layer(layer)
+        n_paths = sum(isinstance(mark, PathMark) for mark, _ in self.overlays)
+        spec = {"path": path, "width": width, "hidden": hidden, "label": label}
+        if color is not None:
+            spec["color"] = color
+        (mark,) = as_path_marks(spec, layer.source[1].shape[0])
+        if color is None:
+            mark.color = PATH_COLORS[n_paths % len(PATH_COLORS)]
+        self.overlays.append((mark, layer))
+        self._overlay_key = None
+        self._frame()
+
+    def add_points(
+        self,
+        vertices: Any,
+        *,
+        color: object = "white",
+        radius: float = 5.0,
+        labels: Sequence[str] | None = None,
+        layer: Layer | None = None,
+    ) -> None:
+        """Mark vertices with discs where they lie on the visible surface.
+
+        A disc is clipped to the figure's outline (it never spills onto the background); a
+        vertex on a hidden sheet gets no disc.  ``radius`` is in pixels; ``labels`` (one per
+        vertex) are placed beside the discs, clear of other labels.
+        """
+        layer = self._overlay_layer(layer)
+        spec = {"vertices": vertices, "color": color, "radius": radius}
+        if labels is not None:
+            spec["labels"] = list(labels)
+        (mark,) = as_point_marks(spec, layer.source[0].shape[0])
+        self.overlays.append((mark, layer))
+        self._overlay_key = None
+        self._frame()
+
+    def _fit_overlays(self, bounds: tuple[float, float, float, float]) -> None:
+        """(Re)draw the paths, points and labels for the image ``bounds`` (once per view)."""
+        window = (int(self.plotter.window_size[0]), int(self.plotter.window_size[1]))
+        key = (tuple(float(b) for b in bounds), window, len(self.overlays))
+        if not self.overlays or key == self._overlay_key:
+            return
+        for actor in self._overlay_actors:
+            self.plotter.remove_actor(actor, render=False)
+        self._overlay_actors = []
+        top = max(float(la.mesh.bounds[5]) for la in self.layers)
+        lift = 1e-3 * float(np.hypot(bounds[1] - bounds[0], bounds[3] - bounds[2]))
+        labels: list[tuple[np.ndarray, str, Any]] = []
+        for i, (mark, layer) in enumerate(self.overlays):
+            xy, F = layer.source
+            face_map = layer.face_map(self.plotter, bounds)
+            z = top + lift * (2 + i)
+            if isinstance(mark, PathMark):
+                labels += self._draw_path(mark, xy, F, face_map, bounds, z)
+            else:
+                labels += self._draw_points(mark, xy, F, face_map, bounds, z)
+        if labels:
+            self._draw_labels(labels, bounds, window)
+        self._overlay_key = key
+
+    def _draw_path(self, mark: PathMark, xy, F, face_map, bounds, z: float) -> list:
+        p0, p1, visible, arc = clip_polyline(mark.xy, mark.faces, F, face_map, bounds)
+        keep = visible.copy()
+        if mark.hidden == "dashed":  # 6 pixels on, 4 off along the hidden pieces
+            keep |= ~visible & (np.mod(arc, 10.0) < 6.0)
+        lines = polyline_pieces_mesh(p0[keep], p1[keep], z)
+        if lines.n_cells:
+            self._overlay_actors.append(
+                self.plotter.add_mesh(
+                    lines,
+                    color=mark.color,
+                    line_width=mark.width,
+                    lighting=False,
+                    show_scalar_bar=False,
+                    reset_camera=False,
+                )  # fmt: skip
+            )
+        if mark.label is None or not visible.any():
+            return []
+        # the label's anchor: the middle of the longest visible run
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], visible.astype(np.int8), [0]])))
+        starts, ends = edges[::2], edges[1::2]
+        j = int(np.argmax(ends - starts))
+        mid = (starts[j] + ends[j]) // 2
+        return [(0.5 * (p0[mid] + p1[mid]), mark.label, mark.color)]
+
+    def _draw_points(self, mark: PointMark, xy, F, face_map, bounds, z: float) -> list:
+        vertex_face = np.empty(xy.shape[0], dtype=np.int64)
+        vertex_face[F.reshape(-1)] = np.repeat(np.arange(F.shape[0]), 3)
+        seen = visible_vertices(mark.vertices, xy, F, vertex_face, face_map, bounds)
+        pixel = (bounds[1] - bounds[0]) / face_map.shape[1]
+        out = []
+        for k, v in enumerate(mark.vertices):  # a few marked vertices
+            if not seen[k]:
+                continue
+            T, rim = disc_on_figure(xy[v], mark.radius * pixel, xy, F)
+            if T.shape[0] == 0:
+                continue
+            self._overlay_actors.append(
+                self.plotter.add_mesh(
+                    triangles_mesh(T, z),
+                    color=mark.color,
+                    lighting=False,
+                    show_scalar_bar=False,
+                    reset_camera=False,
+                )
+            )
+            for line in rim:
+                P = np.column_stack([line, np.full(line.shape[0], z + 1e-6 * pixel)])
+                self._overlay_actors.append(
+                    self.plotter.add_mesh(
+                        pv.lines_from_points(P),
+                        color="black",
+                        line_width=1.5,
+                        lighting=False,
+                        show_scalar_bar=False,
+                        reset_camera=False,
+                    )
+                )
+            if mark.labels is not None:
+                out.append((xy[v], mark.labels[k], "black"))
+        return out
+
+    def _draw_labels(self, labels: list, bounds, window: tuple[int, int]) -> None:
+        from vtkmodules.vtkRenderingCore import vtkTextProperty, vtkTextRenderer
+
+        W, H = window
+        size = label_font_size(window)
+        measure, prop, box = vtkTextRenderer(), vtkTextProperty(), [0, 0, 0, 0]
+        prop.SetFontSize(size)
+        prop.SetFontFamilyToArial()
+        sizes = []
+        for _, text, _ in labels:
+            measure.GetBoundingBox(prop, text, box, 72)
+            sizes.append((box[1] - box[0] + 4.0, box[3] - box[2] + 4.0))
+        P = np.array([p for p, _, _ in labels], dtype=np.float64)
+        anchors = np.column_stack(
+            [
+                (P[:, 0] - bounds[0]) / (bounds[1] - bounds[0]) * W,
+                (bounds[3] - P[:, 1]) / (bounds[3] - bounds[2]) * H,
+            ]
+        )
+        for (x0, y0), (_w, h), (_, text, color) in zip(
+            place_labels(anchors, sizes, (W, H)), sizes, labels
+        ):
+            actor = self.plotter.add_text(
+                text, position=(int(x0 + 2), int(H - y0 - h + 2)), font_size=size, color=color
+            )
+            tp = actor.GetTextProperty()
+            tp.SetBackgroundColor(1.0, 1.0, 1.0)
+            tp.SetBackgroundOpacity(0.75)
+            self._overlay_actors.append(actor)
 
     def _adopt(self, layer: Layer) -> Layer:
         self.layers.append(layer)
@@ -702,6 +944,7 @@ class MescherScene:
         bounds = self.bounds if self.bounds is not None else self._auto_bounds()
         for layer in self.layers:
             layer.update_isolines(self.plotter, bounds)
+        self._fit_overlays(bounds)
         # set_view costs a bounds pass over every point (7 ms at 1M): skip it when neither the
         # image bounds, the window, the scene's actors nor the camera changed since the last
         # time (a relit frame); any other camera change (a user's) is undone as before
@@ -725,6 +968,9 @@ class MescherScene:
             self.plotter.remove_actor(layer.actor, render=False)
             if layer.isolines is not None:
                 self.plotter.remove_actor(layer.isolines, render=False)
+        for actor in self._overlay_actors:
+            self.plotter.remove_actor(actor, render=False)
+        self._overlay_actors, self.overlays, self._overlay_key = [], [], None
         self.layers.clear()
         self._box.clear()
 
