@@ -30,6 +30,8 @@ __all__ = ["find_view", "up_for_view"]
 MAX_VOTERS = 1500
 #: Pair directions within this angle (radians) vote for the same view.
 VOTE_ANGLE = 2e-4
+#: Distinct directions (by votes) judged before giving up.
+MAX_DIRECTIONS = 200
 #: Largest share of the model's area seen edge-on from an acceptable view.
 MAX_EDGE_ON = 0.2
 
@@ -54,7 +56,7 @@ def _voters(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> np.ndarra
     return S
 
 
-def find_view(V: Any, F: Any, *, return_support: bool = False):
+def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 1):
     """The orthographic view in which most vertex pairs coincide on screen.
 
     Parameters
@@ -63,6 +65,9 @@ def find_view(V: Any, F: Any, *, return_support: bool = False):
     F : (#F, 3) array_like of int
     return_support : bool, default: False
         Also return the supporting vertex pairs.
+    max_views : int, default: 1
+        With more than one: a list of up to ``max_views`` candidates ``(view, up, pairs)``,
+        distinct directions in decreasing support (for a caller that judges each).
 
     Returns
     -------
@@ -115,25 +120,35 @@ def find_view(V: Any, F: Any, *, return_support: bool = False):
     area = np.linalg.norm(n, axis=1)
     nu = n / np.maximum(area, 1e-300)[:, None]
     order = np.lexsort((-L, -counts))
-    k = -1
-    for c in order[:200].tolist():  # the best-supported directions first, few tried
-        edge_on = float(area[np.abs(nu @ U[c]) < 1e-3].sum() / area.sum())
-        if counts[c] >= 2 and edge_on <= MAX_EDGE_ON:
-            k = c
+    found = []
+    tried = np.zeros(U.shape[0], dtype=bool)  # pairs whose direction was already judged
+    n_tried = 0
+    for c in order.tolist():  # the best-supported distinct directions first, few tried
+        if tried[c]:
+            continue
+        if counts[c] < 2 or n_tried >= MAX_DIRECTIONS or len(found) >= max_views:
             break
-    if k < 0:
+        n_tried += 1
+        tried |= np.abs(U @ U[c]) >= np.cos(VOTE_ANGLE)
+        edge_on = float(area[np.abs(nu @ U[c]) < 1e-3].sum() / area.sum())
+        if edge_on <= MAX_EDGE_ON:
+            found.append(c)
+    if not found:
         raise MescherError(
             "V: expected vertex pairs that line up along a direction from which the model is "
             "not seen edge-on, found none; pass view= explicitly"
         )
-    support = np.flatnonzero(np.abs(U @ U[k]) >= np.cos(VOTE_ANGLE))
-    # refine: the direction that makes the supporting pairs coincide best (weighted by length^2)
-    M = D[support].T @ D[support]
-    w, E = np.linalg.eigh(M)
-    v = E[:, -1]
-    if v[2] < 0 or (abs(v[2]) <= 1e-12 and v[1] < 0):
-        v = -v
-    up = up_for_view(v)
-    if return_support:
-        return v, up, np.stack([S[i[support]], S[j[support]]], axis=1)
-    return v, up
+    out = []
+    for k in found:  # refine each candidate
+        support = np.flatnonzero(np.abs(U @ U[k]) >= np.cos(VOTE_ANGLE))
+        # the direction that makes the supporting pairs coincide best (weighted by length^2)
+        M = D[support].T @ D[support]
+        w, E = np.linalg.eigh(M)
+        v = E[:, -1]
+        if v[2] < 0 or (abs(v[2]) <= 1e-12 and v[1] < 0):
+            v = -v
+        out.append((v, up_for_view(v), np.stack([S[i[support]], S[j[support]]], axis=1)))
+    if max_views == 1:
+        v, up, pairs = out[0]
+        return (v, up, pairs) if return_support else (v, up)
+    return out

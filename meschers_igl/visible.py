@@ -1589,6 +1589,45 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
     return None if found is None or found[0] != "hidden gap" else v
 
 
+def _false_edge_seen(V, F, v, up, tol) -> bool:
+    """Does the visible surface from ``v`` glue a false edge with a depth gap (a junction)?"""
+    diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MescherWarning)
+        try:
+            vm = see_model(V, F, v, up, tol=tol / diag, bridge=False, hidden=False)
+        except MescherError:
+            return False
+    if not any(j.kind == "false edge" and j.depth_gap > tol for j in vm.report.junctions):
+        return False
+    return _depths_have_period(vm.F, vm.Z, 10.0 * tol)
+
+
+def _depths_have_period(F: np.ndarray, Z: np.ndarray, tol: float) -> bool:
+    """Do the per-face corner depths ``Z`` fail to integrate on the glued surface ``F``?
+
+    Edge values ``zeta`` (the faces' depth differences, averaged per edge) are integrable iff
+    ``zeta = d01 z`` for some ``z``: the least-squares residual (``scipy.sparse.linalg.lsqr``)
+    exceeds ``tol`` somewhere exactly when a loop gains depth (a period spreads over its edges).
+    """
+    from scipy.sparse.linalg import lsqr
+
+    n = int(F.max()) + 1
+    a = F.reshape(-1)
+    b = F[:, [1, 2, 0]].reshape(-1)
+    dz = (Z[:, [1, 2, 0]] - Z).reshape(-1)
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    uk, inv = np.unique(key, return_inverse=True)
+    sgn = np.where(a < b, 1.0, -1.0)
+    zeta = np.bincount(inv, weights=sgn * dz) / np.bincount(inv)
+    lo, hi = uk // n, uk % n
+    m = uk.size
+    D = sp.csr_matrix((np.r_[-np.ones(m), np.ones(m)], (np.r_[np.arange(m), np.arange(m)],
+                       np.r_[lo, hi])), shape=(m, n))  # fmt: skip
+    z = lsqr(D, zeta, atol=1e-14, btol=1e-14, iter_lim=10 * n)[0]
+    return bool(np.abs(D @ z - zeta).max(initial=0.0) > tol)
+
+
 def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None):
     """``view="auto"`` for any model: the view from which its junctions line up.
 
@@ -1651,9 +1690,15 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None)
         v, up = find_view(V, F)
     except MescherError as e:
         v, err = None, e
-    near = v is not None and (start is None or v @ start >= np.cos(START_ANGLE))
     # a cut model's junctions are its open loops, which the vote pairs (as autoview does)
-    if near and (bool(boundary_loops(F)) or seen(v)):
+    if v is not None and bool(boundary_loops(F)):
+        if start is None or v @ start >= np.cos(START_ANGLE):
+            return v, up
+    near = v is not None and (start is None or v @ start >= np.cos(START_ANGLE))
+    # the best-supported direction, when a junction is seen from it (caps that pair up, or a
+    # false edge on the visible surface closing a loop that gains depth); a weaker direction
+    # lines up pairs by accident (a staircase seen from below, a frame along its diagonal)
+    if near and (seen(v) or _false_edge_seen(V, F, v, up, tol)):
         return v, up
     best = None
     # hidden gaps: the bar ends nearest each other first, a bounded number of them
@@ -1698,4 +1743,8 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None)
         )
     if err is not None:
         raise err
-    return v, up
+    raise MescherError(
+        f"view: expected a view from which junctions line up, found none (tried the view "
+        f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {len(cand)} pair(s) of "
+        "bar ends for a hidden gap); pass view= or view_start="
+    )
