@@ -75,12 +75,17 @@ class Renderer:
         self.scene = MescherScene(window_size=(cell, cell))
 
     def shoot(self, items: Sequence[tuple], bounds, lights=LIGHTS[:1], env_map=None) -> np.ndarray:
-        """Render ``items`` (("mescher", m, order, kw) or ("mesh", V, F, kw)) with one camera."""
+        """Render ``items`` (("mescher", m, order, kw), ("mesh", V, F, kw), ("path", path, None,
+        kw) or ("points", vertices, None, kw)) with one camera."""
         scene = self.scene
         scene.clear()
         for kind, a, b, kw in items:
             if kind == "mescher":
                 scene.add(a, order=b, **kw)
+            elif kind == "path":  # a polyline on the last mescher, drawn where it is visible
+                scene.add_path(a, **kw)
+            elif kind == "points":  # vertices of the last mescher, marked where visible
+                scene.add_points(a, **kw)
             else:
                 scene.add_embedding(a, b, **kw)
         scene.view(bounds)

@@ -29,7 +29,7 @@ import numpy as np
 from pyvista_views.camera import default_bounds, xy_box
 
 from .describe import describe, impossibility_kind
-from .figures import Colorbar, compose, format_value, format_values, overlay, round_off_scale
+from .figures import Colorbar, compose, format_value, format_values, round_off_scale
 from .job import ModelJob
 from .metrics import (
     distance_error,
@@ -135,27 +135,25 @@ def subdivision_levels(n_faces: int, levels: int, max_faces: int) -> int:
     return levels
 
 
-def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) -> tuple:
-    """Segments and labels of the homology loops (non-zero periods in colour)."""
-    xy, edges = np.asarray(s.m.xy), np.asarray(s.m.edges)
+def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) -> list:
+    """The homology loops as closed geodesics on the surface (``shortest_loops``), as path items
+    of :meth:`Renderer.shoot`: non-zero periods in colour, labelled with their period."""
+    from meschers_igl.geodesic import shortest_loops
+
     # round-off is judged against the model's size: all-zero periods print as 0, not 1e-15
     scale = max(round_off_scale(periods, s.scale), 1e-300)
-    segs, labels = [], []
-    for k, (eids, _signs) in enumerate(s.m.homology_generators()):
+    items = []
+    for k, loop in enumerate(shortest_loops(s.m)):
         nonzero = abs(periods[k]) > 1e-9 * max(s.scale, 1.0)
         if not (nonzero or all_loops):
             continue
         colour = PALETTE[k % len(PALETTE)] if nonzero else "#777777"
-        segs.append((xy[edges[eids]], colour, 3))
         text = format_value(periods[k], scale)
-        labels.append(
-            (
-                xy[edges[eids[len(eids) // 2]]].mean(axis=0),
-                f"p{k}={text}" if prefix else text,
-                colour,
-            )
-        )
-    return segs, labels
+        # only loops that climb are labelled (ten "p=0" labels would bury the figure)
+        label = (f"p{k}={text}" if prefix else text) if nonzero else None
+        items.append(("path", loop, None, {"color": colour, "width": 3 if nonzero else 2,
+                                           "label": label}))  # fmt: skip
+    return items
 
 
 def hodge(job: ModelJob, s: Subject) -> None:
@@ -186,9 +184,8 @@ def hodge(job: ModelJob, s: Subject) -> None:
         ],
         bounds,
     )
-    right = job.renderer.shoot([_mescher(s, shading="flat")], bounds)
-    segs, labels = _loop_marks(s, periods, all_loops=True, prefix=True)
-    right = overlay(right, bounds, segments=segs, labels=labels)
+    loops = _loop_marks(s, periods, all_loops=True, prefix=True)
+    right = job.renderer.shoot([_mescher(s, shading="flat"), *loops], bounds)
     fig = compose(
         [[left, right]],
         [f"exact part z ({st.isolines} isolines)", "homology loops and periods"],
@@ -196,8 +193,9 @@ def hodge(job: ModelJob, s: Subject) -> None:
     )
     job.figure(fig, f"{s.name}_hodge.png", "Hodge decomposition and periods",
         "Left: the potential z of the exact part d01 z of zeta (paper Eq. 3), i.e. the depth of the "
-        f"bent embedding, with {st.isolines} isolines. Right: the homology generators (tree-cotree) and "
-        "the depth gained around each, the periods of the harmonic part omega: "
+        f"bent embedding, with {st.isolines} isolines. Right: a closed geodesic in the class of each "
+        "homology generator (tree-cotree), drawn where it lies on the visible surface (grey: period 0; "
+        "coloured and labelled: the depth gained around it), and the depth gained around each, the periods of the harmonic part omega: "
         f"{format_values(periods, scale=round_off_scale(periods, s.scale))} (values "
         "below 1e-9 of the model's size are round-off, printed as 0). "
         f"{_impossible_because(kind)}")  # fmt: skip
@@ -286,14 +284,16 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     if d_exact is not None and sources.size == 1:
         rec["path_length_over_exact"] = float(path.length / d_exact[target])
     job.record["geodesic"] = rec
-    P = np.asarray(path.xy)
     clim = (0.0, float(np.nanmax(np.where(np.isfinite(d_acc), d_acc, np.nan))))
     bounds = s.bounds(st.cell)
     kw = {"shading": "smooth", "scalars": d_acc, "cmap": GEODESIC_CMAP, "clim": clim,
           "isolines": st.isolines}  # fmt: skip
-    img = job.renderer.shoot([_mescher(s, **kw)], bounds)
-    img = overlay(img, bounds, segments=[(np.stack([P[:-1], P[1:]], axis=1), "#ff2020", 3)],
-                  points=[(np.asarray(m.xy)[sources], "white", 5), (P[[-1]], "#ff2020", 5)])  # fmt: skip
+    img = job.renderer.shoot(
+        [_mescher(s, **kw), ("path", path, None, {"color": "#ff2020", "width": 3}),
+         ("points", sources, None, {"color": "white", "radius": 5}),
+         ("points", [target], None, {"color": "#ff2020", "radius": 5})],
+        bounds,
+    )  # fmt: skip
     fig = compose([[img]], colorbar=Colorbar(GEODESIC_CMAP, *clim, "geodesic distance"))
     err = ""
     if d_exact is not None:
@@ -307,7 +307,8 @@ def geodesic(job: ModelJob, s: Subject) -> None:
         f"Heat-method distance (Crane et al.; paper Sec. 4.3) from vertex {source} (white dot; one source "
         f"per connected component), accurate preset, with {st.isolines} isolines, and the shortest path "
         "(red) to the farthest vertex, traced down the distance's gradient and pulled taut; length "
-        f"{path.length:.4g}. The path is drawn on top of the picture (occlusion ignored).{err}")  # fmt: skip
+        f"{path.length:.4g}. The path and the dots are drawn only where they lie on the visible surface "
+        f"(where the path passes behind another sheet it is left out).{err}")  # fmt: skip
 
 
 def smoothing(job: ModelJob, s: Subject) -> None:

@@ -15,7 +15,7 @@ import numpy as np
 from pyvista_views.camera import default_bounds, xy_box
 
 from .describe import describe
-from .figures import compose, format_values, overlay, round_off_scale
+from .figures import compose, format_values, round_off_scale
 from .inputs import ModelSpec, load_artist, load_solid
 from .job import ModelJob
 from .metrics import distance_error, exact_distance, one_source_per_component
@@ -120,17 +120,16 @@ def periods_and_geodesic(
     job.record["geodesic"] = rec
     bounds = default_bounds(xy_box(np.asarray(m.xy)), (st.cell, st.cell))
     kw = {"shading": "smooth", "scalars": d, "cmap": GEODESIC_CMAP, "isolines": st.isolines}
-    img = job.renderer.shoot([("mescher", ms, order1, kw)], bounds)
-    img = overlay(img, bounds, points=[(np.asarray(ms.xy)[source], "white", 5)])
-    flat = job.renderer.shoot([("mescher", m, order, {"shading": "flat"})], bounds)
-    xy, edges = np.asarray(m.xy), np.asarray(m.edges)
-    segs, labels = [], []
-    for k, (eids, _s) in enumerate(m.homology_generators()):
-        if abs(periods[k]) > 1e-9 * m.scale():
-            segs.append((xy[edges[eids]], "#d62728", 3))
-            mid = xy[edges[eids[len(eids) // 2]]].mean(axis=0)
-            labels.append((mid, format_values([periods[k]]), "#d62728"))
-    flat = overlay(flat, bounds, segments=segs, labels=labels)
+    dots = ("points", source, None, {"color": "white", "radius": 5})
+    img = job.renderer.shoot([("mescher", ms, order1, kw), dots], bounds)
+    from meschers_igl.geodesic import shortest_loops
+
+    # closed geodesics around the loops with a period, drawn where they are visible
+    loops = [("path", loop, None, {"color": "#d62728", "width": 3,
+                                   "label": format_values([periods[k]])})
+             for k, loop in enumerate(shortest_loops(m))
+             if abs(periods[k]) > 1e-9 * m.scale()]  # fmt: skip
+    flat = job.renderer.shoot([("mescher", m, order, {"shading": "flat"}), *loops], bounds)
     fig = compose([[flat, img]], ["non-zero periods", "geodesic distance"])
     gaps = job.record.get("expected", {}).get("depth_gaps")
     gaps_txt = format_values(gaps) if isinstance(gaps, list) else "not given"

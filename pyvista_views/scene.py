@@ -86,14 +86,14 @@ REPRESENTATIONS = ("mescher", "cut", "bent")
 #: Share of the window's width on the right that :meth:`MescherScene.add_scalar_bar` takes.
 SCALAR_BAR_STRIP = 0.2
 _BAKED = "_shaded_rgb"
-#: Smallest label font in pixels (readable at page width).
-MIN_LABEL_PX = 12
+#: Smallest label line height in pixels (glyphs of about 11 pixels: readable at page width).
+MIN_LABEL_PX = 14
 
 
 def label_font_size(window: tuple[int, int]) -> int:
-    """Font size in pixels of in-figure labels: 1/40 of the window's height, at least
+    """Line height in pixels of in-figure labels: 1/32 of the window's smaller side, at least
     :data:`MIN_LABEL_PX`."""
-    return int(max(MIN_LABEL_PX, round(min(window) / 40)))
+    return int(max(MIN_LABEL_PX, round(min(window) / 32)))
 
 
 @dataclass
@@ -898,16 +898,20 @@ class MescherScene:
         return out
 
     def _draw_labels(self, labels: list, bounds, window: tuple[int, int]) -> None:
-        from vtkmodules.vtkRenderingCore import vtkTextProperty, vtkTextRenderer
+        from vtkmodules.vtkRenderingCore import vtkTextRenderer
 
         W, H = window
         size = label_font_size(window)
-        measure, prop, box = vtkTextRenderer(), vtkTextProperty(), [0, 0, 0, 0]
-        prop.SetFontSize(size)
-        prop.SetFontFamilyToArial()
-        sizes = []
-        for _, text, _ in labels:
-            measure.GetBoundingBox(prop, text, box, 72)
+        measure, box = vtkTextRenderer(), [0, 0, 0, 0]
+        actors, sizes = [], []
+        for _, text, color in labels:
+            actor = self.plotter.add_text(text, position=(0, 0), color=color)
+            tp = actor.GetTextProperty()
+            tp.SetFontSize(size)  # VTK's font size: the line height in pixels
+            tp.SetBackgroundColor(1.0, 1.0, 1.0)
+            tp.SetBackgroundOpacity(0.75)
+            measure.GetBoundingBox(tp, text, box, self.plotter.render_window.GetDPI())
+            actors.append(actor)
             sizes.append((box[1] - box[0] + 4.0, box[3] - box[2] + 4.0))
         P = np.array([p for p, _, _ in labels], dtype=np.float64)
         anchors = np.column_stack(
@@ -916,15 +920,8 @@ class MescherScene:
                 (bounds[3] - P[:, 1]) / (bounds[3] - bounds[2]) * H,
             ]
         )
-        for (x0, y0), (_w, h), (_, text, color) in zip(
-            place_labels(anchors, sizes, (W, H)), sizes, labels
-        ):
-            actor = self.plotter.add_text(
-                text, position=(int(x0 + 2), int(H - y0 - h + 2)), font_size=size, color=color
-            )
-            tp = actor.GetTextProperty()
-            tp.SetBackgroundColor(1.0, 1.0, 1.0)
-            tp.SetBackgroundOpacity(0.75)
+        for (x0, y0), (_w, h), actor in zip(place_labels(anchors, sizes, (W, H)), sizes, actors):
+            actor.SetPosition(int(x0 + 2), int(H - y0 - h + 2))
             self._overlay_actors.append(actor)
 
     def _adopt(self, layer: Layer) -> Layer:
