@@ -53,7 +53,7 @@ import scipy.sparse as sp
 from numba import njit
 
 from .errors import MescherError
-from .geometry2d import _choose_cell, _grid_cells
+from .geometry2d import _choose_cell, _grid_cells, default_tol, triangle_heights
 from .painter import _draw_order
 from .topology import edge_faces
 from .validate import as_choice, as_positive
@@ -156,8 +156,13 @@ def _ranges(n: np.ndarray) -> np.ndarray:
 
 
 def _double_area(T: np.ndarray) -> np.ndarray:
+    """Twice the signed screen areas of triangles ``T`` (k, 3, 2), 0 for triangles thinner
+    than the overlap tolerance (seen edge-on: they cover nothing, as for the depth order)."""
     e1, e2 = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]
-    return e1[:, 0] * e2[:, 1] - e2[:, 0] * e1[:, 1]
+    a2 = e1[:, 0] * e2[:, 1] - e2[:, 0] * e1[:, 1]
+    if len(T):
+        a2[triangle_heights(T) <= default_tol(T.reshape(-1, 2))] = 0.0
+    return a2
 
 
 def _box_pairs(lo_a, hi_a, lo_b, hi_b) -> tuple[np.ndarray, np.ndarray]:
@@ -322,8 +327,6 @@ def _hidden_intervals(
     lo_s, hi_s = np.minimum(A, B) - pad, np.maximum(A, B) + pad
     s, j = _box_pairs(lo_s, hi_s, T[faces].min(axis=1), T[faces].max(axis=1))
     g = faces[j]
-    keep = rank[g] > thr[s].min(axis=1)
-    s, g = s[keep], g[keep]
     if near is not None and len(s):
         anc = anchor[s]
         has = anc >= 0
@@ -351,19 +354,19 @@ def _hidden_intervals(
         alpha = (e[:, 0] * (a[:, 1] - v[:, 1]) - e[:, 1] * (a[:, 0] - v[:, 0])) * inv
         beta = (e[:, 0] * d[:, 1] - e[:, 1] * d[:, 0]) * inv
         up, down = beta > 0, beta < 0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r = (_INSIDE - alpha) / beta  # alpha + beta t > _INSIDE: strictly inside
-            rc = (-_INSIDE - alpha) / beta  # alpha + beta t >= -_INSIDE: closed, widened
-        t0 = np.where(up, np.maximum(t0, r), t0)
-        t1 = np.where(down, np.minimum(t1, r), t1)
-        t1 = np.where(~(up | down) & (alpha <= _INSIDE), -1.0, t1)
         on = (np.abs(alpha) <= _INSIDE) & (np.abs(beta) <= _INSIDE)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = -alpha / beta  # alpha + beta t > 0: strictly inside, exact crossing
+            rc = (-_INSIDE - alpha) / beta  # alpha + beta t >= -_INSIDE: closed, widened
+        t0 = np.where(up & ~on, np.maximum(t0, r), t0)
+        t1 = np.where(down & ~on, np.minimum(t1, r), t1)
+        t1 = np.where(on | (~(up | down) & (alpha <= 0)), -1.0, t1)
         c0 = np.where(up & ~on, np.maximum(c0, rc), c0)
         c1 = np.where(down & ~on, np.minimum(c1, rc), c1)
         along |= on
         left_of = (d[:, 0] * (u[:, 1] - a[:, 1]) - d[:, 1] * (u[:, 0] - a[:, 0])) > 0
         side = np.where(on, left_of, side)
-    strict = t1 > t0
+    strict = t1 > t0 + _MIN_PIECE  # touching at a point hides nothing
     on_edge = along & (c1 > c0)
     rg = rank[g]
     none = np.arange(n)
@@ -378,7 +381,11 @@ def _hidden_intervals(
         c_hi = np.concatenate([t1[cov], c1[cov_e], np.ones(len(no_own))])
         parts.append(_complement(n, cs, c_lo, c_hi))  # where this side shows its own face
     shown = [np.concatenate([p[i] for p in parts]) for i in range(3)]
-    return _complement(n, *shown)
+    # where the segment enters or leaves any face: what lies beside it may change there
+    bs = np.concatenate([s[strict], s[strict], s[on_edge], s[on_edge]])
+    bt = np.concatenate([t0[strict], t1[strict], c0[on_edge], c1[on_edge]])
+    inner = (bt > 0.0) & (bt < 1.0)
+    return _complement(n, *shown), (bs[inner], bt[inner])
 
 
 def _complement(n: int, seg: np.ndarray, t0: np.ndarray, t1: np.ndarray):
@@ -515,9 +522,10 @@ def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
     return nodes[:n_out], offsets[: n_lines + 1], closed[:n_lines]
 
 
-def _join(P0, P1, key0, key1, group, scale):
-    """Polylines from pieces ``P0 -> P1`` whose ends carry node keys (equal keys: the same
-    point), joined within each ``group`` value; straight-on points dropped."""
+def _join(P0, P1, group, scale):
+    """Polylines from pieces ``P0 -> P1``, joined end to end within each ``group`` value where
+    exactly two pieces meet (ends are one node when they agree to ``1e-9`` of the model's
+    size); points where a polyline goes straight on are dropped."""
     m = len(P0)
     if m == 0:
         return (
@@ -526,14 +534,18 @@ def _join(P0, P1, key0, key1, group, scale):
             np.zeros(0, dtype=np.int64),
             np.zeros(0, dtype=bool),
         )
-    keys = np.stack([key0, key1], axis=1) * np.int64(8) + group[:, None]
-    uniq, inv = np.unique(keys.ravel(), return_inverse=True)
-    inv = inv.reshape(m, 2)
+    q = np.round(np.concatenate([P0, P1]) / (_MIN_PIECE * scale)).astype(np.int64)
+    keys = np.c_[q, np.r_[group, group]]
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    inv = np.stack([inv[:m], inv[m:]], axis=1)
     pts = np.zeros((len(uniq), 2))
     pts[inv[:, 0]] = P0
     pts[inv[:, 1]] = P1
+    # a piece drawn twice (coincident sources, e.g. the two sides of a seam) is drawn once
+    inv = np.unique(np.sort(inv, axis=1), axis=0)
     nodes, offsets, closed = _walk_chains(len(uniq), inv[:, 0].copy(), inv[:, 1].copy())
-    line_group = (uniq[nodes[offsets[:-1]]] % 8).astype(np.int64)
+    line_group = uniq[nodes[offsets[:-1]], 2].astype(np.int64)
     X = pts[nodes]
     # drop interior points where the polyline goes straight on
     n = len(X)
@@ -623,7 +635,6 @@ def line_drawing(
     B = [xy[E[e_src, 1]]]
     thr = [_side_ranks(xy, F, E[e_src], f1[e_src], f2[e_src], rank, area2)]
     anchor = [np.full(len(e_src), -1, dtype=np.int64)]
-    node0, node1 = [E[e_src, 0]], [E[e_src, 1]]
     own = [np.stack([f1[e_src], f2[e_src]], axis=1)]
     is_crease_src = [crease[e_src]]
     near = None
@@ -647,17 +658,15 @@ def line_drawing(
             B.append(CP[cedge[:, 1]])
             thr.append(np.stack([seg_thr, seg_thr], axis=1))
             anchor.append(cf)
-            node0.append(nV + cedge[:, 0])
-            node1.append(nV + cedge[:, 1])
             own.append(np.full((len(cf), 2), -1, dtype=np.int64))
             is_crease_src.append(np.zeros(len(cf), dtype=bool))
     A, B = np.concatenate(A), np.concatenate(B)
     thr, anchor = np.concatenate(thr), np.concatenate(anchor)
-    node0, node1, own = np.concatenate(node0), np.concatenate(node1), np.concatenate(own)
+    own = np.concatenate(own)
     is_crease_src = np.concatenate(is_crease_src)
     n_seg = len(A)
 
-    hs, h0, h1 = _hidden_intervals(A, B, thr, anchor, T, area2, rank, near, scale)
+    (hs, h0, h1), (bs, bt) = _hidden_intervals(A, B, thr, anchor, T, area2, rank, near, scale)
     vs, v0, v1 = _complement(n_seg, hs, h0, h1)
     pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
     if hidden:
@@ -667,12 +676,34 @@ def line_drawing(
     p0 = np.concatenate([p[1] for p in pieces])
     p1 = np.concatenate([p[2] for p in pieces])
     vis = np.concatenate([p[3] for p in pieces])
+    # split pieces where their segment crosses a face's boundary (the side may change there);
+    # a split point is one node shared by the two sub-pieces
+    key, first = np.unique(bs * 4.0 + bt, return_index=True)
+    bs, bt = bs[first], bt[first]
+    lo_i = np.searchsorted(key, ps * 4.0 + p0, "right")
+    hi_i = np.searchsorted(key, ps * 4.0 + p1, "left")
+    k = np.maximum(hi_i - lo_i, 0)
+    n_sub = k + 1
+    piece = np.repeat(np.arange(len(ps)), n_sub)
+    j = _ranges(n_sub)
+    is_first, is_last = j == 0, j == n_sub[piece] - 1
+    bp_lo = lo_i[piece] + j - 1  # break point at the start of sub-piece j (j >= 1)
+    s0 = np.where(
+        is_first, p0[piece], bt[np.clip(bp_lo, 0, max(len(bt) - 1, 0))] if len(bt) else 0.0
+    )
+    s1 = np.where(
+        is_last, p1[piece], bt[np.clip(bp_lo + 1, 0, max(len(bt) - 1, 0))] if len(bt) else 0.0
+    )
+    ps, vis = ps[piece], vis[piece]
+    p0, p1 = s0, s1
     d = B[ps] - A[ps]
     seg_len = np.linalg.norm(d, axis=1)
     long = (p1 - p0) * seg_len > _MIN_PIECE * scale
-    ps, p0, p1, vis, d, seg_len = ps[long], p0[long], p1[long], vis[long], d[long], seg_len[long]
-    Q0 = A[ps] + p0[:, None] * d
-    Q1 = A[ps] + p1[:, None] * d
+    sel = np.flatnonzero(long)
+    ps, p0, p1, vis, d, seg_len = ps[sel], p0[sel], p1[sel], vis[sel], d[sel], seg_len[sel]
+    # a source's own ends exactly (A + 1 (B - A) may differ from B in the last bit)
+    Q0 = np.where((p0 <= 0.0)[:, None], A[ps], A[ps] + p0[:, None] * d)
+    Q1 = np.where((p1 >= 1.0)[:, None], B[ps], A[ps] + p1[:, None] * d)
 
     # kinds from the faces drawn just left and right of each piece's midpoint
     mid = 0.5 * (Q0 + Q1)
@@ -690,13 +721,8 @@ def line_drawing(
     # a hidden piece is drawn by what it would be if seen: a crease or an occluding line
     kind = np.where(vis, kind, np.where(is_crease_src[ps], CREASE, OCCLUSION))
 
-    # node keys: a piece end at t = 0 or 1 is the source's end node; T-junctions are new nodes
-    n_base = nV + len(E)
-    fresh = n_base + np.arange(2 * len(ps), dtype=np.int64)
-    k0 = np.where(p0 <= 0.0, node0[ps], fresh[: len(ps)])
-    k1 = np.where(p1 >= 1.0, node1[ps], fresh[len(ps) :])
     group = kind * 2 + vis.astype(np.int64)
-    X, offsets, line_group, closed = _join(Q0, Q1, k0, k1, group, scale)
+    X, offsets, line_group, closed = _join(Q0, Q1, group, scale)
     return LineDrawing(
         points=X,
         offsets=offsets,
