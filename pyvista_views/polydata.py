@@ -42,6 +42,8 @@ from numba import njit
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_choice, as_faces, as_float_array, as_points
 
+from .normals import DEFAULT_FEATURE_ANGLE, as_feature_angle, corner_groups
+
 #: Total depth span of the painter's offsets as a fraction of the xy bounding-box diagonal: small
 #: enough to be invisible to everything but the z-buffer, large enough for 24-bit depth at 1M faces
 #: once the camera's clipping range is fitted to it.
@@ -452,6 +454,7 @@ def to_polydata(
     front_to_back: bool = False,
     embed: bool = False,
     split_folds: bool = True,
+    feature_angle: float | None = DEFAULT_FEATURE_ANGLE,
 ) -> pv.PolyData:
     """The flattened mescher, drawn back to front (paper Section 4.1).
 
@@ -483,6 +486,10 @@ def to_polydata(
     split_folds : bool, default: True
         Smooth indexed layout: copy vertices where the screen winding changes
         (:func:`split_by_facing`), so per-vertex baked colours can differ across a fold.
+    feature_angle : float or None, default: 30
+        Smooth shading: normals are not shared across edges whose dihedral angle (from zeta)
+        exceeds this many degrees (:func:`pyvista_views.normals.corner_groups`), so creases stay
+        crisp; ``None`` or 180: plain vertex normals.
 
     Returns
     -------
@@ -497,20 +504,35 @@ def to_polydata(
     n_faces = F.shape[0]
     draw = draw_order(order, n_faces)
     fields = as_scalars(scalars, xy.shape[0], n_faces)
+    groups = None
+    if shading == "smooth":
+        groups, group_vertex, group_normals = corner_groups(
+            F, np.asarray(m.face_normals()), np.asarray(m.face_areas()),
+            as_feature_angle(feature_angle),
+        )  # fmt: skip
     if layout != "soup":
         points = np.zeros((xy.shape[0], 3))
         points[:, :2] = xy
         flat = shading == "flat"
+        cells, normals, drawn_fields = F, None, fields
+        if not flat:  # one point per group of corners (vertices split at creases)
+            points, cells, normals = points[group_vertex], groups, group_normals
+            drawn_fields = {
+                k: ((v[group_vertex], loc) if loc == "vertex" else (v, loc))
+                for k, (v, loc) in fields.items()
+            }
         mesh = indexed(
             points,
-            F,
+            cells,
             draw[::-1] if front_to_back else draw,
             face_normals=m.face_normals() if flat else None,
-            vertex_normals=None if flat else m.vertex_normals(),
-            scalars=fields,
+            vertex_normals=normals,
+            scalars=drawn_fields,
             provoking=layout == "provoking",
             split_folds=split_folds,
         )
+        if not flat:
+            mesh.point_data["vertex_id"] = group_vertex[np.asarray(mesh.point_data["vertex_id"])]
         step = 0.0
     else:
         step = _painter_step(xy, n_faces)
@@ -521,8 +543,8 @@ def to_polydata(
             normals = np.asarray(m.face_normals())[draw]
             mesh = soup(corners, F, draw, face_normals=normals, scalars=fields)
         else:
-            normals = np.asarray(m.vertex_normals())[F[draw]]
-            mesh = soup(corners, F, draw, corner_normals=normals, scalars=fields)
+            mesh = soup(corners, F, draw, corner_normals=group_normals[groups[draw]],
+                        scalars=fields)  # fmt: skip
     mesh.field_data["painter_step"] = np.array([step])
     if embed:
         mesh.field_data[FIELD_EDGES] = np.asarray(m.edges, dtype=np.int64)
@@ -541,12 +563,13 @@ def embedding_polydata(
     scalars: object = None,
     layout: str = "soup",
     split_folds: bool = True,
+    feature_angle: float | None = DEFAULT_FEATURE_ANGLE,
 ) -> pv.PolyData:
     """A real 3D mesh (a cut or bent embedding, or any ordinary mesh), z-buffered.
 
-    Normals are libigl's (``per_face_normals``; area-weighted ``per_vertex_normals``, the same
-    weighting as a mescher's vertex normals), so a mescher of this mesh and the mesh itself get
-    identical shading input.
+    Normals are libigl's (``per_face_normals``; for smooth shading area-weighted per group of
+    corners split at ``feature_angle``, :func:`pyvista_views.normals.corner_groups`, as for a
+    mescher), so a mescher of this mesh and the mesh itself get identical shading input.
 
     Parameters
     ----------
@@ -573,7 +596,17 @@ def embedding_polydata(
                 V, F, draw, face_normals=normals, scalars=fields, provoking=layout == "provoking"
             )
         return soup(V[F], F, draw, face_normals=normals, scalars=fields)
-    normals = igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA)
+    face_normals = igl.per_face_normals(V, F, np.array([0.0, 0.0, 1.0]))
+    groups, group_vertex, normals = corner_groups(
+        F, face_normals, igl.doublearea(V, F), as_feature_angle(feature_angle)
+    )
     if layout != "soup":
-        return indexed(V, F, draw, vertex_normals=normals, scalars=fields, split_folds=split_folds)
-    return soup(V[F], F, draw, corner_normals=normals[F], scalars=fields)
+        split = {
+            k: ((v[group_vertex], loc) if loc == "vertex" else (v, loc))
+            for k, (v, loc) in fields.items()
+        }
+        mesh = indexed(V[group_vertex], groups, draw, vertex_normals=normals, scalars=split,
+                       split_folds=split_folds)  # fmt: skip
+        mesh.point_data["vertex_id"] = group_vertex[np.asarray(mesh.point_data["vertex_id"])]
+        return mesh
+    return soup(V[F], F, draw, corner_normals=normals[groups], scalars=fields)

@@ -54,6 +54,7 @@ from .lights import (
     set_vtk_lights,
     tone_map_curve,
 )
+from .normals import DEFAULT_FEATURE_ANGLE
 from .overlays import (
     PATH_COLORS,
     PathMark,
@@ -433,6 +434,7 @@ def add_mescher(
     -------
     Layer
     """
+    feature_angle = kwargs.pop("feature_angle", DEFAULT_FEATURE_ANGLE)
     opts = _representation_kwargs(**kwargs)
     shading = as_choice(shading, "shading", SHADINGS)
     F = np.asarray(m.F)
@@ -456,6 +458,7 @@ def add_mescher(
         layout=layout,
         front_to_back=front_to_back,
         split_folds=False,  # done on the first baked relight, if ever (_use_baked)
+        feature_angle=feature_angle,
     )
     if front_to_back:
         use_early_z(plotter.renderer)
@@ -491,14 +494,16 @@ def add_embedding(
     Same camera, lights and material as :func:`add_mescher`, so a mescher and its embeddings line
     up pixel for pixel.  ``V`` is in the camera frame; other arguments as in :func:`add_mescher`.
     """
+    feature_angle = kwargs.pop("feature_angle", DEFAULT_FEATURE_ANGLE)
     opts = _representation_kwargs(**kwargs)
     shading = as_choice(shading, "shading", SHADINGS)
     V = np.asarray(V, dtype=np.float64)
     fields = as_scalars(scalars, V.shape[0] if V.ndim == 2 else -1, np.asarray(F).shape[0])
     layout = _layout(shading, fields, False)
     mesh = embedding_polydata(
-        V, F, shading=shading, scalars=scalars, layout=layout, split_folds=False
-    )
+        V, F, shading=shading, scalars=scalars, layout=layout, split_folds=False,
+        feature_angle=feature_angle,
+    )  # fmt: skip
     lift = 1e-4 * float(np.hypot(*np.ptp(np.asarray(mesh.points)[:, :2], axis=0)) or 1.0)
     return _add_layer(plotter, mesh, "embedding", shading, layout, isoline_lift=lift, **opts)
 
