@@ -50,7 +50,9 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
 from numba import njit
+from scipy.spatial import cKDTree
 
 from .errors import MescherError
 from .geometry2d import _choose_cell, _grid_cells, default_tol, triangle_heights
@@ -534,8 +536,13 @@ def _join(P0, P1, group, scale):
             np.zeros(0, dtype=np.int64),
             np.zeros(0, dtype=bool),
         )
-    q = np.round(np.concatenate([P0, P1]) / (_MIN_PIECE * scale)).astype(np.int64)
-    keys = np.c_[q, np.r_[group, group]]
+    # ends closer than the tolerance are one point (clusters of a k-d tree's close pairs: a
+    # rounding grid would split points that straddle a cell border)
+    ends = np.concatenate([P0, P1])
+    close = cKDTree(ends).query_pairs(_MIN_PIECE * scale, output_type="ndarray")
+    adj = sp.coo_matrix((np.ones(len(close)), (close[:, 0], close[:, 1])), shape=(2 * m, 2 * m))
+    _, point = csgraph.connected_components(adj, directed=False)
+    keys = np.c_[point, np.r_[group, group]]
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     inv = inv.ravel()
     inv = np.stack([inv[:m], inv[m:]], axis=1)
@@ -545,21 +552,42 @@ def _join(P0, P1, group, scale):
     # a piece drawn twice (coincident sources, e.g. the two sides of a seam) is drawn once
     inv = np.unique(np.sort(inv, axis=1), axis=0)
     nodes, offsets, closed = _walk_chains(len(uniq), inv[:, 0].copy(), inv[:, 1].copy())
-    line_group = uniq[nodes[offsets[:-1]], 2].astype(np.int64)
+    line_group = uniq[nodes[offsets[:-1]], 1].astype(np.int64)
     X = pts[nodes]
-    # drop interior points where the polyline goes straight on
     n = len(X)
-    inner = np.ones(n, dtype=bool)
-    inner[offsets[:-1]] = False
-    inner[offsets[1:] - 1] = False
-    idx = np.flatnonzero(inner)
-    a, b = X[idx] - X[idx - 1], X[idx + 1] - X[idx]
+    line_of = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    first, last = offsets[:-1][line_of], offsets[1:][line_of] - 1
+    # neighbours of every point along its polyline; a closed one wraps around (its last point
+    # repeats the first)
+    prev = np.where(
+        np.arange(n) == first, np.where(closed[line_of], last - 1, -1), np.arange(n) - 1
+    )
+    nxt = np.where(np.arange(n) == last, -1, np.arange(n) + 1)
+    ok = (prev >= 0) & (nxt >= 0)
+    a = X[np.maximum(nxt, 0)] - X
+    b = X - X[np.maximum(prev, 0)]
     cross = np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
     dot = np.einsum("ij,ij->i", a, b)
-    straight = (cross <= 1e-9 * np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1)) & (dot > 0)
-    keep = np.ones(n, dtype=bool)
-    keep[idx[straight]] = False
-    line_of = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    la, lb = np.linalg.norm(a, axis=1), np.linalg.norm(b, axis=1)
+    straight = ok & (cross <= 1e-9 * la * lb) & (dot > 0)
+    # a closed polyline starts at a corner: rotate it to its first point that is not straight
+    k = np.diff(offsets)
+    corner = np.where(straight, n, np.arange(n) - first)
+    start = np.full(len(k), n)
+    np.minimum.at(start, line_of, corner)
+    rot = np.where(closed & (start < n), start, 0)
+    j = np.arange(n) - first  # position along the polyline
+    m_open = k - 1  # distinct points of a closed polyline
+    src = np.where(
+        closed[line_of],
+        first
+        + np.where(
+            j == k[line_of] - 1, rot[line_of], (j + rot[line_of]) % np.maximum(m_open[line_of], 1)
+        ),
+        np.arange(n),
+    )
+    X, straight = X[src], straight[src]
+    keep = ~straight
     counts = np.bincount(line_of[keep], minlength=len(offsets) - 1)
     new_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
     return X[keep], new_off, line_group, closed

@@ -97,7 +97,10 @@ def test_cube_creases_outline_and_hidden_diagonals():
     assert ld.length("occlusion") == pytest.approx(0.0, abs=1e-12)
     # the hidden corner projects onto the centre; its three creases lie under the front quads'
     # diagonals, covered on both sides, so they stay hidden
-    assert ld.n_lines == 1 + 3 or ld.length() == pytest.approx(9 * edge, rel=1e-9)
+    assert ld.length() == pytest.approx(9 * edge, rel=1e-9)
+    # one closed hexagon (6 corners) and a Y of three creases meeting at the centre
+    assert ld.closed[ld.kind == 0].all() and len(ld.polylines("outline")[0]) == 7
+    assert len(ld.polylines("crease")) == 3
     # no crease above 90 degrees: only the outline remains
     assert line_drawing(m, order, crease_angle=95).length("crease") == 0.0
 
@@ -227,3 +230,25 @@ def test_bad_input():
         line_drawing("not a mescher")
     with pytest.raises(MescherError, match="kind"):
         line_drawing(m, order).polylines("shadow")
+
+
+def test_gallery_polylines_are_maximal():
+    from meschers_igl.gallery import get_model
+
+    for name in ("penrose_stairs", "window", "impossible_cube"):
+        g = get_model(name)
+        ld = line_drawing(g.mescher, g.order)
+        # two lines of the same kind never end at a point that no other line touches
+        ends, own = [], []
+        for i in np.flatnonzero(~ld.closed):
+            P = ld.points[ld.offsets[i] : ld.offsets[i + 1]]
+            ends += [P[0], P[-1]]
+            own += [(ld.kind[i], i), (ld.kind[i], i)]
+        ends = np.array(ends)
+        for a in range(len(ends)):
+            same = np.flatnonzero(np.linalg.norm(ends - ends[a], axis=1) < 1e-9)
+            kinds = [own[b][0] for b in same]
+            if len(same) == 2 and kinds[0] == kinds[1] and own[same[0]][1] != own[same[1]][1]:
+                # allowed only where a third line passes through the point
+                touching = np.linalg.norm(ld.points - ends[a], axis=1) < 1e-9
+                assert touching.sum() > 2, (name, ends[a])
