@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from pyvista_views.overlays import place_labels
+
 __all__ = [
     "Colorbar",
     "compose",
@@ -220,60 +222,10 @@ def fit_text(draw: Any, text: str, font: Any, width: int) -> str:
     return text + "..."
 
 
-def place_labels(
-    anchors: np.ndarray, sizes: Sequence[tuple[float, float]], image_size: tuple[int, int]
-) -> np.ndarray:
-    """Top-left corners for text boxes near their anchors, no two boxes overlapping.
-
-    Greedy: each label tries offsets around its anchor, nearest first (right, left, above,
-    below, then twice and three times as far), and takes the first whose box stays in the image
-    and misses every box placed before it; if none does, the candidate with the least overlap.
-
-    Parameters
-    ----------
-    anchors : (k, 2) float
-        Pixel positions (column, row) the labels belong to.
-    sizes : k pairs (width, height)
-        Text box sizes in pixels.
-    image_size : (width, height)
-
-    Returns
-    -------
-    (k, 2) float
-        Top-left corner of each box.
-    """
-    W, H = image_size
-    placed: list[tuple[float, float, float, float]] = []
-    corners = np.zeros((len(sizes), 2))
-    for i, ((c, r), (w, h)) in enumerate(zip(np.asarray(anchors, float).reshape(-1, 2), sizes)):
-        best, best_cost = None, np.inf
-        for reach in (1, 2, 3, 5):
-            d = 6 * reach
-            for dx, dy in ((d, -h / 2), (-w - d, -h / 2), (-w / 2, -h - d), (-w / 2, d),
-                           (d, -h - d), (-w - d, -h - d), (d, d), (-w - d, d)):  # fmt: skip
-                x0 = min(max(c + dx, 0.0), max(W - w, 0.0))
-                y0 = min(max(r + dy, 0.0), max(H - h, 0.0))
-                box = (x0, y0, x0 + w, y0 + h)
-                cost = sum(_overlap(box, b) for b in placed)
-                if cost < best_cost:
-                    best, best_cost = box, cost
-                if cost == 0:
-                    break
-            if best_cost == 0:
-                break
-        placed.append(best)
-        corners[i] = best[:2]
-    return corners
-
-
-def _overlap(a: tuple, b: tuple) -> float:
-    w = min(a[2], b[2]) - max(a[0], b[0])
-    h = min(a[3], b[3]) - max(a[1], b[1])
-    return max(w, 0.0) * max(h, 0.0)
-
-
 def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.ndarray:
-    """Draw screen-space segments, dots and text on a render (occlusion ignored).
+    """Draw screen-space segments, dots and text on a render, ignoring what hides them (marks on
+    a mescher's surface go through :meth:`pyvista_views.MescherScene.add_path` / ``add_points``
+    instead, which draw them only where the surface is visible).
 
     Parameters
     ----------

@@ -34,7 +34,7 @@ DOI_URL = "https://doi.org/10.1145/3731422"
 #: study's steps.
 LIGHTS: tuple[tuple[float, float, float], ...] = LIGHT_RIG
 GEODESIC_CMAP = "viridis"
-HEAT_CMAP = "inferno"
+HEAT_CMAP = "plasma"  # no black end: faces far from the source stay readable
 
 
 @dataclass(frozen=True)

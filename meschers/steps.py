@@ -257,7 +257,7 @@ def heat(job: ModelJob, s: Subject) -> None:
     job.figure(compose([images], notes, colorbar=bar), f"{s.name}_heat.png", "Heat diffusion",
         f"Backward Euler heat diffusion (M - tL) u = M u0 (paper Eq. 5) from vertex {s.source}, for "
         "three times t (s: diagonal of the xy box), each panel normalised to its maximum and drawn on a log "
-        f"scale, log10(u / max u) from {HEAT_LOG_MIN:g} (black) to 0 (white): the heat spreads over "
+        f"scale, log10(u / max u) from {HEAT_LOG_MIN:g} (dark blue) to 0 (yellow): the heat spreads over "
         "the surface as perceived, across the impossible loop. Total heat 1^T M u is kept to "
         f"{max(drift):.1e}.")  # fmt: skip
 

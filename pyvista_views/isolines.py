@@ -105,7 +105,14 @@ def visible_isolines(
     dx, dy = (xmax - xmin) / W, (ymax - ymin) / H
     if levels.size == 0 or F.shape[0] == 0:
         return pv.PolyData()
-    iV, iE, level = igl.isolines(xy, F, u, levels)
+    unreached = ~np.isfinite(u)
+    F_known = F
+    if unreached.any():  # contour only faces whose three values are known
+        F_known = F[~unreached[F].any(axis=1)]
+        u = np.where(unreached, 0.0, u)
+        if F_known.shape[0] == 0:
+            return pv.PolyData()
+    iV, iE, level = igl.isolines(xy, F_known, u, levels)
     if iE.shape[0] == 0:
         return pv.PolyData()
     a, b = iV[iE[:, 0]], iV[iE[:, 1]]

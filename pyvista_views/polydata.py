@@ -101,7 +101,8 @@ def as_scalars(
     Parameters
     ----------
     scalars : None, (#V,) or (#F,) array_like, or dict of them
-        A length equal to #V is read per vertex (also when #V == #F), #F per face.
+        A length equal to #V is read per vertex (also when #V == #F), #F per face.  ``+inf``
+        (e.g. a distance to a part no source reaches) becomes NaN, drawn as "unreached".
     """
     if scalars is None:
         return {}
@@ -111,15 +112,25 @@ def as_scalars(
         arr_name = name if key == name else f"{name}[{key!r}]"
         a = np.asarray(values)
         n = a.shape[0] if a.ndim == 1 else -1
+        # +inf (a distance to a part no source reaches) is drawn as "unreached": NaN, with
+        # its own colour (UNREACHED_COLOR); any other non-finite value is refused
+        unreached = np.isposinf(a) if np.issubdtype(a.dtype, np.floating) else None
+        if unreached is not None and unreached.any():
+            a = np.where(unreached, 0.0, a)
         if n == n_vertices:
-            out[str(key)] = (as_float_array(a, arr_name, (n_vertices,)), "vertex")
+            v = as_float_array(a, arr_name, (n_vertices,))
+            location = "vertex"
         elif n == n_faces:
-            out[str(key)] = (as_float_array(a, arr_name, (n_faces,)), "face")
+            v = as_float_array(a, arr_name, (n_faces,))
+            location = "face"
         else:
             raise MescherError(
                 f"{arr_name}: expected one value per vertex ({n_vertices},) or per face "
                 f"({n_faces},), found shape {a.shape}"
             )
+        if unreached is not None and unreached.any():
+            v[unreached] = np.nan
+        out[str(key)] = (v, location)
     return out
 
 

@@ -87,6 +87,11 @@ REPRESENTATIONS = ("mescher", "cut", "bent")
 #: Share of the window's width on the right that :meth:`MescherScene.add_scalar_bar` takes.
 SCALAR_BAR_STRIP = 0.2
 _BAKED = "_shaded_rgb"
+#: Ambient share of a colour-mapped layer's material (the rest diffuse): faces are shaded
+#: between 70% and 100% of their colour-bar colour, so the shape reads and the colours match.
+SCALAR_AMBIENT = 0.7
+#: Colour of NaN / +inf scalars ("unreached": parts no source reaches).
+UNREACHED_COLOR = "#c8c8c8"
 #: Smallest label line height in pixels (glyphs of about 11 pixels: readable at page width).
 MIN_LABEL_PX = 14
 
@@ -286,14 +291,16 @@ def _add_layer(
     rgb, ambient, diffuse = _check_material(color, ambient, diffuse)
     active = mesh.active_scalars_name  # set by the builders from the user's fields only
     if active is not None and clim is None:
-        values = mesh.active_scalars
-        clim = (float(np.min(values)), float(np.max(values)))
+        values = np.asarray(mesh.active_scalars, dtype=np.float64)
+        finite = values[np.isfinite(values)]
+        clim = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
     actor = plotter.add_mesh(
         mesh,
         color=rgb,
         scalars=active,
         cmap=cmap if active is not None else None,
         clim=clim,
+        nan_color=UNREACHED_COLOR,
         show_scalar_bar=False,
         ambient=ambient,
         diffuse=diffuse,
@@ -435,6 +442,9 @@ def add_mescher(
     Layer
     """
     feature_angle = kwargs.pop("feature_angle", DEFAULT_FEATURE_ANGLE)
+    if scalars is not None:  # a shading floor: each face stays close to its colour bar's
+        kwargs.setdefault("ambient", SCALAR_AMBIENT)
+        kwargs.setdefault("diffuse", 1.0 - SCALAR_AMBIENT)
     opts = _representation_kwargs(**kwargs)
     shading = as_choice(shading, "shading", SHADINGS)
     F = np.asarray(m.F)
@@ -495,6 +505,9 @@ def add_embedding(
     up pixel for pixel.  ``V`` is in the camera frame; other arguments as in :func:`add_mescher`.
     """
     feature_angle = kwargs.pop("feature_angle", DEFAULT_FEATURE_ANGLE)
+    if scalars is not None:
+        kwargs.setdefault("ambient", SCALAR_AMBIENT)
+        kwargs.setdefault("diffuse", 1.0 - SCALAR_AMBIENT)
     opts = _representation_kwargs(**kwargs)
     shading = as_choice(shading, "shading", SHADINGS)
     V = np.asarray(V, dtype=np.float64)
@@ -1062,6 +1075,10 @@ class MescherScene:
         )
         options.update(kwargs)
         actor = self.plotter.add_scalar_bar(**options)
+        values = layer.mesh.active_scalars
+        if values is not None and np.isnan(np.asarray(values, dtype=np.float64)).any():
+            actor.SetDrawNanAnnotation(True)  # its own swatch under the bar
+            actor.SetNanAnnotation("unreached")
         _exact_zero_labels(actor, layer.actor.mapper.GetScalarRange(), int(options["n_labels"]))
         # the top label sits half above the bar: keep the title clear of it
         actor.SetVerticalTitleSeparation(int(options["label_font_size"]))

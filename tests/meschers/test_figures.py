@@ -98,3 +98,34 @@ def test_long_labels_are_shortened_to_their_panel(n):
     draw = ImageDraw.Draw(Image.new("RGB", (10, 10)))
     text = fit_text(draw, "light 1 (1.0, 1.0, 1.0) " * n, font(), 120)
     assert draw.textlength(text, font=font()) <= 120
+
+
+def test_heat_panels_are_at_most_5_percent_black():
+    """The study's heat panel (log scale, its colour map, shading floor): at most 5% of the
+    figure black (max channel < 40); with inferno (black end) the same panel is mostly black."""
+    pytest.importorskip("pyvista")
+    from pyvista_views import render
+    from pyvista_views.headless import gl_available
+
+    if not gl_available():
+        pytest.skip("no offscreen OpenGL context")
+    from meschers.settings import HEAT_CMAP
+    from meschers.steps import HEAT_LOG_MIN
+    from meschers_igl.gallery import get_model
+
+    g = get_model("penrose_triangle")
+    m, order = g.mescher.subdivide(1, order=g.order)
+    s = float(np.linalg.norm(np.ptp(np.asarray(m.xy), axis=0)))
+    u0 = np.zeros(m.n_vertices)
+    u0[0] = 1.0
+    u = m.heat_diffuse(u0, 1e-3 * s * s)
+    v = np.log10(np.maximum(u / u.max(), 10.0**HEAT_LOG_MIN))
+    kw = dict(shading="smooth", scalars=v, clim=(HEAT_LOG_MIN, 0.0), window_size=(192, 192),
+              scalar_bar=False)  # fmt: skip
+
+    def black_share(img):
+        figure = np.any(img != 255, axis=-1)
+        return float((img.max(axis=-1) < 40)[figure].mean())
+
+    assert black_share(render(m, order, cmap=HEAT_CMAP, **kw)) <= 0.05
+    assert black_share(render(m, order, cmap="inferno", **kw)) > 0.2
