@@ -744,7 +744,6 @@ def hidden_occlusions(
     list of (2, 2) float64 arrays
         Each hidden line from its junction ``E`` to where it leaves the figure (screen units).
     """
-    import scipy.sparse.csgraph as csgraph
 
     N = labels.shape[0]
     px = 2.0 / N
@@ -769,42 +768,10 @@ def hidden_occlusions(
         return set(zip(ends[sel].ravel().tolist(), p[:, 0].tolist(), p[:, 1].tolist()))
 
     junctions = incident(occluding) & incident(~occluding)
-    # occlusion chains (connected occlusion edges between the same two regions): the front
-    # face holds its chain's direction in its plane (an occluding contour is the front face's
-    # edge); the chain's end-to-end direction is steadier than each pixel-sized edge's
-    occ_i = np.nonzero(occluding)[0]
     front = {}  # (vertex, region pair) -> front region, at the ends of the chains
-    if occ_i.size:
-        ends_o = ends[occ_i]
-        pair_o = pk[occ_i]
-        pid = pair_o[:, 0] * K + pair_o[:, 1]
-        # join edges that share a vertex and a region pair: nodes are (vertex, pair)
-        node, inv = np.unique(np.stack([ends_o.ravel(), np.repeat(pid, 2)], 1), axis=0,
-                              return_inverse=True)  # fmt: skip
-        inv = inv.reshape(-1, 2)
-        G = sp.coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])), shape=(len(node),) * 2)
-        n_ch, ch = csgraph.connected_components(G, directed=False)
-        deg = np.bincount(inv.ravel(), minlength=len(node))
-        for c in range(n_ch):
-            nodes = np.nonzero(ch == c)[0]
-            tips = nodes[deg[nodes] == 1]
-            if tips.size != 2:
-                continue
-            va, vb = node[tips[0], 0], node[tips[1], 0]
-            dv = xy[vb] - xy[va]
-            if np.linalg.norm(dv) < 1e-12:
-                continue
-            dv = dv / np.linalg.norm(dv)
-            a_, b_ = divmod(int(node[tips[0], 1]), K)
-            fit = []
-            for side in (a_, b_):  # |sin| to the side's nearest in-plane axis
-                other = [k for k in range(K) if k != side]
-                fit.append(min(abs(dv[0] * axes2[k, 1] - dv[1] * axes2[k, 0]) for k in other))
-            if abs(fit[0] - fit[1]) < margin:
-                continue
-            f = a_ if fit[0] < fit[1] else b_
-            front[(int(va), a_, b_)] = f
-            front[(int(vb), a_, b_)] = f
+    for va, vb, a_, b_, f in occlusion_chains(xy, ends, pk, occluding, normals, margin):
+        front[(va, a_, b_)] = f
+        front[(vb, a_, b_)] = f
     # the figure's angle at each vertex: outline and hole corners are under 2 pi; notches reflex
     total = around.sum(axis=1)
     notch = np.nonzero((total < 2.0 * np.pi - 1e-6) & (total > reflex))[0]
@@ -839,6 +806,77 @@ def hidden_occlusions(
             i = np.clip(np.floor((1.0 - Q[:, 1]) / px).astype(np.int64), 0, N - 1)
             if t.size and np.all(labels[i, j] == r):
                 out.append(np.stack([E, X]))
+    return out
+
+
+def occlusion_chains(
+    xy: np.ndarray,
+    ends: np.ndarray,
+    pairs: np.ndarray,
+    occluding: np.ndarray,
+    normals: np.ndarray,
+    margin: float = 0.15,
+) -> list[tuple[int, int, int, int, int]]:
+    """Occlusion chains and the face in front of each.
+
+    A chain is a path of connected occlusion edges between the same two regions.  The front
+    face holds its chain's direction in its plane (an occluding contour is an edge of the face
+    in front): of the two sides, the one whose in-plane axes (screen projections of the other
+    two normals) the chain's end-to-end direction follows better, by ``margin`` in ``|sin|``.
+
+    Parameters
+    ----------
+    xy : (#V, 2) float
+    ends : (B, 2) int
+        Vertices of the region-boundary edges.
+    pairs : (B, 2) int
+        Their two regions, sorted.
+    occluding : (B,) bool
+    normals : (K, 3) float
+    margin : float
+
+    Returns
+    -------
+    list of (tip_a, tip_b, region_a, region_b, front)
+        Chains with two tips (no loops, no branches) and a clear front.
+    """
+    import scipy.sparse.csgraph as csgraph
+
+    K = int(normals.shape[0])
+    axes2 = normals[:, :2] / np.maximum(
+        np.linalg.norm(normals[:, :2], axis=1, keepdims=True), 1e-12
+    )
+    occ_i = np.nonzero(occluding)[0]
+    out: list[tuple[int, int, int, int, int]] = []
+    if occ_i.size == 0:
+        return out
+    ends_o = ends[occ_i]
+    pid = pairs[occ_i, 0] * K + pairs[occ_i, 1]
+    # join edges that share a vertex and a region pair: nodes are (vertex, pair)
+    node, inv = np.unique(np.stack([ends_o.ravel(), np.repeat(pid, 2)], 1), axis=0,
+                          return_inverse=True)  # fmt: skip
+    inv = inv.reshape(-1, 2)
+    G = sp.coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])), shape=(len(node),) * 2)
+    n_ch, ch = csgraph.connected_components(G, directed=False)
+    deg = np.bincount(inv.ravel(), minlength=len(node))
+    for c in range(n_ch):  # a handful of chains
+        nodes = np.nonzero(ch == c)[0]
+        tips = nodes[deg[nodes] == 1]
+        if tips.size != 2:
+            continue
+        va, vb = int(node[tips[0], 0]), int(node[tips[1], 0])
+        dv = xy[vb] - xy[va]
+        if np.linalg.norm(dv) < 1e-12:
+            continue
+        dv = dv / np.linalg.norm(dv)
+        a_, b_ = divmod(int(node[tips[0], 1]), K)
+        fit = []
+        for side in (a_, b_):  # |sin| to the side's nearest in-plane axis
+            other = [k for k in range(K) if k != side]
+            fit.append(min(abs(dv[0] * axes2[k, 1] - dv[1] * axes2[k, 0]) for k in other))
+        if abs(fit[0] - fit[1]) < margin:
+            continue
+        out.append((va, vb, a_, b_, a_ if fit[0] < fit[1] else b_))
     return out
 
 
