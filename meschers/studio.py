@@ -57,8 +57,7 @@ def _require_trame() -> None:
         import trame_vuetify  # noqa: F401
     except ImportError:
         raise ImportError(
-            "the studio needs trame: pip install 'meschers[studio]' "
-            "(trame, trame-vuetify, trame-vtk)"
+            "the studio needs trame: pip install 'meschers[studio]' (trame, trame-vuetify)"
         ) from None
 
 

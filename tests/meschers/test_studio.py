@@ -322,3 +322,40 @@ def test_page_in_headless_chromium(tmp_path):
     keep = os.environ.get("MESCHERS_STUDIO_SHOTS")
     if keep:
         shutil.copytree(shots, keep, dirs_exist_ok=True)
+
+
+@needs_trame
+def test_same_page_from_a_notebook():
+    """In a real kernel, ``notebook()`` serves the page and displays it in an iframe."""
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    pytest.importorskip("ipykernel")
+    import re
+    import urllib.request
+
+    nb = nbformat.v4.new_notebook()
+    src = (
+        "import os\nos.environ['TRAME_IPYWIDGETS_DISABLE'] = '1'  # plain HTML output\n"
+        "from meschers.studio import notebook\nui = notebook(None, size=200)\nawait ui.ready\nui"
+    )
+    nb.cells = [nbformat.v4.new_code_cell(src)]
+    client = nbclient.NotebookClient(nb, timeout=180, kernel_name="python3")
+    with client.setup_kernel():
+        client.execute_cell(nb.cells[0], 0)
+        html = " ".join(o.get("data", {}).get("text/html", "") for o in nb.cells[0].outputs)
+        url = re.search(r'<iframe[^>]*src="(http[^"]+)"', html).group(1)
+        page = urllib.request.urlopen(url, timeout=30).read().decode()
+        assert "trame" in page
+        if _chromium() is not None and importlib.util.find_spec("playwright"):
+            from playwright.sync_api import sync_playwright
+
+            with sync_playwright() as p:
+                browser = p.chromium.launch(executable_path=_chromium(), args=["--no-sandbox"])
+                tab = browser.new_page()
+                tab.goto(url)
+                tab.wait_for_function(
+                    "document.querySelector('#figure') && document.querySelector('#figure').naturalWidth > 0",
+                    timeout=60_000,
+                )
+                assert "torus" in tab.text_content("#summary")
+                browser.close()
