@@ -762,59 +762,113 @@ def line_drawing(
 
 
 def visible_face_edges(
-    faces: np.ndarray, m: Any, *, crease_angle: float = 30.0, reach: int = 3
+    faces: np.ndarray,
+    m: Any,
+    bounds: Any,
+    *,
+    crease_angle: float = 30.0,
+    max_steps: int = 64,
 ) -> np.ndarray:
     """Pixels where a visible-face map changes from one piece of surface to another: the line
-    pixels a correct line drawing must cover.
+    pixels a correct line drawing must pass next to.
 
-    Two 4-neighbouring pixels showing faces ``f != g`` are a line pair unless ``g`` is within
-    ``reach`` steps of ``f`` across edges that are not lines (not boundary, crease, or between
-    a front- and a back-facing face), i.e. unless they show one smooth piece of surface.
-    Both pixels of a line pair are marked.
+    Two 4-neighbouring pixels showing faces ``f != g`` (or one showing the background) are a
+    line pair unless the surface is one smooth sheet between them: walking on the mesh from
+    ``f`` along the screen segment between the two pixel centres, face to face across the
+    edges the segment crosses, reaches ``g`` at the second centre without crossing a line edge
+    (a boundary, a crease, or an edge between a front- and a back-facing face).  The walk
+    makes the test exact whatever the faces' size (a Loop-subdivided crease is a band of
+    faces narrower than a pixel).  Both pixels of a line pair are marked.
 
     Parameters
     ----------
     faces : (H, W) int64
-        Visible face per pixel, -1 for background (:func:`meschers_igl.painter.visible_faces`,
-        or a renderer's face-id image).
+        Visible face per pixel, -1 for background (:func:`meschers_igl.painter.visible_faces`
+        with the same ``bounds``, or a renderer's face-id image).
     m : Mescher
+    bounds : (xmin, xmax, ymin, ymax)
+        The image's extent in screen units (pixel centres as in
+        :func:`meschers_igl.painter.pixel_grid`).
     crease_angle : float, default: 30
-    reach : int, default: 3
-        Faces a pixel or smaller are skipped by some pixels; this many face steps still count as
-        one piece of surface.
+    max_steps : int, default: 64
+        Faces crossed at most between two pixel centres; a walk that has not arrived by then
+        counts as a line.
 
     Returns
     -------
     (H, W) bool
     """
     F = np.asarray(m.F)
-    nF = len(F)
-    ef = edge_faces(np.asarray(m.face_edges), m.n_edges)
+    xy = np.asarray(m.xy, dtype=np.float64)
+    fe = np.asarray(m.face_edges)
+    ef = edge_faces(fe, m.n_edges)
     _, crease = crease_edges(m, crease_angle)
-    area2 = _double_area(np.asarray(m.xy)[F])
+    area2 = _double_area(xy[F])
     front = area2 > 0
     inner = ef[:, 1] >= 0
     smooth = inner & ~crease
     smooth[inner] &= front[ef[inner, 0]] == front[ef[inner, 1]]
-    a, b = ef[smooth, 0], ef[smooth, 1]
-    adj = sp.coo_matrix(
-        (np.ones(2 * len(a)), (np.r_[a, b], np.r_[b, a])), shape=(nF, nF)
-    ).tocsr() + sp.identity(nF, format="csr")
-    reach_m = adj
-    for _ in range(max(int(reach), 1) - 1):
-        reach_m = (reach_m @ adj).tocsr()
-        reach_m.data[:] = 1.0
+    H, W = faces.shape
+    x0, x1, y0, y1 = (float(b) for b in bounds)
+    dx, dy = (x1 - x0) / W, (y1 - y0) / H
     out = np.zeros(faces.shape, dtype=bool)
-    for sl0, sl1 in (
-        ((slice(None), slice(None, -1)), (slice(None), slice(1, None))),
-        ((slice(None, -1), slice(None)), (slice(1, None), slice(None))),
-    ):
-        f, g = faces[sl0], faces[sl1]
+    for di, dj in ((0, 1), (1, 0)):
+        f = faces[: H - di, : W - dj]
+        g = faces[di:, dj:]
         diff = f != g
-        both = diff & (f >= 0) & (g >= 0)
-        line = diff.copy()
-        if both.any():
-            line[both] = np.asarray(reach_m[f[both], g[both]]).ravel() == 0
-        out[sl0] |= line
-        out[sl1] |= line
+        line = diff & ((f < 0) | (g < 0))
+        r, c = np.nonzero(diff & (f >= 0) & (g >= 0))
+        if len(r):
+            P = np.stack([x0 + (c + 0.5) * dx, y1 - (r + 0.5) * dy], axis=1)
+            Q = P + np.array([dj * dx, -di * dy])
+            same = _walk_to(f[r, c], g[r, c], P, Q, F, xy, fe, ef, smooth, area2, max_steps)
+            line[r, c] = ~same
+        out[: H - di, : W - dj] |= line
+        out[di:, dj:] |= line
     return out
+
+
+def _walk_to(f, g, P, Q, F, xy, fe, ef, smooth, area2, max_steps) -> np.ndarray:
+    """For each pair, does the walk from face ``f`` at ``P`` toward ``Q`` across smooth edges
+    end in face ``g``?"""
+    n = len(f)
+    cur = f.copy()
+    result = np.zeros(n, dtype=bool)
+    active = np.ones(n, dtype=bool)
+    d = Q - P
+    for _ in range(max_steps):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            break
+        fc = cur[idx]
+        arrived = fc == g[idx]
+        result[idx[arrived]] = True
+        active[idx[arrived]] = False
+        idx, fc = idx[~arrived], fc[~arrived]
+        if idx.size == 0:
+            break
+        T = xy[F[fc]]
+        a2 = area2[fc]
+        # barycentric coordinate of corner i along P + t d: l_i(t) = alpha_i + beta_i t; the
+        # segment leaves through the edge opposite the corner whose coordinate reaches 0 last
+        # before... first, with beta < 0
+        t_exit = np.full((len(idx), 3), np.inf)
+        for i in range(3):
+            v, w = T[:, (i + 1) % 3], T[:, (i + 2) % 3]
+            e = w - v
+            alpha = (e[:, 0] * (P[idx, 1] - v[:, 1]) - e[:, 1] * (P[idx, 0] - v[:, 0])) / a2
+            beta = (e[:, 0] * d[idx, 1] - e[:, 1] * d[idx, 0]) / a2
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t = -alpha / beta
+            t_exit[:, i] = np.where(beta < 0, t, np.inf)
+        k = np.argmin(t_exit, axis=1)
+        t = t_exit[np.arange(len(idx)), k]
+        stays = ~(t < 1.0)  # Q is in this face, and it is not g: another sheet is seen at Q
+        active[idx[stays]] = False
+        idx, fc, k = idx[~stays], fc[~stays], k[~stays]
+        e = fe[fc, k]
+        cross_ok = smooth[e]
+        active[idx[~cross_ok]] = False
+        idx, fc, e = idx[cross_ok], fc[cross_ok], e[cross_ok]
+        cur[idx] = np.where(ef[e, 0] == fc, ef[e, 1], ef[e, 0])
+    return result

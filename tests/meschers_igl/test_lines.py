@@ -132,7 +132,7 @@ def pixel_scores(m, order, size=384, tol=1.5, **kw):
     c, half = 0.5 * (lo + hi), 0.5 * (hi - lo).max() + pad
     bounds = (c[0] - half, c[0] + half, c[1] - half, c[1] + half)
     faces = visible_faces(m, order, size=size, bounds=bounds)
-    gt = visible_face_edges(faces, m, crease_angle=kw.get("crease_angle", 30.0))
+    gt = visible_face_edges(faces, m, bounds, crease_angle=kw.get("crease_angle", 30.0))
     drawn = _drawn_mask(ld, bounds, faces.shape)
     d_drawn = ndimage.distance_transform_edt(~drawn)
     d_gt = ndimage.distance_transform_edt(~gt)
@@ -252,3 +252,40 @@ def test_gallery_polylines_are_maximal():
                 # allowed only where a third line passes through the point
                 touching = np.linalg.norm(ld.points - ends[a], axis=1) < 1e-9
                 assert touching.sum() > 2, (name, ends[a])
+
+
+def test_face_map_edges_oracle_on_hand_cases():
+    # a flat grid of faces far smaller than a pixel is one sheet: only its outline is a line
+    V, F = shapes.grid(120, 120, size=1.0)  # the unit square in the plane z = 0
+    m = Mescher.from_mesh(V, F)
+    bounds = (-0.25, 1.25, -0.25, 1.25)
+    faces = visible_faces(m, size=48, bounds=bounds)
+    gt = visible_face_edges(faces, m, bounds)
+    inside = ndimage.binary_erosion(faces >= 0, iterations=2)
+    assert gt.any() and not gt[inside].any()
+    assert np.array_equal(gt & (faces >= 0), (faces >= 0) & ~ndimage.binary_erosion(faces >= 0))
+    # the overlapping squares: the line pixels hug B's boundary and A's boundary outside B
+    m, order = _squares()
+    bounds = (-0.5, 3.5, -0.5, 3.5)
+    faces = visible_faces(m, order, size=64, bounds=bounds)
+    gt = visible_face_edges(faces, m, bounds)
+    c = np.stack(np.meshgrid(np.arange(64) + 0.5, np.arange(64) + 0.5), -1) / 16.0 - 0.5
+    x, y = c[..., 0], 3.0 - c[..., 1]
+    near_b = (np.abs(x - 1) < 0.07) & (y > 0.93) & (y < 3.07)
+    near_b |= (np.abs(x - 3) < 0.07) & (y > 0.93) & (y < 3.07)
+    near_b |= (np.abs(y - 1) < 0.07) & (x > 0.93) & (x < 3.07)
+    near_b |= (np.abs(y - 3) < 0.07) & (x > 0.93) & (x < 3.07)
+    near_a = (np.abs(x) < 0.07) & (y < 2.07) | (np.abs(y) < 0.07) & (x < 2.07)
+    near_a |= (np.abs(x - 2) < 0.07) & (y < 1.07) | (np.abs(y - 2) < 0.07) & (x < 1.07)
+    assert np.array_equal(gt, (near_a | near_b) & gt)  # no line pixel elsewhere
+    assert gt[near_b & (faces >= 0)].mean() > 0.9
+
+
+@pytest.mark.parametrize("name", ["impossibagel", "penrose_stairs"])
+def test_loop_subdivided_lines_match_the_picture(name):
+    from meschers_igl.gallery import get_model
+
+    g = get_model(name)
+    m, order = g.mescher.subdivide(1, scheme="loop", order=g.order)
+    recall, precision = pixel_scores(m, order)
+    assert recall >= 0.98 and precision >= 0.98, (recall, precision)
