@@ -210,7 +210,8 @@ def model_to_mescher(
             )
         done, why = _cut_route(V, F, view, up, tol)
         if done is not None:
-            return done
+            m, order, report = done
+            return drop_small_periods(m, report), order, report
         if route == "cut":
             raise MescherError(f"route: expected a cut model whose loops glue, found {why}")
     else:

@@ -578,7 +578,7 @@ def see_model(
     tol_abs = rel * diag
     grid = REL_GRID * diag
 
-    V, F, n_merged = weld(V, F, 1e-9 * diag)
+    V, F, n_merged = weld(V, F, 0.5 * tol_abs)  # a soup: corners apart by less than the tolerance
     if n_merged:
         report.repairs.append(f"welded {n_merged} vertex(es) that coincide in 3D")
     F, n_contact = drop_contact_faces(F)
@@ -665,10 +665,17 @@ def see_model(
     Fa, src = Fa[ok], src[ok]
     Fa, src = _split_t_junctions(xy, Fa, src, tol_abs)
 
+    # each part's own precision: rel times its bounding-box diagonal (a scene's boxes are small)
+    n_parts = int(part.max()) + 1
+    lo = np.full((n_parts, 3), np.inf)
+    hi = np.full((n_parts, 3), -np.inf)
+    np.minimum.at(lo, np.repeat(part, 3), V[F].reshape(-1, 3))
+    np.maximum.at(hi, np.repeat(part, 3), V[F].reshape(-1, 3))
+    ftol = np.minimum(tol_abs, rel * np.linalg.norm(hi - lo, axis=1))[part]
     E = axes_model = None
     for _ in range(4):  # occlusion edges that stay glued through their end fans get split
         Z = _plane_depth(xy[Fa], pl_all[src][:, None, :])
-        glue, arcs, fe = _classify(xy, Fa, src, Z, C, F, front, tol_abs)
+        glue, arcs, fe = _classify(xy, Fa, src, Z, C, F, front, tol_abs, ftol)
         is_bridge = np.zeros(Fa.shape[0], dtype=bool)
         bridges: list = []
         Fb, sb, Zb = Fa, src, Z
@@ -853,8 +860,14 @@ def _interior_edges(Fa: np.ndarray, n: int):
     return h1, h2, he
 
 
-def _classify(xy, Fa, src, Z, C, F, front, tol):
-    """Per shared screen edge: glue (continuous or false edge) or cut with an arc."""
+def _classify(xy, Fa, src, Z, C, F, front, tol, ftol=None):
+    """Per shared screen edge: glue (continuous or false edge) or cut with an arc.
+
+    ``ftol`` (#F,): per model face, the tolerance of its own part (``tol`` relative to the
+    part's size, not the scene's): a false edge needs both model edges to coincide on screen
+    to their parts' precision, so blocks a hair apart in a large scene are not glued.
+    """
+    ftol = np.full(F.shape[0], tol) if ftol is None else ftol
     h1, h2, he = _interior_edges(Fa, xy.shape[0])
     f1, f2 = h1 // 3, h2 // 3
     E = he[h1]  # p -> q as in face f1
@@ -873,7 +886,7 @@ def _classify(xy, Fa, src, Z, C, F, front, tol):
 
     def ends(fs):
         s = src[fs]
-        k = _edge_on_source(xy, E, s, C, F, tol)
+        k = _edge_on_source(xy, E, s, C, F, np.minimum(ftol[src[f1]], ftol[src[f2]]))
         nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
         return k >= 0, (k >= 0) & ((nb < 0) | ~front[np.maximum(nb, 0)])
 
@@ -1221,6 +1234,8 @@ def _side_direction(V, F, TT, cap: _Cap, tol: float):
     fs = cap.faces
     nbs = TT[fs].reshape(-1)
     nbs = np.unique(nbs[(nbs >= 0) & ~np.isin(nbs, fs)])
+    if nbs.size < 2:
+        return None  # a loose patch (no side faces): not a bar's end
     n = np.cross(V[F[nbs, 1]] - V[F[nbs, 0]], V[F[nbs, 2]] - V[F[nbs, 0]])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
     # two side planes that are not parallel meet along the bar's direction
