@@ -115,3 +115,51 @@ def exact(V, F, s):
 def mean_rel(d, de):
     mk = de > 0
     return float(np.mean(np.abs(d[mk] - de[mk]) / de[mk]))
+
+
+def cad_prism(outline, height, fan_from=0, rings=1):
+    """A CAD-style extrusion of a closed counter-clockwise outline ``(k, 2)``: side quads split
+    in two (thin where the outline's edges are short), caps triangulated as fans from outline
+    vertex ``fan_from`` (as STL exporters do: slivers and very obtuse triangles)."""
+    k = len(outline)
+    zs = np.linspace(0.0, height, rings + 1)
+    V = np.concatenate([np.c_[outline, np.full(k, z)] for z in zs])
+    i = np.arange(k)
+    side = []
+    for r in range(rings):
+        a, b = r * k + i, r * k + (i + 1) % k
+        side += [np.c_[a, b, b + k], np.c_[a, b + k, a + k]]
+    j = np.arange(1, k - 1)
+    p, q, s = np.full(k - 2, fan_from), (fan_from + j) % k, (fan_from + j + 1) % k
+    caps = [np.c_[p, s, q], rings * k + np.c_[p, q, s]]
+    return V, np.concatenate(side + caps).astype(np.int64)
+
+
+def rounded_rectangle(a, b, r, segments):
+    """Outline of the rectangle ``[-a, a] x [-b, b]`` with corners rounded at radius ``r``."""
+    pts = []
+    for cx, cy, t0 in (
+        (a - r, b - r, 0),
+        (-a + r, b - r, 90),
+        (-a + r, -b + r, 180),
+        (a - r, -b + r, 270),
+    ):
+        t = np.radians(np.linspace(t0, t0 + 90, segments + 1))
+        pts.append(np.c_[cx + r * np.cos(t), cy + r * np.sin(t)])
+    return np.concatenate(pts)
+
+
+def chamfered_rectangle(a, b, w):
+    """Outline of the rectangle ``[-a, a] x [-b, b]`` with its corners cut at width ``w``."""
+    return np.array(
+        [
+            (a, -b + w),
+            (a, b - w),
+            (a - w, b),
+            (-a + w, b),
+            (-a, b - w),
+            (-a, -b + w),
+            (-a + w, -b),
+            (a - w, -b),
+        ]
+    )

@@ -68,7 +68,7 @@ route as an independent oracle.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -405,15 +405,73 @@ def _rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
     return cpos, csgn, theta, vbnd
 
 
-@numba.njit(cache=True, nogil=True)
-def _propagate(  # pragma: no cover - compiled
-    F, fl, fx, fy, twin, rev, hedge, pseudo, vptr, vcorner, cflip, cang, cpos, csgn, theta, vbnd,
-    mdeg, dist, emitted, bpos, wh, wb, state, pos, free, bstart, bcls, bn, fhead, aw, alo, ahi,
-    hk, hv, ctr, max_pops, targets,
-):  # fmt: skip
-    """Exact distances from the sources queued in ``hk, hv`` (see the module docstring).
+class _Mesh(NamedTuple):
+    """The intrinsic mesh as the kernel reads it (built once per solver; see :func:`_propagate`)."""
 
-    ``fl, fx, fy`` (#F*3,): for half-edge ``h = 3 f + c`` (the edge opposite corner ``c``,
+    F: np.ndarray
+    fl: np.ndarray
+    fx: np.ndarray
+    fy: np.ndarray
+    twin: np.ndarray
+    rev: np.ndarray
+    hedge: np.ndarray
+    pseudo: np.ndarray
+    vptr: np.ndarray
+    vcorner: np.ndarray
+    cflip: np.ndarray
+    cang: np.ndarray
+    cpos: np.ndarray
+    csgn: np.ndarray
+    theta: np.ndarray
+    vbnd: np.ndarray
+    mdeg: np.int64
+
+
+class _Arrays(NamedTuple):
+    """One query's arrays, written in place by the kernel (see :class:`_State`)."""
+
+    dist: np.ndarray
+    emitted: np.ndarray
+    bpos: np.ndarray
+    via: np.ndarray
+    vimg: np.ndarray
+    wh: np.ndarray
+    wb: np.ndarray
+    state: np.ndarray
+    pos: np.ndarray
+    free: np.ndarray
+    bstart: np.ndarray
+    bcls: np.ndarray
+    bn: np.ndarray
+    fhead: np.ndarray
+    aw: np.ndarray
+    alo: np.ndarray
+    ahi: np.ndarray
+    hk: np.ndarray
+    hv: np.ndarray
+
+
+# what the kernel returns: why it stopped
+DONE = 0  # the queue is empty, or every target is final
+REPORT = 1  # max_pops items taken out: time for a progress report
+GROW_HEAP = 2  # the heap might not hold one more step
+GROW_WINDOWS = 3  # the window table might not hold one more step
+GROW_ARENA = 4  # the edge blocks' arena might not hold one more step
+# the counters carried across calls, by index into ``ctr``
+C_HEAP, C_FREE, C_USED, C_ARENA_TOP, C_CREATED, C_EMITTED, C_MAX_BLOCK = range(7)
+# ``via[v]`` of a vertex whose distance is not set by a window or an edge (sources, unreached)
+NO_PARENT = -(1 << 62)
+
+
+@numba.njit(cache=True, nogil=True)
+def _propagate(mesh, arr, ctr, max_pops, targets):  # pragma: no cover - compiled
+    """Exact distances from the sources queued in ``arr.hk, arr.hv`` (see the module docstring).
+
+    One function rather than helpers taking a dozen arrays each: the loop body is the whole
+    algorithm (pop, emit or enter, prune, trim, queue) and reads best in one place; numba
+    compiles it once.
+
+    ``mesh`` (:class:`_Mesh`): ``fl, fx, fy`` (#F*3,): for half-edge ``h = 3 f + c`` (the edge opposite corner ``c``,
     from ``F[f, c+1]`` to ``F[f, c+2]``) its length and the apex ``F[f, c]`` in its frame.
     ``twin`` (#F*3,): the same edge seen from the other face (-1 on the boundary); ``rev``: the
     twin runs the other way; ``hedge``: the edge id; ``cflip``: the half-edge's frame is the
@@ -424,13 +482,16 @@ def _propagate(  # pragma: no cover - compiled
     walk, non-manifold); ``theta`` (#V,): total angles; ``vbnd``: boundary vertices (their ring
     starts at a boundary edge); ``mdeg``: the largest vertex degree.
 
-    The rest is the propagation's state, carried from call to call (:class:`_State`): the kernel
-    runs until the queue is empty (returns 0), ``max_pops`` items were taken out (1: time for a
-    progress report), or the heap (2), the window table (3) or the edge blocks' arena (4) might
-    not hold one more step; the caller then grows that array and calls again.  Room is checked
-    before each step, not at each write, so that a step is never left half done.  With
-    ``targets`` (non-empty) it also ends (0) once the least key left is at least every target's
-    distance: no later item can lower a distance below its key, so those are final.
+    ``arr`` (:class:`_Arrays`) and the counters ``ctr`` are the propagation's state, carried from
+    call to call (:class:`_State`).  ``via, vimg`` record where each vertex's distance came from:
+    ``via[v] = h >= 0`` a window on half-edge ``h`` whose source image is ``vimg[v]`` in ``h``'s
+    frame, ``via[v] = -(u + 1)`` the edge from vertex ``u``.  The kernel runs until the queue is
+    empty (:data:`DONE`), ``max_pops`` items were taken out (:data:`REPORT`), or the heap, the
+    window table or the edge blocks' arena might not hold one more step (:data:`GROW_HEAP`,
+    :data:`GROW_WINDOWS`, :data:`GROW_ARENA`); the caller then grows that array and calls again.
+    Room is checked before each step, not at each write, so that a step is never left half done.
+    With ``targets`` (non-empty) it also ends (:data:`DONE`) once the least key left is at least
+    every target's distance: no later item can lower a distance below its key, so those are final.
 
     The windows queued on an edge are kept in one contiguous block per edge (ids and their
     extent in the edge's common frame), so that finding the ones a new window overlaps is a scan
@@ -438,8 +499,12 @@ def _propagate(  # pragma: no cover - compiled
     window, and there are ``O(sqrt n)`` of them per edge (measured: 35 per new window at 100k
     faces, 3/4 of the time).
     """
-    nh, nfree, nw, atop = ctr[0], ctr[1], ctr[2], ctr[3]
-    created, emitted_windows, maxcap = ctr[4], ctr[5], ctr[6]
+    F, fl, fx, fy, twin, rev, hedge, pseudo = mesh[:8]
+    vptr, vcorner, cflip, cang, cpos, csgn, theta, vbnd, mdeg = mesh[8:]
+    dist, emitted, bpos, via, vimg, wh, wb, state, pos, free = arr[:10]
+    bstart, bcls, bn, fhead, aw, alo, ahi, hk, hv = arr[10:]
+    nh, nfree, nw, atop = ctr[C_HEAP], ctr[C_FREE], ctr[C_USED], ctr[C_ARENA_TOP]
+    created, emitted_windows, maxcap = ctr[C_CREATED], ctr[C_EMITTED], ctr[C_MAX_BLOCK]
     # children produced by one step: half-edge; b0, b1, sx, sy, sigma
     ch_h = np.empty(2 * mdeg, np.int64)
     ch_b = np.empty((2 * mdeg, 5), np.float64)
@@ -450,26 +515,26 @@ def _propagate(  # pragma: no cover - compiled
         # room for one more step: <= 2 mdeg children and <= 2 mdeg + 3 pseudo-source events,
         # each child at most one new edge block of twice the largest capacity so far
         if nh == 0:
-            status = 0
+            status = DONE
             break
         if pops >= max_pops:
-            status = 1
+            status = REPORT
             break
         if targets.size and (pops & 1023) == 0:
             far = 0.0  # the farthest target's distance so far (inf: one not reached yet)
             for v in targets:
                 far = max(far, dist[v])
             if hk[0] >= far:
-                status = 0
+                status = DONE
                 break
         if nh + 4 * mdeg + 8 > hk.size:
-            status = 2
+            status = GROW_HEAP
             break
         if nfree + wh.size - nw < 2 * mdeg + 2:
-            status = 3
+            status = GROW_WINDOWS
             break
         if atop + 2 * mdeg * (2 * maxcap + 8) > aw.size:
-            status = 4
+            status = GROW_ARENA
             break
         pops += 1
         key, item, nh = heap_pop(hk, hv, nh)
@@ -492,6 +557,7 @@ def _propagate(  # pragma: no cover - compiled
                     du = key + fl[3 * f + (c + 2 - j) % 3]
                     if du < dist[u]:
                         dist[u] = du
+                        via[u] = -(v + 1)
                         # u's path arrives along the edge from v: u's corner's second edge
                         # (j = 0) or first edge (j = 1)
                         cu = 3 * f + (c + 1 + j) % 3
@@ -565,6 +631,9 @@ def _propagate(  # pragma: no cover - compiled
                 dv = sig + np.hypot(sx, sy)
                 if dv < dist[ia]:
                     dist[ia] = dv
+                    via[ia] = h
+                    vimg[ia, 0] = sx
+                    vimg[ia, 1] = sy
                     # it arrives at A from below AB: past A's first edge (to B), away from C
                     ca = 3 * f + (c + 1) % 3
                     bpos[ia] = _ring_pos(cpos, csgn, ca, -np.arctan2(-sy, sx))
@@ -574,6 +643,9 @@ def _propagate(  # pragma: no cover - compiled
                 dv = sig + np.hypot(L - sx, sy)
                 if dv < dist[ib]:
                     dist[ib] = dv
+                    via[ib] = h
+                    vimg[ib, 0] = sx
+                    vimg[ib, 1] = sy
                     # at B: past B's second edge (to A), away from C
                     cb = 3 * f + (c + 2) % 3
                     bpos[ib] = _ring_pos(cpos, csgn, cb, cang[cb] + np.arctan2(-sy, L - sx))
@@ -585,6 +657,9 @@ def _propagate(  # pragma: no cover - compiled
                 dv = sig + np.hypot(cx - sx, cy - sy)
                 if dv < dist[ic]:
                     dist[ic] = dv
+                    via[ic] = h
+                    vimg[ic, 0] = sx
+                    vimg[ic, 1] = sy
                     # within C's corner: the angle from C->A to C->s (C->B is counterclockwise)
                     qx = sx - cx
                     qy = sy - cy
@@ -664,14 +739,10 @@ def _propagate(  # pragma: no cover - compiled
             f = t // 3
             c = t - 3 * f
             L = fl[t]
-            if _useless(
-                dist, F[f, (c + 1) % 3], F[f, (c + 2) % 3], F[f, c],
-                L, fx[t], fy[t], b0, b1, sx, sy, sig,
-            ):  # fmt: skip
+            ia, ib, ic = F[f, (c + 1) % 3], F[f, (c + 2) % 3], F[f, c]
+            if _useless(dist, ia, ib, ic, L, fx[t], fy[t], b0, b1, sx, sy, sig):
                 continue
-            b0, b1 = _trim_by_ends(
-                dist[F[f, (c + 1) % 3]], dist[F[f, (c + 2) % 3]], L, b0, b1, sx, sy, sig
-            )
+            b0, b1 = _trim_by_ends(dist[ia], dist[ib], L, b0, b1, sx, sy, sig)
             if b1 <= b0:
                 continue
             e = hedge[t]
@@ -783,8 +854,8 @@ def _propagate(  # pragma: no cover - compiled
             pos[w] = k
             bn[e] = k + 1
             nh = heap_push(hk, hv, nh, kk, w)
-    ctr[0], ctr[1], ctr[2], ctr[3] = nh, nfree, nw, atop
-    ctr[4], ctr[5], ctr[6] = created, emitted_windows, maxcap
+    ctr[C_HEAP], ctr[C_FREE], ctr[C_USED], ctr[C_ARENA_TOP] = nh, nfree, nw, atop
+    ctr[C_CREATED], ctr[C_EMITTED], ctr[C_MAX_BLOCK] = created, emitted_windows, maxcap
     return status
 
 
@@ -811,6 +882,8 @@ class _State:
         self.dist[sources] = 0.0
         self.emitted = np.full(nv, np.inf)  # distance at which a pseudo-source last emitted
         self.bpos = np.full(nv, np.nan)  # ring position of the direction a distance came from
+        self.via = np.full(nv, NO_PARENT, np.int64)  # where each distance came from (_propagate)
+        self.vimg = np.zeros((nv, 2), np.float64)
         self.wh = np.empty(cap, np.int64)  # window table: half-edge
         self.wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
         self.state = np.empty(cap, np.int8)  # 0 queued (and in its edge's block), 2 dead
@@ -830,30 +903,26 @@ class _State:
         self.hk = np.zeros(max(cap, 2 * k), np.float64)
         self.hv = np.empty(self.hk.size, np.int64)
         self.hv[:k] = -(sources + 1)
-        # heap size, free slots, slots used, arena top, created, emitted, largest block
-        self.ctr = np.array([k, 0, 0, 0, 0, 0, 4], dtype=np.int64)
+        self.ctr = np.zeros(7, dtype=np.int64)  # indexed by the C_* names
+        self.ctr[C_HEAP], self.ctr[C_MAX_BLOCK] = k, 4
 
-    def arrays(self) -> tuple:
-        return (
-            self.dist, self.emitted, self.bpos, self.wh, self.wb, self.state, self.pos,
-            self.free, self.bstart, self.bcls, self.bn, self.fhead, self.aw, self.alo, self.ahi,
-            self.hk, self.hv,
-        )  # fmt: skip
+    def arrays(self) -> _Arrays:
+        return _Arrays(*(getattr(self, name) for name in _Arrays._fields))
 
     def grow(self, status: int) -> None:
-        """Double the array the kernel ran short of (status 2: heap, 3: windows, 4: arena)."""
+        """Double the array the kernel ran short of (``status``: one of the ``GROW_*`` codes)."""
 
         def twice(a: np.ndarray) -> np.ndarray:
             b = np.empty((2 * a.shape[0], *a.shape[1:]), a.dtype)
             b[: a.shape[0]] = a
             return b
 
-        if status == 2:
+        if status == GROW_HEAP:
             self.hk, self.hv = twice(self.hk), twice(self.hv)
-        elif status == 3:
+        elif status == GROW_WINDOWS:
             self.wh, self.wb, self.state = twice(self.wh), twice(self.wb), twice(self.state)
             self.pos, self.free = twice(self.pos), twice(self.free)
-        elif status == 4:
+        elif status == GROW_ARENA:
             self.aw, self.alo, self.ahi = twice(self.aw), twice(self.alo), twice(self.ahi)
         else:  # pragma: no cover - the kernel returns 0-4 only
             raise RuntimeError(f"exact geodesic kernel: unknown status {status}")
@@ -950,11 +1019,32 @@ class ExactGeodesicSolver:
         # one-rings, for the shadows of pseudo-sources (_shadow)
         rings = _rings(Fc, i64[0], cang, i64[2], i64[3], nv)
         mdeg = int(max(2, np.diff(vptr).max(initial=0)))
-        self._data = (
-            Fc, *f64, i64[0], np.array(rev, dtype=np.bool_, order="C"), i64[1],
-            np.array(pseudo, dtype=np.bool_, order="C"), i64[2], i64[3],
-            np.array(cflip, dtype=np.bool_, order="C"), cang, *rings, np.int64(mdeg),
-        )  # fmt: skip
+
+        def flags(a: np.ndarray) -> np.ndarray:
+            return np.array(a, dtype=np.bool_, order="C")
+
+        fl, fx, fy = f64
+        twin, hedge, vptr, vcorner = i64
+        cpos, csgn, theta, vbnd = rings
+        self._mesh = _Mesh(
+            F=Fc,
+            fl=fl,
+            fx=fx,
+            fy=fy,
+            twin=twin,
+            rev=flags(rev),
+            hedge=hedge,
+            pseudo=flags(pseudo),
+            vptr=vptr,
+            vcorner=vcorner,
+            cflip=flags(cflip),
+            cang=cang,
+            cpos=cpos,
+            csgn=csgn,
+            theta=theta,
+            vbnd=vbnd,
+            mdeg=np.int64(mdeg),
+        )
         self._n_edges = ne
         # vertices per connected component, for the progress of a query
         if nf:
@@ -989,6 +1079,29 @@ class ExactGeodesicSolver:
             ``inf`` on connected components without a source.  With ``targets``: exact at the
             targets and at every vertex no farther than the farthest target, ``inf`` beyond.
         """
+        return self._run(sources, targets).dist
+
+    def parents(self, sources: Any, targets: Any = None) -> tuple[np.ndarray, ...]:
+        """Exact distances and where each came from, to trace shortest paths back exactly.
+
+        Returns
+        -------
+        d : (#V,) float64
+            As :meth:`distance`.
+        via : (#V,) int64
+            ``h >= 0``: ``d[v]`` came through a window on half-edge ``h = 3 f + c`` (the edge
+            opposite corner ``c`` of face ``f``, from ``F[f, c+1]`` at the origin to
+            ``F[f, c+2]`` on the positive x-axis, face ``f`` above it); ``-(u + 1)``: along the
+            edge from vertex ``u``; :data:`NO_PARENT`: a source or an unreached vertex.
+        image : (#V, 2) float64
+            For ``via[v] >= 0``: the window's source image in that frame (below the x-axis); the
+            straight line from ``v`` to it is the last leg of a shortest path, and it ends at
+            the vertex there (a source or a saddle or boundary vertex).
+        """
+        st = self._run(sources, targets)
+        return st.dist, st.via, st.vimg
+
+    def _run(self, sources: Any, targets: Any) -> _State:
         src = np.array(np.unique(as_index_array(sources, "sources", self.n_vertices)), np.int64)
         tgt = np.empty(0, np.int64)
         if targets is not None:
@@ -998,15 +1111,14 @@ class ExactGeodesicSolver:
         reach = int(np.isin(self._label, self._label[src]).sum()) if src.size else 0
         with progress.Meter("exact geodesics", total=reach) as bar:
             while True:
-                status = _propagate(*self._data, *st.arrays(), st.ctr, _POPS_PER_CALL, tgt)
-                if status == 0:
+                status = _propagate(self._mesh, st.arrays(), st.ctr, _POPS_PER_CALL, tgt)
+                if status == DONE:
                     break
-                if status == 1:
+                if status == REPORT:
                     bar.update(int(np.count_nonzero(st.dist < np.inf)))
                 else:
                     st.grow(status)
-        self.n_windows, self.n_emitted = int(st.ctr[4]), int(st.ctr[5])
-        d = st.dist
-        if tgt.size and st.ctr[0] > 0:  # stopped early: beyond the farthest target, not final
-            d[d > d[tgt].max()] = np.inf
-        return d
+        self.n_windows, self.n_emitted = int(st.ctr[C_CREATED]), int(st.ctr[C_EMITTED])
+        if tgt.size and st.ctr[C_HEAP] > 0:  # stopped early: beyond the farthest target, not final
+            st.dist[st.dist > st.dist[tgt].max()] = np.inf
+        return st

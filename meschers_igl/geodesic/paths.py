@@ -26,7 +26,8 @@ import scipy.sparse.csgraph as csgraph
 from .. import intrinsic, topology
 from ..errors import MescherError
 from ..validate import as_index_array
-from .methods import GeodesicSolver, geodesic_solver
+from .exact import NO_PARENT, ExactGeodesicSolver
+from .methods import GeodesicSolver
 
 __all__ = [
     "SurfacePath",
@@ -206,6 +207,184 @@ def _trace(md: _MeshData, d: np.ndarray, target: int, is_src: np.ndarray) -> lis
             return strips
         visited_vertices.add(v)
     return strips
+
+
+def _backtrack(
+    md: _MeshData, d: np.ndarray, via: np.ndarray, image: np.ndarray, target: int, is_src
+) -> list[tuple]:
+    """The exact shortest path to ``target`` as strips ``(v_start, faces, v_end)``, traced back
+    through where each exact distance came from (:meth:`ExactGeodesicSolver.parents`).
+
+    A vertex whose distance came through a window lies on a straight line (in the unfolding)
+    to the window's source image, and that image is a vertex ``p`` (a source, or a saddle or
+    boundary vertex the path bends at) with ``d[v] = d[p] + |v - p|``: the line is walked face
+    by face, unfolding each next face across the edge it leaves by, until a corner lands on the
+    image.  A vertex whose distance came along an edge steps to that edge's other end.  Each
+    step lowers ``d``, so the walk ends at a source.  Sequential by nature (each face is placed
+    from the previous one): a Python loop over the faces the path crosses.
+    """
+    F = md.F
+    strips: list[tuple] = []
+    v = int(target)
+    for _ in range(F.shape[0] + 16):  # each step lowers d: at most one per vertex
+        if is_src[v]:
+            return strips
+        h = int(via[v])
+        if h == NO_PARENT:
+            raise MescherError(f"target: vertex {v} has no exact distance to trace back")
+        if h < 0:  # along the edge from u
+            u = -h - 1
+            fan = md.faces_of(v)
+            strips.append((v, [int(fan[(F[fan] == u).any(axis=1)][0])], u))
+            v = u
+            continue
+        faces, p = _walk_to_image(md, d, h, v, image[v])
+        if not d[p] < d[v]:
+            raise MescherError(f"target: the trace back from vertex {v} did not descend")
+        strips.append((v, faces, p))
+        v = p
+    raise MescherError("target: the trace back did not reach a source")
+
+
+def _walk_to_image(
+    md: _MeshData, d: np.ndarray, h: int, v: int, img: np.ndarray
+) -> tuple[list[int], int]:
+    """Walk the straight line from vertex ``v`` to the point ``img`` (in half-edge ``h``'s
+    frame: ``F[f, c+1]`` at the origin, ``F[f, c+2]`` at ``(l, 0)``, face ``f`` above) through
+    the faces it crosses, to the vertex at ``img``.
+
+    The line leaves ``v`` through a face of ``v``'s fan whose corner holds its direction (the
+    fan unfolded around ``v`` from face ``f``; around a saddle more than one face may, and the
+    one whose line lands on a vertex is taken), then crosses one edge per face.  A vertex ``u``
+    the line meets with ``d[u] + |u v| = d[v]`` ends the walk: a shortest path runs through it
+    (a window's border ray runs through the vertex that split it, and beyond it the faces on
+    either side of the line unfold differently).
+
+    Returns
+    -------
+    faces : list of int
+        The first holds ``v``, the last the vertex.
+    u : int
+        The vertex.
+
+    Raises
+    ------
+    MescherError
+        When no line from ``v`` lands on such a vertex.
+    """
+    F, l = md.F, md.l
+    f, c = divmod(h, 3)
+    P = np.zeros((3, 2))
+    P[(c + 2) % 3, 0] = l[f, c]
+    P[c] = intrinsic.place_apex(
+        P[(c + 1) % 3], P[(c + 2) % 3], l[f, (c + 2) % 3], l[f, (c + 1) % 3]
+    )
+    start = P[np.flatnonzero(F[f] == v)[0]].copy()
+    ray = np.asarray(img, dtype=np.float64) - start
+    reach = float(np.hypot(*ray))
+    tol = 1e-9 * (reach + float(l[f].max()))
+    for g, Pg in _fan_faces_holding(md, v, f, P, ray, tol):
+        found = _walk_line(md, d, v, g, Pg, start, ray, reach, tol)
+        if found is not None:
+            return found
+    raise MescherError(f"target: the line back from vertex {v} lands on no vertex")
+
+
+def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndarray]:
+    """The face across the edge opposite corner ``k`` of face ``g`` (corners at ``Pg``),
+    unfolded into the same plane: ``(face, (3, 2) corner positions)``; face -1 at a boundary."""
+    F, l = md.F, md.l
+    n = int(md.opp[g, k])
+    if n < 0:
+        return n, Pg
+    a, b = F[g, (k + 1) % 3], F[g, (k + 2) % 3]
+    Pn = np.zeros((3, 2))
+    ia, ib = np.flatnonzero(F[n] == a)[0], np.flatnonzero(F[n] == b)[0]
+    iw = 3 - ia - ib
+    Pn[ia], Pn[ib] = Pg[(k + 1) % 3], Pg[(k + 2) % 3]
+    side = -np.sign(_cross(Pn[ib] - Pn[ia], Pg[k] - Pn[ia]))  # away from the face before
+    Pn[iw] = intrinsic.place_apex(Pn[ia], Pn[ib], l[n, ib], l[n, ia], side)
+    return n, Pn
+
+
+def _fan_faces_holding(md: _MeshData, v: int, f: int, P: np.ndarray, ray: np.ndarray, tol):
+    """The faces of ``v``'s fan, unfolded around ``v`` from face ``f`` (both ways round), whose
+    corner at ``v`` holds the direction ``ray``: yields ``(face, (3, 2) corner positions)``."""
+    F = md.F
+    deg = md.vf.indptr[v + 1] - md.vf.indptr[v]
+    kv = int(np.flatnonzero(F[f] == v)[0])
+    for first in ((kv + 1) % 3, (kv + 2) % 3):  # cross the edge opposite this corner first
+        g, Pg, k = f, P, first
+        for step in range(deg):  # at most once round the fan
+            kv = int(np.flatnonzero(F[g] == v)[0])
+            e1, e2 = Pg[(kv + 1) % 3] - Pg[kv], Pg[(kv + 2) % 3] - Pg[kv]
+            turn = np.sign(_cross(e1, e2))
+            inside = turn * _cross(e1, ray) >= -tol * np.hypot(*e1) and turn * _cross(
+                ray, e2
+            ) >= -tol * np.hypot(*e2)
+            if inside and (step > 0 or first == (kv + 1) % 3):  # f itself once
+                yield g, Pg
+            edge = (F[g, (k + 1) % 3], F[g, (k + 2) % 3])  # v and the vertex it is shared with
+            shared = edge[1] if edge[0] == v else edge[0]
+            g, Pg = _unfold(md, g, Pg, k)
+            if g < 0 or g == f:
+                break
+            k = int(np.flatnonzero(F[g] == shared)[0])  # next: the other edge at v
+
+
+def _walk_line(md, d, v, g, Pg, start, ray, reach, tol):
+    """Follow the line from ``v`` (at ``start`` in face ``g``, corners at ``Pg``) along
+    ``ray``; ``(faces, u)`` at the first vertex ``u`` on it with ``d[u] + |u v| = d[v]``, or
+    ``None`` when it passes ``ray``'s end or leaves the mesh without meeting one."""
+    F = md.F
+
+    def lands(q: np.ndarray, u: int) -> bool:
+        w = q - start
+        along = float(w @ ray) / reach
+        return (
+            abs(_cross(ray, w)) / reach <= tol
+            and 0.0 < along <= reach + tol
+            and d[u] + along <= d[v] + tol
+        )
+
+    faces = [g]
+    kv = int(np.flatnonzero(F[g] == v)[0])
+    for k in ((kv + 1) % 3, (kv + 2) % 3):
+        if lands(Pg[k], int(F[g, k])):
+            return faces, int(F[g, k])
+    k, tau = kv, 0.0  # leave through the edge opposite corner k
+    for _ in range(F.shape[0]):  # at most every face once
+        g, Pg = _unfold(md, g, Pg, k)
+        if g < 0:
+            return None
+        faces.append(g)
+        iw = int(np.flatnonzero(~np.isin(F[g], F[faces[-2]]))[0])
+        if lands(Pg[iw], int(F[g, iw])):
+            return faces, int(F[g, iw])
+        best = None  # leave through one of the two edges at the new vertex
+        for kk in ((iw + 1) % 3, (iw + 2) % 3):
+            # the edge opposite corner kk runs from Pg[kk+1] to Pg[kk+2]
+            t_ray, t_edge = _intersect(start, ray, Pg[(kk + 1) % 3], Pg[(kk + 2) % 3])
+            if -1e-9 <= t_edge <= 1.0 + 1e-9 and t_ray > tau and (best is None or t_ray > best[0]):
+                best = (t_ray, kk)
+        if best is None or best[0] > 1.0 + 1e-9:
+            return None
+        tau, k = best
+    return None
+
+
+def _cross(u: np.ndarray, w: np.ndarray) -> float:
+    return float(u[0] * w[1] - u[1] * w[0])
+
+
+def _intersect(p: np.ndarray, r: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> tuple[float, float]:
+    """``(t, u)`` with ``p + t r = q0 + u (q1 - q0)`` (``(-inf, nan)`` for parallel lines)."""
+    e = q1 - q0
+    den = _cross(r, e)
+    if den == 0.0:
+        return -np.inf, np.nan
+    w = q0 - p
+    return _cross(w, e) / den, _cross(w, r) / den
 
 
 def _edge_path(md: _MeshData, v: int, is_src: np.ndarray) -> list[tuple]:
@@ -419,23 +598,27 @@ def _segments(md: _MeshData, faces, tpar, il, ir) -> tuple[np.ndarray, np.ndarra
 
 
 def shortest_path(
-    m: Any, source: Any, target: Any, solver: GeodesicSolver | None = None, **kwargs: Any
+    m: Any, source: Any, target: Any, solver: GeodesicSolver | None = None
 ) -> SurfacePath:
-    """Shortest path on a mescher from ``source`` to ``target`` (vertices): a geodesic.
+    """Shortest path on a mescher from ``source`` to ``target`` (vertices).
 
-    Three candidate paths are built: the heat-method distance from ``source`` traced from
-    ``target`` down its per-face gradient (barycentric rays crossing edges), the same from
-    ``target`` traced from ``source``, and the shortest path along edges (Dijkstra).  Each is
-    unfolded face by face with the intrinsic edge lengths and pulled taut (funnel), then
-    shortened around every vertex it bends at until both angles there are >= pi (FlipOut's
-    condition for a locally shortest path, Sharp & Crane 2020): the result is a geodesic, and
-    the shortest is kept.  Geodesics between two points can differ by the side on which they
-    pass a cone vertex (a box corner); the path is then forced through each of the sharpest
-    cones next to it and shortened again, keeping what is shorter.  Measured against exact
-    distances (MMP): equal to round-off on CAD boxes with 0.001-0.003-degree slivers, on
-    obtuse meshes, on impossible tori (covering), on a bumpy sphere and a torus (with the
-    trace from one end only: up to 3e-5 there, and +0.45% on the bumpy sphere with the
-    heat method refined, when that trace came down the wrong side near the cut locus).
+    The path is traced back through the exact distance field (window propagation, stopped once
+    ``target`` is final): from ``target`` straight to the source image of the window that gave
+    its distance (a vertex: the source, or a saddle or boundary vertex the path bends at), and
+    on from there (:func:`_backtrack`).  Each leg is unfolded on the faces it crosses and pulled
+    taut (funnel), so the path lies on the mescher's faces and its length is the exact distance
+    to round-off.
+
+    Should the trace back fail to reach the exact distance (it is checked), candidate paths are
+    built as a fallback: the distance field traced from ``target`` down its per-face gradient,
+    the same from the other end, and the shortest path along edges, each pulled taut and
+    shortened around the vertices it bends at until both angles there are >= pi (FlipOut's
+    condition for a locally shortest path, Sharp & Crane 2020), then tried past the sharpest
+    cone vertices next to it.  That yields *a* geodesic, not always the shortest: on a CAD
+    prism whose caps are fans of slivers the gradient of the interpolated field leads around
+    the side walls while the shortest path crosses a cap (+5% and +25% measured), a geodesic
+    of another homotopy class that no swing at its own corners and no detour past a nearby
+    cone reaches -- which is why the exact trace back comes first.
 
     Parameters
     ----------
@@ -443,9 +626,8 @@ def shortest_path(
     source, target : int
         Vertex indices.
     solver : GeodesicSolver, optional
-        A solver for ``m`` to reuse (any method); otherwise
-        :func:`~meschers_igl.geodesic.geodesic_solver` builds one with ``**kwargs``
-        (default ``method="auto"``).
+        A solver for ``m``: an :class:`~meschers_igl.geodesic.ExactGeodesicSolver` is reused for
+        the exact field; any other method's field seeds the fallback candidates.
 
     Returns
     -------
@@ -464,30 +646,48 @@ def shortest_path(
         raise MescherError(f"source: expected one vertex index, found {np.shape(source)}")
     if t is None:
         raise MescherError(f"target: expected one vertex index, found {np.shape(target)}")
-    if solver is None:
-        solver = geodesic_solver(m, **kwargs)
-    elif solver.m is not m:
+    if solver is not None and solver.m is not m:
         raise MescherError(
             "solver: expected a geodesic solver built for this mescher, found one for another"
         )
     md = _MeshData(m)
-    Fm = md.F
     if s == t:
         f = int(md.faces_of(s)[0]) if md.faces_of(s).size else -1
         bb = np.zeros((1, 3))
         if f >= 0:
-            bb[0, Fm[f] == s] = 1.0
+            bb[0, md.F[f] == s] = 1.0
         return SurfacePath(
             np.array([f]), bb, np.asarray(m.xy)[[s]].copy(), np.zeros(1), 0.0, s, t, np.zeros(0)
         )
-    d = solver.distance(s)
+    exact = solver if isinstance(solver, ExactGeodesicSolver) else ExactGeodesicSolver(m)
+    d, via, image = exact.parents(s, targets=t)
     if not np.isfinite(d[t]):
         raise MescherError(
             f"target: vertex {t} is not reachable from source {s} (another connected component)"
         )
     is_src = np.zeros(n, dtype=bool)
     is_src[s] = True
-    # candidates: the trace down the heat distance, and the shortest edge path; each is pulled
+    try:
+        pieces = _pieces(md, _backtrack(md, d, via, image, t, is_src))
+        path = _surface_path(m, md, pieces[::-1], s, t, reverse=True)
+        if path.length <= d[t] * (1.0 + 1e-9) + md.tiny:
+            return path
+    except MescherError:  # the trace back got lost: the candidates below remain
+        pass
+    if solver is None or solver is exact:
+        return _geodesic_candidates(m, md, d, lambda: exact.distance(t, targets=s), s, t)
+    return _geodesic_candidates(m, md, solver.distance(s), lambda: solver.distance(t), s, t)
+
+
+def _geodesic_candidates(
+    m: Any, md: _MeshData, d: np.ndarray, d_from_target, s: int, t: int
+) -> SurfacePath:
+    """The shortest of the geodesics shortened from candidate paths (see :func:`shortest_path`):
+    the traces down the field ``d`` (from ``s``) and ``d_from_target()``, and the edge path."""
+    n = d.size
+    is_src = np.zeros(n, dtype=bool)
+    is_src[s] = True
+    # candidates: the trace down the distance, and the shortest edge path; each is pulled
     # taut and shortened around its corners until it is a geodesic; the shorter one wins
     candidates = [_edge_path(md, t, is_src)]
     try:
@@ -501,13 +701,13 @@ def shortest_path(
         if best is None or length < best[0]:
             best = (length, pieces)
     # and the trace from the other end: near the cut locus, where two geodesics are almost
-    # equally short, the heat field of one end can come down the wrong side of a bump (bumpy
-    # sphere: +0.45% with heat method="refined"), that of the other end need not
+    # equally short, the field of one end can come down the wrong side of a bump, that of the
+    # other end need not
     path = _surface_path(m, md, _cone_detours(md, best[1])[::-1], s, t, reverse=True)
     is_tgt = np.zeros(n, dtype=bool)
     is_tgt[t] = True
     try:
-        back = _shorten(md, _pieces(md, _trace(md, solver.distance(t), s, is_tgt)))
+        back = _shorten(md, _pieces(md, _trace(md, d_from_target(), s, is_tgt)))
     except MescherError:
         return path
     # its pieces are listed source -> target, each running that way
@@ -542,7 +742,7 @@ def _surface_path(
     return SurfacePath(faces, bary, pts_xy, depth, float(lens.sum()), int(s), int(t), lens)
 
 
-def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
+def shortest_path_through(m: Any, points: Any, solver: GeodesicSolver | None = None) -> SurfacePath:
     """The shortest path through the given vertices in order: geodesics between neighbours.
 
     Parameters
@@ -550,8 +750,8 @@ def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
     m : Mescher
     points : (k,) array_like of int
         Vertices to visit, ``k >= 2`` (repeats allowed; a closed tour ends where it began).
-    **kwargs
-        Passed to :func:`~meschers_igl.geodesic.geodesic_solver` (built once, shared).
+    solver : GeodesicSolver, optional
+        Reused for every leg (:func:`shortest_path`; an exact solver is built once otherwise).
 
     Returns
     -------
@@ -561,7 +761,7 @@ def shortest_path_through(m: Any, points: Any, **kwargs: Any) -> SurfacePath:
     pts = as_index_array(points, "points", int(m.n_vertices))
     if pts.ndim != 1 or pts.size < 2:
         raise MescherError(f"points: expected at least two vertex indices, found {pts.size}")
-    solver = geodesic_solver(m, **kwargs)
+    solver = ExactGeodesicSolver(m) if solver is None else solver
     legs = [shortest_path(m, int(a), int(b), solver=solver) for a, b in zip(pts[:-1], pts[1:])]
     legs = [p for p in legs if p.n_points > 1] or legs[:1]
     faces = [legs[0].faces[:-1]] + [p.faces[:-1] for p in legs[1:]] + [legs[-1].faces[-1:]]
