@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from meschers_igl.errors import MescherError
+from meschers_igl.validate import FORCE_HINT
 
 from .describe import describe, format_info
 
@@ -240,6 +241,11 @@ def _cmd_render(args: argparse.Namespace) -> int:
         lights=args.light or [(1.0, 1.0, 1.0)], shading=args.shading, env_map=args.env,
         window_size=args.size, representation=args.representation, anti_aliasing=True,
     )  # fmt: skip
+    if np.all(image == image[:1, :1]):
+        raise MescherError(
+            f"-o: expected a picture of the model, found a render of one colour (the model is "
+            f"degenerate or outside the view); nothing written to {out}"
+        )
     _save_png(image, out)
     print(f"wrote {out} ({image.shape[1]} x {image.shape[0]})")
     return 0
@@ -253,8 +259,13 @@ def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint", force:
 
 def _cmd_geodesic(args: argparse.Namespace) -> int:
     from meschers_igl.geodesic import geodesic_solver
+    from meschers_igl.validate import as_index_array
 
     m, order, _ = load_input(args.input)
+    # vertices checked before the field is computed
+    as_index_array(args.source, "--source", m.n_vertices)
+    if args.target is not None:
+        as_index_array(args.target, "--target", m.n_vertices)
     d = geodesic_solver(m, args.method or "auto").distance(args.source)
     finite = np.isfinite(d)
     print(f"distance from vertex(es) {', '.join(map(str, args.source))}: max {d[finite].max():.6g}, "
@@ -383,6 +394,11 @@ def _cmd_info_or_list(args: argparse.Namespace) -> int:
         print("shipped ParadoxToolkit cut models (GPL-3.0 data):")
         for name in list_paradox_models():
             print(f"  paradox:{name}")
+        from .inputs import list_solids
+
+        print("shipped solid models (closed solids, separate blocks, seen from their view):")
+        for name in list_solids():
+            print(f"  solid:{name}")
         return 0
     return _cmd_info(args)
 
@@ -438,14 +454,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("study", help="run the comparison study; write one HTML page", formatter_class=raw,
                        description="Every operation of the paper on each model, mescher vs cut vs bent, written "
                        "to OUT/index.html (one file, figures embedded) with the PNGs and metrics.json. Default: "
-                       f"the gallery and the shipped ParadoxToolkit models ({STUDY_TIME}).",
+                       "the gallery and the shipped ParadoxToolkit and solid models.",
                        epilog=_examples("study", "study --quick --models penrose_triangle,impossibagel --out study",
                                         "study 'my_models/*.obj' saved.ply --jobs 2 --out mine",
                                         "study --scheduler tcp://10.0.0.5:8786"))  # fmt: skip
     _add(p, "inputs", nargs="*", metavar="MODEL",
-         help="models to study, exactly these: gallery names, paradox:NAME, .ply/.npz meschers, meshes "
+         help="models to study, exactly these: gallery names, paradox:NAME, solid:NAME, .ply/.npz meschers, meshes "
               "with a sidecar .json view ({'view': [x,y,z], 'up': [x,y,z]}), folders, glob patterns "
-              "(quoted); default: the gallery and the shipped ParadoxToolkit models")  # fmt: skip
+              "(quoted); default: the gallery and the shipped ParadoxToolkit and solid models "
+              "(meschers info --list)")  # fmt: skip
     _add(p, "--models", action="append", metavar="NAMES",
          help="comma-separated models, like MODEL (repeatable); only these are run")  # fmt: skip
     _add(
@@ -456,7 +473,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="output folder (default: meschers_study)",
     )
     _add(p, "--quick", action="store_true",
-         help=f"192-pixel panels and one subdivision level instead of 320 and two ({QUICK_TIME})")  # fmt: skip
+         help="192-pixel panels and one subdivision level instead of 320 and two")  # fmt: skip
     _add(p, "--jobs", type=int, default=None, metavar="N",
          help="worker processes of a local Dask cluster, one model per task; 1 runs here, one model "
               "after another (default: the cores available, at most 4)")  # fmt: skip
@@ -618,14 +635,25 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-#: Measured CPU times of the study (benchmarks/bench_study.py; CPU time, which does not depend on
-#: what else the machine runs): the default study, and --quick, one model after another.
-STUDY_TIME = (
-    "measured on 2 cores: 38-55 s wall and 60 s of CPU time with --jobs 2, 40-44 s with --jobs 1"
-)
-QUICK_TIME = "measured: 19 s wall, 19 s of CPU time with --jobs 1"
-
 _VECTOR_OPTIONS = ("--view", "--up", "--light")
+
+#: The compiled kernel groups (:mod:`meschers.warmup`) each command uses; compiled up front, with
+#: a notice, when missing from the cache.
+_KERNELS = {
+    "render": ("order", "render"),
+    "geodesic": ("order", "geodesic", "render"),
+    "smooth": ("order",),
+    "subdivide": ("order",),
+    "convert": ("order",),
+}
+
+
+def _compile_first(args: argparse.Namespace) -> None:
+    groups = _KERNELS.get(getattr(args, "command", None) or "", ())
+    if groups:
+        from .warmup import ensure_compiled
+
+        ensure_compiled(lambda line: print(line, file=sys.stderr), groups)
 
 
 def _join_negative_vectors(argv: list[str]) -> list[str]:
@@ -659,11 +687,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     try:
+        argv = _join_negative_vectors(argv)
         if argv[:1] == ["inverse"]:  # hand everything after 'inverse' over, '--help' included
-            args = argparse.Namespace(rest=argv[1:], func=_cmd_inverse)
+            args = argparse.Namespace(rest=argv[1:], func=_cmd_inverse, command="inverse")
         else:
-            args = parser.parse_args(_join_negative_vectors(argv))
-        return int(args.func(args) or 0)
+            args = parser.parse_args(argv)
+        _compile_first(args)
+        token = FORCE_HINT.set("add --force")  # size guards speak of the option, not the keyword
+        try:
+            return int(args.func(args) or 0)
+        finally:
+            FORCE_HINT.reset(token)
     except _UsageError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2

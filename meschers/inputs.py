@@ -169,8 +169,9 @@ def _hint() -> str:
     from meschers_igl.gallery import list_models
 
     return (
-        f"a gallery model ({', '.join(list_models())}), paradox:NAME (meschers info --list), "
-        "a .ply/.npz mescher, a mesh with a sidecar .json view, a folder or a glob"
+        f"a gallery model ({', '.join(list_models())}), paradox:NAME or solid:NAME "
+        "(meschers info --list), a .ply/.npz mescher, a mesh with a sidecar .json view, a folder "
+        "or a glob"
     )
 
 

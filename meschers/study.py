@@ -15,6 +15,7 @@ from other tools", the ParadoxToolkit cut models shipped in ``meschers_igl/data/
 from __future__ import annotations
 
 import json
+import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
@@ -149,6 +150,10 @@ def _description(spec: ModelSpec) -> str:
     return f"Cut model '{Path(spec.path).name}' seen from its sidecar view."
 
 
+#: BLAS/OpenMP threads per model (serial and parallel alike; models run in parallel instead).
+STUDY_THREADS = 1
+
+
 def study_model(
     spec: ModelSpec,
     key: str,
@@ -171,9 +176,18 @@ def study_model(
     -------
     ModelResult
     """
+    from threadpoolctl import threadpool_limits
+
     from pyvista_views.headless import configure_headless
 
     configure_headless()  # a fresh worker process has no pyvista settings yet
+    # the same BLAS/OpenMP threads in this process and in every worker: sums are then done in
+    # the same order and a parallel study gives the serial one's numbers to the last digit
+    with threadpool_limits(limits=STUDY_THREADS):
+        return _study_model(spec, key, settings, progress)
+
+
+def _study_model(spec, key, settings, progress) -> ModelResult:
     import pyvista
 
     pyvista.OFF_SCREEN = True
@@ -181,6 +195,7 @@ def study_model(
     section = Section(key, key.replace("_", " ").title(), _description(spec))
     job = ModelJob(group, key, section, settings, progress)
     try:
+        job.record["threads"] = _threads()
         runner(job, spec)
     except Exception as exc:  # noqa: BLE001 -- the runner's own steps record theirs; this is the rest
         msg = f"{key}: {type(exc).__name__}: {exc}"
@@ -189,6 +204,13 @@ def study_model(
     finally:
         job.close()
     return job.result()
+
+
+def _threads() -> int:
+    """The most threads any BLAS/OpenMP pool of this process may use now."""
+    from threadpoolctl import threadpool_info
+
+    return max((int(p["num_threads"]) for p in threadpool_info()), default=1)
 
 
 def failed_result(spec: ModelSpec, key: str, exc: BaseException) -> ModelResult:
@@ -302,6 +324,7 @@ def run_study(
     from meschers_igl.validate import as_count
 
     from .report import write_report
+    from .warmup import ensure_compiled
 
     jobs = as_count(jobs, "jobs", minimum=1)
     specs = default_models(other_tools) if models is None else expand_models(list(models))
@@ -314,6 +337,8 @@ def run_study(
     st = study_settings(quick)
     keys = _keys(specs)
     t_start = time.perf_counter()
+    # compiled once here, in parallel, before any worker starts (they then load the cache)
+    ensure_compiled(lambda line: print(line, file=sys.stderr))
     if scheduler or jobs > 1:
         results = _run_parallel(specs, keys, st, jobs, scheduler, progress)
     else:

@@ -145,7 +145,7 @@ def _kahn_levels(indptr: np.ndarray, head: np.ndarray, n: int):
                 if indeg[w] == 0:
                     order[k] = w
                     k += 1
-        order[hi:k] = np.sort(order[hi:k])
+        order[hi:k].sort()  # in place: no array-to-array slice assignment (see overlap._grow)
         lo = hi
     return order, k
 

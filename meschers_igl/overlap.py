@@ -198,7 +198,11 @@ def _grow(a: np.ndarray, need: int) -> np.ndarray:
         return a
     cap = max(2 * a.shape[0], need)
     b = np.empty((cap,) + a.shape[1:], dtype=a.dtype)
-    b[: a.shape[0]] = a
+    # an element loop, not ``b[:n] = a``: array-to-array slice assignment compiles numba's
+    # shape-mismatch error formatting (several seconds of first-run compilation)
+    src, dst = a.reshape(-1), b.reshape(-1)
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
     return b
 
 

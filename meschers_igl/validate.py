@@ -7,6 +7,7 @@ arrays, the dtypes libigl's bindings take without copying.
 
 from __future__ import annotations
 
+from contextvars import ContextVar
 from typing import Any
 
 import numpy as np
@@ -186,12 +187,17 @@ def _human(nbytes: float) -> str:
     return f"{nbytes:.3g} PB"  # pragma: no cover
 
 
+#: How :func:`check_budget`'s message says to override it; the command line sets "add --force".
+FORCE_HINT: ContextVar[str] = ContextVar("FORCE_HINT", default="pass force=True")
+
+
 def check_budget(
     n_faces: float,
     bytes_per_face: float = 400.0,
     what: str = "the result",
     force: bool = False,
     available: int | None = None,
+    unit: str = "faces",
 ) -> float:
     """Refuse work whose estimated output would not fit in memory, before doing any of it.
 
@@ -212,6 +218,8 @@ def check_budget(
         Skip the check (for people who mean it).
     available : int, optional
         Memory available in bytes (default: measured).
+    unit : str, default: "faces"
+        What ``n_faces`` counts, for the message (``"pixels"`` for an image).
 
     Returns
     -------
@@ -232,8 +240,7 @@ def check_budget(
         raise MescherError(
             f"{what}: expected an output that fits in memory (at most {_human(limit)}, "
             f"{MEMORY_FRACTION:.0%} of the {_human(avail)} available), found an estimated "
-            f"{float(n_faces):.3g} faces and {_human(est)}; pass force=True (--force) if you "
-            "mean it"
+            f"{float(n_faces):.3g} {unit} and {_human(est)}; {FORCE_HINT.get()} if you mean it"
         )
     return est
 

@@ -44,7 +44,11 @@ def as_window_size(window_size: object, force: bool = False) -> tuple[int, int]:
     w = as_count(window_size[0], "window_size[0] (width)", minimum=1)
     h = as_count(window_size[1], "window_size[1] (height)", minimum=1)
     check_budget(
-        float(w) * float(h), BYTES_PER_PIXEL, f"window_size ({w} x {h} pixels)", force=force
+        float(w) * float(h),
+        BYTES_PER_PIXEL,
+        f"window_size ({w} x {h} pixels)",
+        force=force,
+        unit="pixels",
     )
     return (w, h)
 

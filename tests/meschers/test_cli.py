@@ -326,12 +326,69 @@ def test_every_option_has_a_help_text():
             )
 
 
-def test_quick_help_quotes_a_measured_time(capsys):
-    from meschers import cli
+def test_solid_models_are_listed_and_named_where_models_are(capsys):
+    from meschers.inputs import list_solids
 
+    solids = list_solids()
+    assert solids
+    assert main(["info", "--list"]) == 0
+    out = capsys.readouterr().out
+    assert all(f"solid:{n}" in out for n in solids)
+    assert main(["info", "no_such_model"]) == 2
+    assert "solid:NAME" in capsys.readouterr().err
     assert main(["study", "--help"]) == 0
-    out = " ".join(capsys.readouterr().out.split())
-    assert cli.QUICK_TIME in out and "2 minutes" not in out
+    assert "solid:NAME" in " ".join(capsys.readouterr().out.split())
+
+
+def test_size_guards_speak_of_pixels_and_of_the_option(capsys, tmp_path):
+    assert (
+        main(["render", "penrose_triangle", "-o", str(tmp_path / "x.png"), "--size", "100000"]) == 2
+    )
+    err = capsys.readouterr().err
+    assert "1e+10 pixels" in err and "add --force" in err and "force=True" not in err
+    assert not (tmp_path / "x.png").exists()
+    # the library keeps speaking of the keyword
+    from meschers_igl import MescherError
+    from meschers_igl.validate import check_budget
+
+    with pytest.raises(MescherError, match="pass force=True"):
+        check_budget(1e12, what="x")
+
+
+def test_a_render_of_one_colour_is_refused_and_not_written(capsys, tmp_path, monkeypatch):
+    import pyvista_views
+
+    monkeypatch.setattr(
+        pyvista_views, "render", lambda *a, **k: np.full((40, 40, 3), 255, np.uint8)
+    )
+    out = tmp_path / "blank.png"
+    assert main(["render", "penrose_triangle", "-o", str(out)]) == 2
+    assert "one colour" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_geodesic_refuses_a_bad_target_before_computing_the_field(capsys, monkeypatch):
+    import meschers_igl.geodesic as geodesic
+
+    def boom(*a, **k):
+        raise AssertionError("the field was computed before the target was checked")
+
+    monkeypatch.setattr(geodesic, "geodesic_solver", boom)
+    assert main(["geodesic", "penrose_triangle", "--source", "0", "--target", "99999"]) == 2
+    assert "--target: expected indices in [0," in capsys.readouterr().err
+
+
+def test_negative_vector_options_parse_for_every_command(capsys, tmp_path):
+    from meschers.cli import _join_negative_vectors
+
+    assert _join_negative_vectors(["inverse", "p.png", "--light", "-0.5,0.35,1"]) == [
+        "inverse",
+        "p.png",
+        "--light=-0.5,0.35,1",
+    ]
+    # the inverse command gets the joined form: whatever it says, not "expected one argument"
+    main(["inverse", str(tmp_path / "missing.png"), "--light", "-0.5,0.35,1"])
+    assert "expected one argument" not in capsys.readouterr().err
 
 
 def test_info_shipped_model_by_name(capsys):

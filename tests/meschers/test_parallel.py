@@ -67,6 +67,10 @@ def test_parallel_study_equals_serial(runs):
     assert not serial.metrics["models"]["small_triangle"].get("errors")
     assert not serial.metrics["other_tools"]["stair"].get("errors")
     assert serial.errors == par.errors and len(serial.errors) == 1
+    # one BLAS/OpenMP thread per model in this process and in the workers alike: sums in the
+    # same order, so the same numbers to the last digit
+    assert serial.metrics["models"]["small_triangle"]["threads"] == 1
+    assert par.metrics["models"]["small_triangle"]["threads"] == 1
     # the same numbers, and the same figures in the same order
     assert _strip(serial.metrics) == _strip(par.metrics)
     assert par.metrics["parallel"] == {"jobs": 2, "scheduler": None}

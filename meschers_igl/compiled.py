@@ -1,0 +1,152 @@
+"""The compiled (numba) kernels of the core: which are compiled on this machine, and warming them.
+
+numba compiles a kernel the first time it is called and, with ``cache=True``, keeps the machine
+code beside the module (``__pycache__``) for every later process.  A fresh installation
+therefore pays the compilation once, inside whatever runs first; a parallel run whose workers
+start together would pay it once per worker.  This module lets the application pay it once, up
+front and visibly: :func:`cold_kernels` says which kernels have no machine code cached for this
+CPU, and :func:`warm` runs a tiny representative call of each group of kernels (the public
+functions with the argument types real work uses, so the cached signatures are the ones later
+calls look up).
+
+Groups (each can be warmed in its own process, in parallel):
+
+``"order"``
+    overlap tests, depth orders, topological sorts, refinement (:mod:`.overlap`,
+    :mod:`.order_graph`).
+``"geodesic"``
+    exact geodesics, shortest paths, intrinsic Delaunay flips, the heap (:mod:`.geodesic`,
+    :mod:`.intrinsic`, :mod:`.heap`).
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Iterable
+
+__all__ = ["GROUPS", "cold_kernels", "is_cached", "kernels", "warm"]
+
+# module names of each group's kernels
+GROUPS: dict[str, tuple[str, ...]] = {
+    "order": ("meschers_igl.overlap", "meschers_igl.order_graph"),
+    "geodesic": (
+        "meschers_igl.geodesic.exact",
+        "meschers_igl.geodesic.paths",
+        "meschers_igl.intrinsic",
+        "meschers_igl.heap",
+    ),
+}
+
+
+def kernels(modules: Iterable[str]) -> list:
+    """The numba dispatchers defined at the top level of ``modules`` (imported here).
+
+    Parameters
+    ----------
+    modules : iterable of str
+        Importable module names.
+
+    Returns
+    -------
+    list of numba dispatchers
+    """
+    from numba.core.registry import CPUDispatcher
+
+    out = []
+    for name in modules:
+        mod = importlib.import_module(name)
+        for value in vars(mod).values():
+            if isinstance(value, CPUDispatcher) and value.py_func.__module__ == name:
+                out.append(value)
+    return out
+
+
+def is_cached(dispatcher) -> bool:
+    """Does ``dispatcher``'s on-disk cache hold machine code for this CPU and this source?
+
+    Reads numba's cache index (private API: any surprise counts as "not cached", so the worst a
+    numba change can do is an unneeded message).
+    """
+    try:
+        cache = dispatcher._cache
+        overloads = cache._cache_file._load_index()
+        magic = dispatcher.targetctx.codegen().magic_tuple()
+    except Exception:  # noqa: BLE001 -- numba internals; see the docstring
+        return False
+    return any(key[1] == magic for key in overloads)
+
+
+def cold_kernels(modules: Iterable[str]) -> list[str]:
+    """Names (``module.function``) of the kernels of ``modules`` with no cached machine code.
+
+    Kernels inlined into their callers (``inline="always"``) are compiled inside them and never
+    have a cache of their own, so they are not counted.
+
+    Parameters
+    ----------
+    modules : iterable of str
+        Module names, e.g. ``GROUPS["order"]``.
+
+    Returns
+    -------
+    list of str
+    """
+    return [
+        f"{d.py_func.__module__}.{d.py_func.__qualname__}"
+        for d in kernels(modules)
+        if d.targetoptions.get("inline", "never") == "never" and not is_cached(d)
+    ]
+
+
+def warm(group: str) -> None:
+    """Compile (or load from the cache) the kernels of ``group`` with a tiny representative call.
+
+    Parameters
+    ----------
+    group : str
+        A key of :data:`GROUPS`.
+    """
+    from .errors import MescherError
+
+    if group not in GROUPS:
+        raise MescherError(f"group: expected one of {sorted(GROUPS)}, found {group!r}")
+    if group == "order":
+        _warm_order()
+    else:
+        _warm_geodesic()
+
+
+def _tiny():
+    """A small impossible mescher with the order of its cut model (the impossibagel)."""
+    from . import shapes
+
+    return shapes.impossible_torus(12, 6, climb=1.0)
+
+
+def _warm_order() -> None:
+    import numpy as np
+
+    from .geometry2d import candidate_pairs, intersection_centroids, triangles_overlap
+    from .order import DepthOrder
+
+    m = _tiny()
+    o = DepthOrder.from_local_depth(m)
+    o.linear_extension()
+    o.put_in_front(np.arange(4), np.arange(4, 8))
+    fine, _ = m.subdivide(1, order=o)
+    T = m.xy[m.F]
+    intersection_centroids(T[:2], T[2:4])
+    triangles_overlap(T[:2], T[2:4])
+    candidate_pairs(T.min(axis=1), T.max(axis=1))
+    DepthOrder.from_embedding(m, m.corner_depths())
+    del fine
+
+
+def _warm_geodesic() -> None:
+    from .geodesic import geodesic_distance
+
+    m = _tiny()
+    n = m.n_vertices
+    for method in ("exact", "auto", "refined", "geometry_central"):
+        geodesic_distance(m, [0], method=method)
+    m.shortest_path(0, n // 2)
