@@ -75,6 +75,7 @@ class InverseOptions:
         Every so many steps, render nearly hard and measure the PSNR; with ``keep_best`` the
         iterate with the best one is returned (0: never; the last iterate is returned).
     keep_best : bool, default: True
+        With ``eval_every``: return the iterate of the best PSNR seen, the start included.
     """
 
     iters: int = 1200
@@ -269,6 +270,13 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
         return img.cpu().numpy(), alpha.cpu().numpy()
 
     base_lr = [[g["lr"] for g in o.param_groups] for o in (opt_xy, opt_z, opt_rest)]
+    if opt.eval_every and opt.keep_best:
+        # the start is a candidate too: a fit that only loses (a frame of bars a few pixels
+        # wide) returns its start
+        img_h, _ = hard()
+        with torch.no_grad():
+            best = (image_psnr(img_h, target), (par.xy_leaf.leaf.clone(),
+                    par.z_leaf.leaf.clone(), par.c.clone(), par.offsets.clone()))  # fmt: skip
     for it in range(opt.iters):
         t = it / max(opt.iters - 1, 1)
         # cosine decay to lr_final: large early steps, then settle the per-face noise

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -69,3 +70,40 @@ def test_meschers_cli_hands_over_to_inverse_main(tmp_path):
             "--init", "torus", "--torus", "12,6", "--no-progress"]  # fmt: skip
     assert main(argv) == 0
     assert (out / "mescher.ply").exists()
+
+
+@pytest.mark.render
+def test_cli_light_with_negative_components_and_light_in_metrics(tmp_path):
+    from meschers.cli import main
+
+    out = tmp_path / "given"
+    argv = ["inverse", "tribar", "--light", "-0.5,0.35,1", "--out", str(out), "--iters", "4",
+            "--every", "2", "--resolution", "96", "--no-progress"]  # fmt: skip
+    assert main(argv) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    given = np.array([-0.5, 0.35, 1.0]) / np.linalg.norm([-0.5, 0.35, 1.0])
+    assert np.asarray(metrics["light"][0]) == pytest.approx(given, abs=1e-12)
+    assert metrics["light_estimated"] is False
+    assert abs(metrics["figure_period"] - metrics["true_gap"]) < 0.15 * metrics["true_gap"]
+    # no --light: read from the picture (the same light, or its Necker mirror (-x, -y, z))
+    out = tmp_path / "estimated"
+    argv = ["inverse", "tribar", "--out", str(out), "--iters", "2", "--every", "2",
+            "--resolution", "96", "--no-progress"]  # fmt: skip
+    assert main(argv) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["light_estimated"] is True
+    true = np.array([0.6, -0.1, 1.0]) / np.linalg.norm([0.6, -0.1, 1.0])
+    est = np.asarray(metrics["light"][0])
+    cos = max(est @ true, est @ (true * [-1.0, -1.0, 1.0]))
+    assert math.degrees(math.acos(min(cos, 1.0))) < 2.0
+
+
+def test_cli_picture_without_a_figure_is_refused(tmp_path):
+    from PIL import Image
+
+    from meschers.inverse_cli import inverse_main
+
+    blank = tmp_path / "blank.png"
+    Image.fromarray(np.full((64, 64, 3), 255, np.uint8)).save(blank)
+    with pytest.raises(MescherError, match="expected a figure"):
+        inverse_main([str(blank), "--out", str(tmp_path / "o"), "--no-progress"])
