@@ -51,7 +51,7 @@ class Group:
     intro: str
 
 
-#: The report's parts, in order.  EXTENSION POINT (issue 18): a section "Models as artists make
+#: The report's parts, in order.  Extension point: a section "Models as artists make
 #: them" (models seen from a view with ``Mescher.from_model``) is one more entry here, e.g.
 #: ``Group("artist_models", "Models as artists make them", "...")``, plus a runner in
 #: :data:`RUNNERS` for its kind of :class:`~meschers.inputs.ModelSpec` and, for its table, a

@@ -2,7 +2,7 @@
 
 This module is the one owner of intrinsic triangle geometry in ``meschers_igl`` (gpytoolbox's
 style: one small vectorized function per quantity).  A mescher has per-edge lengths although it
-has no global embedding (DESIGN "How operators are built"), so everything intrinsic -- the
+has no global embedding (:doc:`/conventions`), so everything intrinsic -- the
 operators, the heat method, unfolding strips of faces for shortest paths -- is computed here
 from lengths alone.
 

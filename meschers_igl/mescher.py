@@ -115,7 +115,7 @@ class Mescher:
         """Same connectivity and edge orientation, new (already validated) xy and/or zeta.
 
         The homology generators are carried over, so ``periods()`` of the result are in this
-        mescher's basis (issue 13.2: smooth, with_xy, with_zeta, with_periods).
+        mescher's basis (smooth, with_xy, with_zeta, with_periods).
         """
         m = type(self)(
             self._F,

@@ -1,7 +1,7 @@
 """Geometry of a mescher from its locally integrated triangles, and the discrete operators.
 
 Each triangle is locally integrable (``d12 zeta = 0``), so it has consistent corner positions
-up to a translation in depth (DESIGN "How operators are built"):
+up to a translation in depth (:doc:`/conventions`):
 ``(x_0, y_0, 0), (x_1, y_1, zeta_01), (x_2, y_2, zeta_01 + zeta_12)``.  Edge lengths are then
 per *edge*, shared by both faces, which is all libigl's intrinsic operators need.  Extrinsic
 per-face quantities (gradients, normals) come from those local corners; they are invariant to the

@@ -10,7 +10,7 @@ depth of an impossible object.  Rendering draws the faces in a linear extension 
 The arcs live in an ``(k, 2)`` int64 array; :attr:`DepthOrder.graph` is a networkx view for
 users and cycle reports.  Sorting, cycle detection and feedback-arc breaking work on the arrays
 (:mod:`meschers_igl.order_graph`): building a networkx ``DiGraph`` for 1M faces alone takes
-11-20 s, while Kahn's algorithm on CSR sorts it in under a second (FACTS.md).  Which faces
+11-20 s, while Kahn's algorithm on CSR sorts it in under a second.  Which faces
 overlap on screen, and where, comes from :mod:`meschers_igl.geometry2d` (compiled kernels in
 :mod:`meschers_igl.overlap`).  Operations that move screen positions carry the order with
 :meth:`DepthOrder.follow`.
@@ -158,7 +158,7 @@ class DepthOrder:
         """The order as a frozen ``networkx.DiGraph``: nodes ``0 .. n_faces-1``, arc ``i -> j``
         when face ``i`` is behind face ``j``.
 
-        Built on first access (slow for millions of faces, see FACTS.md); frozen because it is a
+        Built on first access (slow for millions of faces); frozen because it is a
         view: change the order with :meth:`put_in_front` or build a new ``DepthOrder``.
         """
         if self._graph is None:

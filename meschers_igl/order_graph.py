@@ -3,7 +3,7 @@
 A depth order (:class:`meschers_igl.order.DepthOrder`) is a directed graph over faces given by a
 ``(k, 2)`` int64 array of arcs ``(behind, in front)``.  These functions work on such arrays
 directly: building a networkx ``DiGraph`` for 1M faces alone takes 11-20 s, while Kahn's
-algorithm on a CSR adjacency sorts it in under a second (FACTS.md).  networkx stays the
+algorithm on a CSR adjacency sorts it in under a second.  networkx stays the
 user-facing view (:attr:`DepthOrder.graph`); scipy's ``csgraph`` gives the strongly connected
 components and breadth-first trees; the feedback-arc-set heuristic, which neither library
 offers, is written by hand and runs over the faces of one cycle only.

@@ -5,29 +5,11 @@ definite (``M - t L``, a pinned ``-L``) many times with one matrix, so the facto
 hot path.  :func:`factorize_spd` factors once and returns a callable that solves for one or many
 right-hand sides.
 
-Which library, and why (measured on this project's 2-core machine, medians):
-
-===========================================  ======  =========  ====================  ============
-``M - h^2 L`` on a torus                     factor  one solve  8 right sides         extra memory
-===========================================  ======  =========  ====================  ============
-100k faces, ``splu`` COLAMD (scipy default)  0.57 s  11.3 ms    470 ms
-100k faces, ``splu`` ``MMD_AT_PLUS_A``       0.36 s  6.7 ms     245 ms (97 ms column
-                                                                by column)
-100k faces, cholespy (CHOLMOD)               0.32 s  3.6 ms     13 ms
-1M faces, ``splu`` COLAMD                    16.5 s  160 ms                           2.7 GB
-1M faces, ``splu`` ``MMD_AT_PLUS_A``         5.1 s   95 ms                            1.6 GB
-1M faces, cholespy (CHOLMOD)                 8.6 s   63 ms                            0.5 GB
-1M faces, pypardiso (MKL, x86 only)          2.2 s   140 ms                           0.5-0.8 GB
-===========================================  ======  =========  ====================  ============
-
-(1M rows from ``../shared/FACTS.md``; 100k rows measured for this module.)  The solve is what
-users repeat (one per geodesic query, two per heat-method source), so cholespy wins: 2x faster
-per solve than the best SuperLU ordering, 20x on blocks of right-hand sides, a third of the
-memory, a self-contained PyPI wheel, and it detects a matrix that is not positive definite.
-scikit-sparse and scikit-umfpack do not install here (no SuiteSparse headers); pypardiso factors
-faster but solves slower and is a large x86-only install.  Without cholespy we fall back to
-SuperLU with the ``MMD_AT_PLUS_A`` ordering (3x faster than scipy's default COLAMD and less
-memory), solving blocks column by column (SuperLU's own block solve is 2.5x slower here).
+Which library: cholespy (CHOLMOD) when it is installed -- the solve is what users repeat (one
+per geodesic query, two per heat-method source), and it solves fastest, blocks of right-hand
+sides too, in the least memory, and detects a matrix that is not positive definite -- else
+SuperLU with the ``MMD_AT_PLUS_A`` ordering, solving blocks column by column.  The
+measurements behind the choice are in the docs (:doc:`/results`).
 """
 
 from __future__ import annotations

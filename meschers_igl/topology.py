@@ -2,7 +2,7 @@
 
 Nothing here looks at geometry except the tree-cotree basis, which may take edge weights.
 
-Conventions (DESIGN.md): ``edges[e] = (tail, head)``; a 1-form value on edge ``e`` is the
+Conventions (:doc:`/conventions`): ``edges[e] = (tail, head)``; a 1-form value on edge ``e`` is the
 change from tail to head.  ``face_edges[f, i]`` is the edge *opposite* corner ``i`` of face
 ``f``, i.e. between ``F[f, (i+1)%3]`` and ``F[f, (i+2)%3]`` (libigl's column convention for
 per-face edge lengths), and ``face_edge_signs[f, i]`` is ``+1`` when that edge is stored in the

@@ -12,7 +12,7 @@ Two things make it impossible:
   the front of the right half, where they overlap on screen (``front_back``, as for
   Reutersvard's triangle).
 
-Why not the climb alone (measured while building this, issue 17 item 5): a lift of the ring
+Why not the climb alone: a lift of the ring
 along the view is locally a shear ``depth += a_x x + a_y y`` (``y`` toward the back of the
 ring).  It keeps the depth order along every ray iff ``1 - a_y sin(tilt) > 0`` (the Jacobian
 of ``(y, z) -> (screen y, depth)``; ``a_x`` never matters), so where it is locally affine it

@@ -46,24 +46,13 @@ with the same source image.  Touching windows of one edge side whose sources agr
 between the source and an edge cuts the fan of rays reaching it, and the pieces arrive one by
 one (40 windows per face on a flat 100k-face sheet, ``O(n^1.5)``); with it, 2.
 
-**Why hand-written, and what it costs.** libigl's ``igl.exact_geodesic`` (Kirsanov's MMP) on
-the covering took 1198x a heat query at 20k faces, and ``pygeodesic`` (the same MMP) 74 s at
-102k faces (980x a heat query; session 2, issue 13).  Neither accepts a mescher's edge lengths,
-so an impossible mescher needed a covering of several sheets as well.  This module needs only
-the lengths and runs as one numba kernel (4x faster than ``igl.exact_geodesic`` on a 5k-face
-torus, equal to 7e-15).  Per query at about 100k faces, against a prefactored heat query
-(``benchmarks/bench_exact_geodesic.py``, shared 2-core machine): the gallery's meschers,
-midpoint-subdivided (flat faces, creases and corners: the meschers people make), 2.3-5.1x, 2-3.3
-windows per face; smooth tori, ordinary or impossible, 266-277x, 74 windows per face.  On a
-surface whose every vertex is slightly curved each vertex starts a boundary between pieces of
-the distance field (unfoldings) that runs on until it meets another, so the pieces number
-``O(n^1.5)``: on the 20k-face torus 94% of the windows propagated (613,497 of 654,732) are
-pieces of the final field (sampled at 257 points per edge), so no exact method that builds the
-field gets far below that.  Queued windows live in contiguous per-edge blocks (a linked list cost a cache miss
-per queued window: 35 per new window at 100k faces), and each pair of overlapping windows is
-resolved with one root solve.
-``meschers_igl.geodesic.paths.exact_geodesic_distance(..., algorithm="covering")`` keeps the libigl
-route as an independent oracle.
+**Why hand-written.** libigl's ``igl.exact_geodesic`` (Kirsanov's MMP) and ``pygeodesic``
+take 3D vertex positions, not a mescher's edge lengths, so an impossible mescher would need a
+covering of several sheets (:func:`meschers_igl.covering.covering_distance` keeps that route
+as an independent oracle); this module needs only the lengths and runs as one numba kernel.
+Queued windows live in contiguous per-edge blocks, and each pair of overlapping windows is
+resolved with one root solve.  Its cost against libigl and the heat method is in
+:doc:`/results` (``benchmarks/bench_exact_geodesic.py``).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Heat diffusion and the heat method for geodesic distance on meschers.
 
-A mescher has a discrete metric (per-edge lengths, DESIGN.md), so intrinsic processing works on it
-although it cannot be embedded: paper Section 4.3.  Everything here is intrinsic and needs only
+A mescher has a discrete metric (per-edge lengths, :doc:`/conventions`), so intrinsic processing
+works on it although it cannot be embedded: paper Section 4.3.  Everything here is intrinsic and needs only
 
 * the 0-form operators ``L = m.cotmatrix()`` (negative semi-definite, libigl's convention),
   ``M = m.massmatrix()``, the per-face gradient ``G = m.grad()`` and face areas ``A``, or
@@ -52,10 +52,7 @@ _FAR_RATIO = 1e-290
 _MAX_PINNED_SOURCES = 256
 _BOUNDARY = ("neumann", "dirichlet", "average")
 METHODS = ("auto", "standard", "robust", "refined", "accurate", "geometry_central")
-#: presets: (levels of intrinsic midpoint refinement, intrinsic Delaunay).  "accurate": mean
-#: relative error on the 48 x 16 impossible torus (4 sources, against the covering oracle):
-#: standard 4.6%; refine=1: 2.6% (t = h^2), 2.2% (t = h^2 / 2); refine=2: 1.5%; refine=2 + iDT:
-#: 1.5%; smaller t_factor (0.1-0.25) is worse near the sources.
+#: presets: (levels of intrinsic midpoint refinement, intrinsic Delaunay)
 _PRESETS = {
     "standard": (0, False),
     "robust": (0, True),
@@ -153,44 +150,11 @@ def choose_method(m: Any) -> str:
     4. ``"geometry_central"`` otherwise.
 
     So the default is never worse than potpourri3d's ``MeshHeatMethodDistanceSolver``: by
-    construction where it is that method, and by a measured margin where it refines.  Mean
-    relative error against exact distances, refined / potpourri3d (sources 0, 7, 20, 60, 100;
-    ``tests/meschers_igl/test_heat.py``, potpourri3d 1.4 with its defaults)::
-
-        auto = refined (relief <= 6)                 refined / potpourri3d
-        sliver boxes (228, 764 faces)                0.68, 0.53
-        obtuse sheet (3042)                          0.73
-        torus 48 x 16, impossible torus (1536)       0.56, 0.56
-        icosphere 3, uv sphere, PyVista's sphere     0.62, 0.70, 0.70
-        perturbed torus / icosphere (0.2 edges)      0.66, 0.71   (relief 5.5, 3.3)
-        PyVista's ant, nut                           0.75, 0.60   (relief 3.9, 0.8)
-        sphere 4 with 0.2-edge relief (5120)         0.85         (relief 5.5)
-        torus 25k faces with a sliver (rule 3)       0.88
-
-        auto = geometry_central (relief > 6)         refined would be
-        sphere 3 with 0.35-edge relief               0.96         (relief 6.6)
-        bumpy sphere 4 (5120), 5 (20k)               1.01, 1.16   (relief 16, 72)
-        sphere 5 with 0.2-edge relief (20k)          1.06         (relief 10.9)
-        vertices moved 0.5-1 edges (torus, sphere)   0.99-1.27    (relief 18-30)
-
-    The detector was chosen on 47 meshes (tori and icospheres with vertices moved at random
-    along the normal or in 3D by 0.1-1 edge lengths, bumpy spheres at three resolutions, the
-    test meshes, PyVista's models): refined / potpourri3d is at most 0.89 wherever the relief is
-    below 5.5 (none fell between 5.5 and 6.5), 0.89-0.99 between 6.5 and 10.8, and 1.04-1.27
-    on the sphere-like meshes above that; tori tolerate more (0.80 at 11.5), but 6 keeps a
-    margin of 10% wherever auto refines.  The median angle defect does not separate them
-    (PyVista's ant has 0.49 and gains 25%; the 20k-face sphere with 0.2-edge relief has 0.11
-    and loses 6%).  Refinement halves the heat method's first-order error but not the error
-    made at saddle cones, which shortest paths pass through; its price is 3.5-4.5x the query
-    time and 6-7x the set-up, hence rule 2's size limit (at 25k faces it costs what
-    potpourri3d's method costs at 100k).
-
-    ``"geometry_central"`` at 100k faces (torus): 0.73x potpourri3d's query time, 1.15-1.25x
-    its set-up (``benchmarks/bench_geodesics.py``, numba warmed up).  ``"standard"`` (the
-    mescher's operators, equal to libigl's heat method) and ``"robust"`` are never chosen:
-    they differ from potpourri3d's method by Voronoi masses and a pinned rather than screened
-    Poisson step, which leaves them within +-2% of its error either way (standard 1.005x on a
-    25k torus, 1.018x at 100k, 0.85-1.07x on the crumpled meshes).
+    construction where it is that method, and by a measured margin where it refines (the
+    measurements, on 47 meshes, and the cost of refining are in :doc:`/results`; the tests
+    check the margin on 18 meshes).  ``"standard"`` (the mescher's operators, equal to libigl's
+    heat method) and ``"robust"`` are never chosen: they differ from potpourri3d's method by
+    Voronoi masses and a pinned rather than screened Poisson step.
     """
     F = np.asarray(m.F)
     if F.shape[0] == 0:
