@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from pyvista_views.camera import default_bounds, xy_box
+from pyvista_views.render import hide_back_faces
 
 from .describe import describe, impossibility_kind
 from .figures import Colorbar, compose, format_value, format_values, round_off_scale
@@ -332,7 +333,8 @@ def smoothing(job: ModelJob, s: Subject) -> None:
             # moved xy: overlaps appear and vanish, so the order follows (else back faces and
             # see-through specks where the smoothed bars slide over each other)
             moved = row != "zeta" and factor > 0 and s.order is not None
-            order = s.order.follow(ms) if moved else s.order
+            # where the surface turns edge-on, back faces go behind the front faces
+            order = hide_back_faces(ms, s.order.follow(ms)) if moved else s.order
             rows[i].append(
                 job.renderer.shoot([("mescher", ms, order, {"shading": "smooth"})], bounds)
             )

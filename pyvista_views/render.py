@@ -46,6 +46,7 @@ __all__ = [
     "as_bounds",
     "default_bounds",
     "default_depth",
+    "hide_back_faces",
     "embedding_of",
     "flat_varyings_work",
     "relight",
@@ -160,9 +161,44 @@ def default_depth(m: Any) -> tuple[object, str]:
     if n_parts == 1 and not m.is_impossible():
         depth: tuple[object, str] = (m.bent_embedding(), "z-buffer")
     else:
-        depth = (DepthOrder.from_local_depth(m), "local depth")
+        depth = (hide_back_faces(m, DepthOrder.from_local_depth(m)), "local depth")
     _LOG.info("render: no order given; overlaps resolved by %s", depth[1])
     return depth
+
+
+def hide_back_faces(m: Any, order: Any) -> Any:
+    """Put every back face behind the front faces it overlaps, on a closed mescher.
+
+    On a closed surface seen from outside the nearest sheet at every pixel faces the viewer
+    (a ray enters the solid through a front face), so a back face (clockwise on screen,
+    ``n_z <= 0``) is behind every front face it overlaps.  Orders carried through smoothing or
+    subdivision (:meth:`~meschers_igl.DepthOrder.follow`) or built from local depth can miss a
+    few such pairs where the surface turns edge-on; this adds them
+    (:meth:`~meschers_igl.DepthOrder.put_in_front`; it only adds back-to-front arcs, so it
+    closes no cycle).  A mescher with a boundary (a ribbon, a relief) shows its underside
+    legitimately and is left as it is.
+
+    Parameters
+    ----------
+    m : Mescher
+    order : DepthOrder
+
+    Returns
+    -------
+    DepthOrder
+        ``order``, changed in place when ``m`` is closed.
+    """
+    F = np.asarray(m.F, dtype=np.int64)
+    if 2 * int(np.asarray(m.edges).shape[0]) != 3 * F.shape[0]:
+        return order  # a boundary: back faces may be seen
+    T = np.asarray(m.xy, dtype=np.float64)[F]
+    area = (T[:, 1, 0] - T[:, 0, 0]) * (T[:, 2, 1] - T[:, 0, 1]) - (T[:, 1, 1] - T[:, 0, 1]) * (
+        T[:, 2, 0] - T[:, 0, 0]
+    )
+    front, back = np.flatnonzero(area > 0), np.flatnonzero(area <= 0)
+    if front.size and back.size:
+        order.put_in_front(front, back, m=m)
+    return order
 
 
 def render_scene(

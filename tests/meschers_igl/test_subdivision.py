@@ -50,7 +50,7 @@ CASES = {
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_loop_equals_igl_loop_on_a_real_covering(name):
-    """Face normals of m.subdivide(L, "loop") equal igl.loop of a 3D covering to round-off.
+    """Face normals of m.subdivide(L, "loop-smooth") equal igl.loop of a 3D covering to round-off.
 
     The covering (K sheets of the mescher cut open and stacked by the period) is an ordinary
     mesh; its middle sheet is two turns from its ends, so Loop's stencils there see the same
@@ -63,7 +63,7 @@ def test_loop_equals_igl_loop_on_a_real_covering(name):
     mid = np.flatnonzero(cov.sheet[cov.F[:, 0]] == K // 2)
     assert np.array_equal(np.sort(cov.fmap[mid]), np.arange(m.n_faces))  # one copy of each
     for L in (1, 2):
-        c = m.subdivide(L, "loop")
+        c = m.subdivide(L, "loop-smooth")
         V2, F2 = igl.loop(cov.V, cov.F, L)
         k = 4**L  # children of face f are k f .. k f + k - 1, in libigl's and our numbering
         child_cov = (k * mid[:, None] + np.arange(k)).ravel()
@@ -87,7 +87,7 @@ def test_loop_creases_shrink_like_igl_loop():
     mid = np.flatnonzero(cov.sheet[cov.F[:, 0]] == K // 2)  # one copy of each face
     ours, theirs = [], []
     for L in (1, 2, 3):
-        c = m.subdivide(L, "loop")
+        c = m.subdivide(L, "loop-smooth")
         ours.append(_max_dihedral(c.face_normals(), np.asarray(c.face_edges), c.n_edges))
         V2, F2 = igl.loop(cov.V, cov.F, L)
         # the covering's middle copy, as a mescher of the same connectivity as c
@@ -107,7 +107,7 @@ def test_loop_on_embedded_mesh_is_igl_loop_exactly():
     V, F = shapes.torus(10, 6)
     V = V @ shapes.random_rotation(3).T
     m = Mescher.from_mesh(V, F)
-    c = m.subdivide(2, "loop")
+    c = m.subdivide(2, "loop-smooth")
     V2, F2 = igl.loop(V, F, 2)
     assert np.allclose(c.xy[c.F], V2[F2][:, :, :2], atol=1e-12)
     dz = V2[F2][:, :, 2] - V2[F2][:, :1, 2]
@@ -215,9 +215,9 @@ def test_long_work_shows_a_progress_bar(monkeypatch):
     m.subdivide(2, "loop").smooth(t_zeta=0.1, iterations=2)
     assert calls == []  # 1024 faces: below the threshold
     monkeypatch.setattr(progress, "SHOW_ABOVE", 100)
-    c = m.subdivide(2, "loop")
+    c = m.subdivide(2, "loop-smooth")
     c.smooth(t_zeta=0.1, iterations=2)
-    assert calls == [("subdivide (loop)", 2), ("smooth", 2)]
+    assert calls == [("subdivide (loop-smooth)", 2), ("smooth", 2)]
     assert list(progress.track(range(5), "x", work=1e9)) == [0, 1, 2, 3, 4]
 
 
@@ -235,3 +235,87 @@ def test_midpoint_subdivision_carries_the_same_arcs_as_follow(name):
     assert order_s.n_arcs > 0
     as_set = lambda o: set(map(tuple, np.asarray(o.arcs).tolist()))  # noqa: E731
     assert as_set(order_s) == as_set(followed)
+
+
+def _box_mescher(level: int = 1) -> Mescher:
+    # a cube, each side split in 2 x 2 quads (two triangles each), seen at an angle
+    g = np.linspace(-1.0, 1.0, level + 2)
+    V, F = [], []
+    for axis in range(3):
+        for side in (-1.0, 1.0):
+            u, v = np.meshgrid(g, g, indexing="ij")
+            P = np.zeros(u.shape + (3,))
+            a, b = [k for k in range(3) if k != axis]
+            P[..., axis], P[..., a], P[..., b] = side, u, v
+            n = g.size
+            idx = np.arange(n * n).reshape(n, n) + len(V) * 0 + sum(len(x) for x in V)
+            q = np.stack([idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]], -1).reshape(
+                -1, 4
+            )
+            tri = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+            if (side > 0) == ((axis, a, b) in ((0, 1, 2), (1, 0, 2), (2, 0, 1)) and axis != 1):
+                tri = tri[:, ::-1]
+            V.append(P.reshape(-1, 3))
+            F.append(tri)
+    V, F = np.concatenate(V), np.concatenate(F)
+    V, inv = np.unique(np.round(V, 12), axis=0, return_inverse=True)
+    F = inv.reshape(-1)[F]
+    # orient outward: flip faces whose normal points toward the centre
+    N = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    F = np.where((np.einsum("ij,ij->i", N, V[F].mean(1)) < 0)[:, None], F[:, ::-1], F)
+    R = shapes.random_rotation(5)
+    return Mescher.from_mesh(V @ R.T, F)
+
+
+def test_crease_loop_keeps_a_box_a_box():
+    """Loop with crease rules (Hoppe et al. 1994): every child face keeps one of the box's six
+    normals and the corners stay; plain Loop rounds the box (the test can fail)."""
+    m = _box_mescher()
+    six = np.unique(np.round(m.face_normals(), 9), axis=0)
+    assert six.shape[0] == 6
+    for scheme, sharp in (("loop", True), ("loop-smooth", False)):
+        c = m.subdivide(2, scheme)
+        cos = np.abs(c.face_normals() @ six.T).max(axis=1)
+        assert (cos > 1 - 1e-9).all() == sharp, scheme
+        np.testing.assert_allclose(c.periods(), m.periods(), atol=1e-12)
+    c = m.subdivide(2, "loop")
+    np.testing.assert_allclose(c.xy[: m.n_vertices][[0]], m.xy[[0]], atol=1e-12)  # a corner
+
+
+def test_crease_loop_matrix_rows_sum_to_one_and_stay_local():
+    from meschers_igl.subdivision import crease_edges, crease_loop_matrix, loop_matrix_on
+
+    m = _box_mescher()
+    F, xy, edges = np.asarray(m.F), np.asarray(m.xy), np.asarray(m.edges)
+    fe, sg = np.asarray(m.face_edges), np.asarray(m.face_edge_signs)
+    crease = crease_edges(F, xy, edges, fe, sg, np.asarray(m.zeta))
+    assert crease.sum() == 12 * 2  # the cube's 12 edges, each split in two
+    S = crease_loop_matrix(loop_matrix_on(F, edges, m.n_vertices), edges, m.n_vertices, crease)
+    np.testing.assert_allclose(np.asarray(S.sum(axis=1)).ravel(), 1.0, atol=1e-14)
+
+
+def test_reutersvard_cubes_stay_cubes_under_loop():
+    """The separate cubes keep their outline (and so their overlaps): the painter's covered
+    pixels of Loop(2) match the coarse figure's (IoU >= 0.98; plain Loop's blobs do not)."""
+    from meschers_igl.gallery import get_model
+    from meschers_igl.painter import visible_faces
+
+    g = get_model("reutersvard_triangle")
+    m, order = g.mescher, g.order
+    xy = np.asarray(m.xy)
+    pad = 0.05 * np.ptp(xy, axis=0).max()
+    bounds = (
+        xy[:, 0].min() - pad,
+        xy[:, 0].max() + pad,
+        xy[:, 1].min() - pad,
+        xy[:, 1].max() + pad,
+    )
+    base = visible_faces(m, order, size=200, bounds=bounds) >= 0
+
+    def iou(scheme):
+        c, oc = m.subdivide(2, scheme, order=order)
+        cov = visible_faces(c, oc, size=200, bounds=bounds) >= 0
+        return (cov & base).sum() / (cov | base).sum()
+
+    assert iou("loop") >= 0.98
+    assert iou("loop-smooth") < 0.9
