@@ -312,20 +312,23 @@ def _hidden_intervals(
     rank: np.ndarray,
     near: sp.csr_matrix | None,
     scale: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Parameter intervals ``(seg, t0, t1)`` where segment ``A + t (B - A)`` is hidden.
+    tol: float,
+) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """Parameter intervals ``(seg, t0, t1)`` where segment ``A + t (B - A)`` is hidden, and the
+    break points ``(seg, t)`` where it crosses the boundary of any face.
 
     ``thr`` (#S, 2) holds, for the left and the right side of each segment, the last rank of
-    its own faces on that side (``-1``... ; ``len(rank)`` where it has none: that side never
-    shows it).  A side is covered where a face ``g`` with ``rank[g] > thr`` holds the segment
-    strictly inside, or has it on one of its edges and lies on that side; for segments with an
-    ``anchor`` face, faces ``near`` the anchor are skipped.  The segment is hidden where both
-    sides are covered: a line is seen wherever one of its own faces shows beside it.
+    its own faces on that side (``len(rank)`` where it has none: that side never shows it).  A
+    side is covered where a face ``g`` with ``rank[g] > thr`` holds the segment strictly
+    inside, or has it on one of its edges (both ends within ``tol`` of the edge's line) and
+    lies on that side; for segments with an ``anchor`` face, faces ``near`` the anchor are
+    skipped.  The segment is hidden where both sides are covered: a line is seen wherever one
+    of its own faces shows beside it.
     """
     n = len(A)
     ok = area2 != 0
     faces = np.flatnonzero(ok)
-    pad = 1e-12 * scale
+    pad = tol + 1e-12 * scale  # faces whose edge lies within tol of a segment are met too
     lo_s, hi_s = np.minimum(A, B) - pad, np.maximum(A, B) + pad
     s, j = _box_pairs(lo_s, hi_s, T[faces].min(axis=1), T[faces].max(axis=1))
     g = faces[j]
@@ -356,7 +359,10 @@ def _hidden_intervals(
         alpha = (e[:, 0] * (a[:, 1] - v[:, 1]) - e[:, 1] * (a[:, 0] - v[:, 0])) * inv
         beta = (e[:, 0] * d[:, 1] - e[:, 1] * d[:, 0]) * inv
         up, down = beta > 0, beta < 0
-        on = (np.abs(alpha) <= _INSIDE) & (np.abs(beta) <= _INSIDE)
+        # on the edge's line: both ends within the overlap tolerance of it (the order's own
+        # tolerance: nearly coincident sheets of a model stored to a few digits are one line)
+        h = np.abs(area2[g]) / np.maximum(np.linalg.norm(e, axis=1), 1e-300)
+        on = (np.abs(alpha) * h <= tol) & (np.abs(alpha + beta) * h <= tol)
         with np.errstate(divide="ignore", invalid="ignore"):
             r = -alpha / beta  # alpha + beta t > 0: strictly inside, exact crossing
             rc = (-_INSIDE - alpha) / beta  # alpha + beta t >= -_INSIDE: closed, widened
@@ -694,7 +700,9 @@ def line_drawing(
     is_crease_src = np.concatenate(is_crease_src)
     n_seg = len(A)
 
-    (hs, h0, h1), (bs, bt) = _hidden_intervals(A, B, thr, anchor, T, area2, rank, near, scale)
+    (hs, h0, h1), (bs, bt) = _hidden_intervals(
+        A, B, thr, anchor, T, area2, rank, near, scale, default_tol(xy)
+    )
     vs, v0, v1 = _complement(n_seg, hs, h0, h1)
     pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
     if hidden:
