@@ -822,9 +822,7 @@ def test_loop_subdivision_and_smoothing_show_no_back_face(name):
     g = gallery.get_model(name)
     m, o = g.mescher, g.order
     # plain Loop rounds the boxes, so xy move most (crease Loop keeps them nearly in place)
-    m2, o2, parent = m.subdivide(
-        levels=2, scheme="loop-smooth", order=o, return_face_parent=True
-    )
+    m2, o2, parent = m.subdivide(levels=2, scheme="loop-smooth", order=o, return_face_parent=True)
     assert backface_share(m2, o2) <= 1e-3
     assert backface_share(m2, o.refine(parent, m2)) > 1e-2  # the test can fail
     m3, o3 = m2.smooth(t_xy=1e-2, order=o2)
