@@ -18,16 +18,26 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-import numba
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.csgraph as csgraph
 
-from .. import intrinsic, topology
+from .. import intrinsic
 from ..errors import MescherError
 from ..validate import as_index_array
-from .exact import NO_PARENT, ExactGeodesicSolver
+from .exact import ExactGeodesicSolver
 from .methods import GeodesicSolver
+from .shortening import _cone_detours, _edge_path, _shorten, _trace
+from .unfold import (
+    _cross,
+    _funnel,
+    _intersect,
+    _MeshData,
+    _pieces,
+    _seg_len2,
+    _segments,
+    _taut,
+    _unfold,
+)
+from .windows import NO_PARENT
 
 __all__ = [
     "SurfacePath",
@@ -75,138 +85,6 @@ class SurfacePath:
     @property
     def n_points(self) -> int:
         return int(self.bary.shape[0])
-
-
-class _MeshData:
-    """Per-face data for tracing: corners, neighbours, Gram matrices, vertex-to-face map."""
-
-    def __init__(self, m: Any) -> None:
-        self.F = np.asarray(m.F, dtype=np.int64)
-        nf, n = self.F.shape[0], int(m.n_vertices)
-        # paths are unfolded and measured in the true metric; mollification (which adds eps to
-        # every length: +4.5% along a 0.001-degree fan) only serves the trace's direction field
-        self.l = np.asarray(m.face_edge_lengths(), dtype=np.float64)
-        self.K, self.area = intrinsic.hat_gradient_gram(m.face_edge_lengths(mollified=True))
-        self.tiny = 1e-12 * float(self.l.mean()) if self.l.size else 0.0
-        self.cone = None  # angle defects, on first need (_cone_detours)
-        fe = np.asarray(m.face_edges)  # the mescher's edge topology
-        ef = topology.edge_faces(fe, int(m.n_edges))
-        # neighbour across the edge opposite each corner (-1 on the boundary)
-        other = np.where(ef[fe, 0] == np.arange(nf)[:, None], ef[fe, 1], ef[fe, 0])
-        self.opp = other
-        # vertex -> incident faces (CSR)
-        self.vf = sp.csr_matrix(
-            (np.ones(3 * nf), (self.F.reshape(-1), np.repeat(np.arange(nf), 3))), shape=(n, nf)
-        )
-
-    def faces_of(self, v: int) -> np.ndarray:
-        return self.vf.indices[self.vf.indptr[v] : self.vf.indptr[v + 1]]
-
-
-def _seg_len2(l: np.ndarray, w: np.ndarray) -> float:
-    """Squared length of a displacement with barycentric change ``w`` (sum 0) in a triangle."""
-    return float(-(w[1] * w[2] * l[0] ** 2 + w[2] * w[0] * l[1] ** 2 + w[0] * w[1] * l[2] ** 2))
-
-
-def _trace(md: _MeshData, d: np.ndarray, target: int, is_src: np.ndarray) -> list[tuple]:
-    """Trace from ``target`` down ``-grad d``; return strips ``(v_start, faces, v_end)``.
-
-    A strip is a sequence of faces that consecutive ones share an edge, entered at a vertex
-    and left at a vertex; strips break where the trace meets a vertex (valleys of ``d``, where
-    the field on both sides of an edge points at the edge, and boundaries are followed along
-    the edge).  Hand-written: a sequential walk of O(path length) steps; no library traces
-    barycentric rays across faces.
-    """
-    F, K, opp = md.F, md.K, md.opp
-    eps = 1e-12
-    strips: list[tuple] = []
-    v = int(target)
-    max_steps = 4 * F.shape[0] + 16
-    steps = 0
-    visited_vertices = {v}
-    while not is_src[v]:
-        fan = md.faces_of(v)
-        # a face of the fan that holds a source: go straight to it
-        hit = fan[is_src[F[fan]].any(axis=1)]
-        if hit.size:
-            f = int(hit[0])
-            s = int(F[f][is_src[F[f]]][0])
-            strips.append((v, [f], s))
-            return strips
-        # descent wedge: moving from corner c along -grad d enters the face
-        corner = np.argmax(F[fan] == v, axis=1)
-        W = -np.einsum("fij,fj->fi", K[fan], d[F[fan]])
-        wc = W[np.arange(fan.size), corner]
-        others = W.copy()
-        others[np.arange(fan.size), corner] = np.inf
-        ok = (wc < 0) & (others.min(axis=1) >= -eps * np.abs(W).max(axis=1))
-        if ok.any():
-            f = int(fan[np.flatnonzero(ok)[np.argmin(wc[ok])]])
-            b = np.zeros(3)
-            b[F[f] == v] = 1.0
-            faces = [f]
-            v_end = None
-            while v_end is None:
-                steps += 1
-                if steps > max_steps:
-                    raise MescherError(
-                        "target: the trace down the distance gradient did not reach the source"
-                    )
-                w = -K[f] @ d[F[f]]
-                neg = w < 0
-                s_exit = np.where(neg, -b / np.where(neg, w, -1.0), np.inf)
-                s_exit[b <= eps] = np.where(neg[b <= eps], 0.0, np.inf)
-                i = int(np.argmin(s_exit))
-                if s_exit[i] == 0.0 or not np.isfinite(s_exit[i]):
-                    # valley or stationary: follow the edge we are on to its lower end
-                    v_end = _lower_end(F[f], b, d)
-                    break
-                b = np.maximum(b + s_exit[i] * w, 0.0)
-                b[i] = 0.0
-                b /= b.sum()
-                if (b > 1.0 - 1e-9).any():  # reached a corner
-                    v_end = int(F[f][np.argmax(b)])
-                    break
-                g = int(opp[f, i])
-                if g < 0:  # boundary: slide along it to the lower end
-                    v_end = _lower_end(F[f], b, d)
-                    break
-                # express b in g: the edge's two vertices keep their weights
-                bg = np.zeros(3)
-                for c in range(3):  # three corners
-                    bg[c] = b[F[f] == F[g, c]].sum() if (F[f] == F[g, c]).any() else 0.0
-                faces.append(g)
-                src_g = is_src[F[g]]
-                if src_g.any():
-                    v_end = int(F[g][src_g][0])
-                    break
-                wg = -K[g] @ d[F[g]]
-                ig = int(np.argmax(bg == 0.0))
-                if wg[ig] < 0:  # the field on the far side points back: valley
-                    faces.pop()
-                    v_end = _lower_end(F[f], b, d)
-                    break
-                f, b = g, bg
-            strips.append((v, faces, v_end))
-            v = v_end
-        else:
-            # no descent wedge: steepest descending edge
-            nb = np.unique(F[fan])
-            nb = nb[nb != v]
-            down = nb[d[nb] < d[v]]
-            if down.size == 0:
-                # a spurious local minimum of an inaccurate field: finish along edges
-                strips.extend(_edge_path(md, v, is_src))
-                return strips
-            u = int(down[np.argmin(d[down] - d[v])])
-            f = int(fan[(F[fan] == u).any(axis=1)][0])
-            strips.append((v, [f], u))
-            v = u
-        if v in visited_vertices and not is_src[v]:  # the field loops: finish along edges
-            strips.extend(_edge_path(md, v, is_src))
-            return strips
-        visited_vertices.add(v)
-    return strips
 
 
 def _backtrack(
@@ -290,23 +168,6 @@ def _walk_to_image(
     raise MescherError(f"target: the line back from vertex {v} lands on no vertex")
 
 
-def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndarray]:
-    """The face across the edge opposite corner ``k`` of face ``g`` (corners at ``Pg``),
-    unfolded into the same plane: ``(face, (3, 2) corner positions)``; face -1 at a boundary."""
-    F, l = md.F, md.l
-    n = int(md.opp[g, k])
-    if n < 0:
-        return n, Pg
-    a, b = F[g, (k + 1) % 3], F[g, (k + 2) % 3]
-    Pn = np.zeros((3, 2))
-    ia, ib = np.flatnonzero(F[n] == a)[0], np.flatnonzero(F[n] == b)[0]
-    iw = 3 - ia - ib
-    Pn[ia], Pn[ib] = Pg[(k + 1) % 3], Pg[(k + 2) % 3]
-    side = -np.sign(_cross(Pn[ib] - Pn[ia], Pg[k] - Pn[ia]))  # away from the face before
-    Pn[iw] = intrinsic.place_apex(Pn[ia], Pn[ib], l[n, ib], l[n, ia], side)
-    return n, Pn
-
-
 def _fan_faces_holding(md: _MeshData, v: int, f: int, P: np.ndarray, ray: np.ndarray, tol):
     """The faces of ``v``'s fan, unfolded around ``v`` from face ``f`` (both ways round), whose
     corner at ``v`` holds the direction ``ray``: yields ``(face, (3, 2) corner positions)``."""
@@ -371,230 +232,6 @@ def _walk_line(md, d, v, g, Pg, start, ray, reach, tol):
             return None
         tau, k = best
     return None
-
-
-def _cross(u: np.ndarray, w: np.ndarray) -> float:
-    return float(u[0] * w[1] - u[1] * w[0])
-
-
-def _intersect(p: np.ndarray, r: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> tuple[float, float]:
-    """``(t, u)`` with ``p + t r = q0 + u (q1 - q0)`` (``(-inf, nan)`` for parallel lines)."""
-    e = q1 - q0
-    den = _cross(r, e)
-    if den == 0.0:
-        return -np.inf, np.nan
-    w = q0 - p
-    return _cross(w, e) / den, _cross(w, r) / den
-
-
-def _edge_path(md: _MeshData, v: int, is_src: np.ndarray) -> list[tuple]:
-    """Fallback: Dijkstra along edges (intrinsic lengths) from ``v`` to the nearest source,
-    as one-face strips.  Used only where the traced field is unusable (a spurious minimum)."""
-    F, l = md.F, md.l
-    n = is_src.size
-    rows = F[:, [1, 2, 0]].reshape(-1)
-    cols = F[:, [2, 0, 1]].reshape(-1)
-    W = sp.csr_matrix((l.reshape(-1), (rows, cols)), shape=(n, n))
-    W = W.maximum(W.T)
-    _, pred = csgraph.dijkstra(W, directed=False, indices=v, return_predecessors=True)
-    srcs = np.flatnonzero(is_src)
-    dist = csgraph.dijkstra(W, directed=False, indices=v)
-    s = int(srcs[np.argmin(dist[srcs])])
-    if not np.isfinite(dist[s]):
-        raise MescherError(f"target: no path from vertex {v} to a source")
-    chain = [s]
-    while chain[-1] != v:
-        chain.append(int(pred[chain[-1]]))
-    chain.reverse()
-    out = []
-    for a, b in zip(chain[:-1], chain[1:]):
-        fan = md.faces_of(a)
-        f = int(fan[(F[fan] == b).any(axis=1)][0])
-        out.append((a, [f], b))
-    return out
-
-
-def _lower_end(Ff: np.ndarray, b: np.ndarray, d: np.ndarray) -> int:
-    """Of the (one or two) corners with weight, the one with the lower distance."""
-    cand = Ff[b > 0]
-    return int(cand[np.argmin(d[cand])])
-
-
-_dbl_area = intrinsic.double_area_kernel()  # Kahan's Heron formula, compiled
-
-
-@numba.njit(cache=True)
-def _area2(a0, a1, b0, b1, c0, c1) -> float:
-    return (b0 - a0) * (c1 - a1) - (c0 - a0) * (b1 - a1)
-
-
-@numba.njit(cache=True)
-def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
-    """Unfold a strip of faces and pull the path from ``v0`` to ``v1`` taut in it.
-
-    The strip is laid out face by face from the intrinsic lengths (the first face as
-    :func:`meschers_igl.intrinsic.layout`, each next apex as :func:`intrinsic.place_apex`), then
-    the "simple stupid funnel" (Mononen's string pulling; Lee-Preparata) finds the taut path.
-    Hand-written in numba: no library pulls strings on an unfolded intrinsic strip, and both
-    walks are sequential (each face is placed from the previous one; the funnel's apex moves
-    along the strip).
-
-    Returns corner point indices, corner vertices, corner positions, and per point ``k`` (point
-    ``k`` lies on the portal between ``faces[k-1]`` and ``faces[k]``) the crossing parameter
-    ``tpar`` (0 at the left end, 1 at the right) and the portal's left and right vertices.
-    """
-    n = faces.shape[0]
-    npt = n + 1
-    pl = np.empty((npt, 2))
-    pr = np.empty((npt, 2))
-    il = np.empty(npt, np.int64)
-    ir = np.empty(npt, np.int64)
-    cv = np.empty(3, np.int64)
-    cp = np.zeros((3, 2))
-    f0 = faces[0]
-    for c in range(3):
-        cv[c] = F[f0, c]
-    L0, L1, L2 = l[f0, 0], l[f0, 1], l[f0, 2]
-    cp[1, 0] = L2
-    if L2 > 0:
-        cp[2, 0] = (L1 * L1 + L2 * L2 - L0 * L0) / (2.0 * L2)
-        cp[2, 1] = _dbl_area(L0, L1, L2) / L2
-    for c in range(3):
-        if cv[c] == v0:
-            pl[0, 0] = pr[0, 0] = cp[c, 0]
-            pl[0, 1] = pr[0, 1] = cp[c, 1]
-    il[0] = ir[0] = v0
-    for k in range(1, n):
-        g = faces[k]
-        # the portal: the two vertices of g that the previous face has
-        ka = -1
-        kb = -1
-        kc = -1
-        for c in range(3):
-            found = False
-            for q in range(3):
-                if cv[q] == F[g, c]:
-                    found = True
-            if found:
-                if ka < 0:
-                    ka = c
-                else:
-                    kb = c
-            else:
-                kc = c
-        a, b, cc = F[g, ka], F[g, kb], F[g, kc]
-        pa0 = pa1 = pb0 = pb1 = pp0 = pp1 = 0.0
-        for q in range(3):
-            if cv[q] == a:
-                pa0, pa1 = cp[q, 0], cp[q, 1]
-            elif cv[q] == b:
-                pb0, pb1 = cp[q, 0], cp[q, 1]
-            else:
-                pp0, pp1 = cp[q, 0], cp[q, 1]
-        la = l[g, kb]  # |c a| is opposite b
-        lb = l[g, ka]  # |c b| is opposite a
-        e0, e1 = pb0 - pa0, pb1 - pa1
-        cross = e0 * (pp1 - pa1) - e1 * (pp0 - pa0)
-        side = -1.0 if cross >= 0 else 1.0  # the apex on the far side of the portal
-        LL = e0 * e0 + e1 * e1
-        x = 0.0
-        y = 0.0
-        if LL > 0:
-            x = (la * la - lb * lb + LL) / (2.0 * LL)
-            y = _dbl_area(lb, la, np.sqrt(LL)) / LL
-        pc0 = pa0 + x * e0 - side * y * e1
-        pc1 = pa1 + x * e1 + side * y * e0
-        if cross > 0:
-            il[k], ir[k] = b, a
-            pl[k, 0], pl[k, 1], pr[k, 0], pr[k, 1] = pb0, pb1, pa0, pa1
-        else:
-            il[k], ir[k] = a, b
-            pl[k, 0], pl[k, 1], pr[k, 0], pr[k, 1] = pa0, pa1, pb0, pb1
-        cv[0], cv[1], cv[2] = a, b, cc
-        cp[0, 0], cp[0, 1], cp[1, 0], cp[1, 1], cp[2, 0], cp[2, 1] = pa0, pa1, pb0, pb1, pc0, pc1
-    for c in range(3):
-        if cv[c] == v1:
-            pl[n, 0] = pr[n, 0] = cp[c, 0]
-            pl[n, 1] = pr[n, 1] = cp[c, 1]
-    il[n] = ir[n] = v1
-    # string pulling
-    ci = np.empty(npt + 1, np.int64)
-    cx = np.empty((npt + 1, 2))
-    cvid = np.empty(npt + 1, np.int64)
-    nc = 0
-    ci[0], cx[0, 0], cx[0, 1], cvid[0] = 0, pl[0, 0], pl[0, 1], v0
-    nc = 1
-    ax, ay = pl[0, 0], pl[0, 1]
-    lx, ly, rx, ry = ax, ay, ax, ay
-    api, li, ri = 0, 0, 0
-    i = 1
-    while i < npt:
-        qlx, qly, qrx, qry = pl[i, 0], pl[i, 1], pr[i, 0], pr[i, 1]
-        restart = False
-        if _area2(ax, ay, rx, ry, qrx, qry) >= 0:
-            if (ax == rx and ay == ry) or _area2(ax, ay, lx, ly, qrx, qry) < 0:
-                rx, ry, ri = qrx, qry, i
-            else:
-                ax, ay, api = lx, ly, li
-                ci[nc], cx[nc, 0], cx[nc, 1], cvid[nc] = li, lx, ly, il[li]
-                nc += 1
-                rx, ry, ri = ax, ay, api
-                i = api + 1
-                restart = True
-        if not restart and _area2(ax, ay, lx, ly, qlx, qly) <= 0:
-            if (ax == lx and ay == ly) or _area2(ax, ay, rx, ry, qlx, qly) > 0:
-                lx, ly, li = qlx, qly, i
-            else:
-                ax, ay, api = rx, ry, ri
-                ci[nc], cx[nc, 0], cx[nc, 1], cvid[nc] = ri, rx, ry, ir[ri]
-                nc += 1
-                lx, ly, li = ax, ay, api
-                rx, ry, ri = ax, ay, api
-                i = api + 1
-                restart = True
-        if restart:
-            lx, ly, li = ax, ay, api
-            rx, ry, ri = ax, ay, api
-            continue
-        i += 1
-    if ci[nc - 1] != npt - 1:
-        ci[nc], cx[nc, 0], cx[nc, 1], cvid[nc] = npt - 1, pl[n, 0], pl[n, 1], v1
-        nc += 1
-    # where the taut path crosses each portal
-    tpar = np.zeros(npt)
-    for c in range(nc - 1):
-        ia, ib = ci[c], ci[c + 1]
-        pa0, pa1, pb0, pb1 = cx[c, 0], cx[c, 1], cx[c + 1, 0], cx[c + 1, 1]
-        tpar[ia] = 0.0 if (pa0 == pl[ia, 0] and pa1 == pl[ia, 1]) else 1.0
-        dp0, dp1 = pb0 - pa0, pb1 - pa1
-        for k in range(ia + 1, ib):
-            dq0, dq1 = pr[k, 0] - pl[k, 0], pr[k, 1] - pl[k, 1]
-            den = dp0 * dq1 - dp1 * dq0
-            t = 0.0
-            if den != 0:
-                t = ((pl[k, 0] - pa0) * dp1 - (pl[k, 1] - pa1) * dp0) / den
-            tpar[k] = min(max(t, 0.0), 1.0)
-    return ci[:nc], cvid[:nc], cx[:nc].copy(), tpar, il, ir
-
-
-def _funnel(md: _MeshData, v0: int, faces, v1: int):
-    """:func:`_funnel_kernel` on ``md``: (corner indices, corner vertices, corner xy, tpar,
-    left ids, right ids)."""
-    return _funnel_kernel(md.F, md.l, np.asarray(faces, dtype=np.int64), int(v0), int(v1))
-
-
-def _segments(md: _MeshData, faces, tpar, il, ir) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Barycentric start and end of the path in each face of a funnelled strip (vectorized)."""
-    faces = np.asarray(faces, dtype=np.int64)
-    Ff = md.F[faces]
-    k = np.arange(faces.size)
-
-    def bary(j):
-        return (Ff == il[j][:, None]) * (1.0 - tpar[j])[:, None] + (Ff == ir[j][:, None]) * tpar[j][
-            :, None
-        ]
-
-    return faces, bary(k), bary(k + 1)
 
 
 def shortest_path(
@@ -771,9 +408,15 @@ def shortest_path_through(m: Any, points: Any, solver: GeodesicSolver | None = N
     depth = [p.depth[:-1] + o for p, o in zip(legs, off)] + [legs[-1].depth[-1:] + off[-2]]
     seg = np.concatenate([p.segment_lengths for p in legs])
     return SurfacePath(
-        np.concatenate(faces), np.concatenate(bary), np.concatenate(xy), np.concatenate(depth),
-        float(seg.sum()), int(pts[0]), int(pts[-1]), seg,
-    )  # fmt: skip
+        faces=np.concatenate(faces),
+        bary=np.concatenate(bary),
+        xy=np.concatenate(xy),
+        depth=np.concatenate(depth),
+        length=float(seg.sum()),
+        source=int(pts[0]),
+        target=int(pts[-1]),
+        segment_lengths=seg,
+    )
 
 
 def shortest_loops(m: Any, rounds: int = 50) -> list[SurfacePath]:
@@ -832,152 +475,3 @@ def shortest_loops(m: Any, rounds: int = 50) -> list[SurfacePath]:
         root = pieces[0][0]
         out.append(_surface_path(m, md, pieces, root, root))
     return out
-
-
-# ----------------------------------------------------------------------------------------------
-# geodesic shortening around vertices (FlipOut's wedge condition, on unfolded strips)
-# ----------------------------------------------------------------------------------------------
-def _taut(md: _MeshData, v0: int, faces: list[int], v1: int) -> list[tuple]:
-    """Funnel a strip and split it at the taut path's corners.
-
-    Returns pieces ``(va, faces, vb, length)``: straight in their unfolded strip, from corner
-    vertex ``va`` to ``vb``.
-    """
-    ci, cv, cx, _, _, _ = _funnel(md, v0, faces, v1)
-    seg = np.hypot(*(cx[1:] - cx[:-1]).T)
-    out = []
-    for k in range(ci.size - 1):  # corners of one taut path: few
-        # a piece from a vertex to itself without length would pin its corner: dropped (one
-        # with a length is a closed loop, kept)
-        if cv[k] != cv[k + 1] or seg[k] > md.tiny:
-            out.append((int(cv[k]), faces[ci[k] : ci[k + 1]], int(cv[k + 1]), float(seg[k])))
-    return out
-
-
-def _pieces(md: _MeshData, strips: list[tuple]) -> list[tuple]:
-    """Taut pieces of a path given as strips ``(v_start, faces, v_end)`` (target -> source)."""
-    out = []
-    for v0, faces, v1 in strips:
-        out.extend(_taut(md, v0, list(faces), v1))
-    return out
-
-
-def _fan_arcs(md: _MeshData, v: int, f_in: int, f_out: int) -> list[list[int]]:
-    """The faces from ``f_in`` to ``f_out`` (both included) around vertex ``v``, both ways.
-
-    An arc that runs into the boundary is left out.  Walking crosses, in each face, the edge
-    at ``v`` opposite the corner after (or before) ``v``: consistent orientation makes that one
-    direction of rotation throughout.
-    """
-    if f_in == f_out:
-        return [[f_in]]
-    F, opp = md.F, md.opp
-    arcs = []
-    for step in (1, 2):
-        arc, f, ok = [f_in], f_in, False
-        for _ in range(md.vf.indptr[v + 1] - md.vf.indptr[v] + 1):  # at most the fan's size
-            c = int(np.argmax(F[f] == v))
-            g = int(opp[f, (c + step) % 3])
-            if g < 0 or g == f_in:
-                break
-            arc.append(g)
-            if g == f_out:
-                ok = True
-                break
-            f = g
-        if ok:
-            arcs.append(arc)
-    return arcs
-
-
-def _dedupe(faces: list[int]) -> list[int]:
-    out = [faces[0]]
-    for f in faces[1:]:
-        if f != out[-1]:
-            out.append(f)
-    return out
-
-
-def _shorten(md: _MeshData, pieces: list[tuple], max_steps: int = 100000) -> list[tuple]:
-    """Shorten a piecewise-taut path around its corner vertices until it is a geodesic.
-
-    At each corner vertex ``v`` the path may swing to either side of ``v``: the two pieces
-    meeting at ``v`` are joined with the faces of ``v``'s fan on that side and pulled taut
-    again.  A swing is kept when it is shorter.  When no swing shortens, every corner has an
-    angle >= pi on both sides, which is the condition for a locally shortest path through
-    vertices (Sharp & Crane 2020, "You can find geodesic paths in triangle meshes by just
-    flipping edges", Sec. 3: FlipOut's wedge condition).  FlipOut straightens such a wedge by
-    intrinsic edge flips; here the wedge is unfolded on the mescher's own faces instead, which
-    needs only edge lengths too and keeps the result on the input faces (no intrinsic-edge
-    tracing back).  Each swing strictly shortens the path, so the loop ends.  Sequential by
-    nature (each swing changes the next corner's neighbourhood): a Python loop over corners.
-    """
-    pieces = list(pieces)
-    j, steps = 0, 0
-    while j < len(pieces) - 1 and steps < max_steps:
-        steps += 1
-        A, B = pieces[j], pieces[j + 1]
-        v, cur = A[2], A[3] + B[3]
-        # the path enters v's star at A's trailing run of faces around v and leaves it at
-        # B's leading run: cut both runs and go around v one way or the other
-        inc_a = (md.F[A[1]] == v).any(axis=1)
-        inc_b = (md.F[B[1]] == v).any(axis=1)
-        i0 = len(A[1]) - int(np.argmin(inc_a[::-1])) if not inc_a.all() else 0
-        j0 = int(np.argmin(inc_b)) - 1 if not inc_b.all() else len(B[1]) - 1
-        best = None
-        for arc in _fan_arcs(md, v, A[1][i0], B[1][j0]):
-            new = _taut(md, A[0], _dedupe(A[1][:i0] + arc + B[1][j0 + 1 :]), B[2])
-            length = sum(p[3] for p in new)
-            if length < cur * (1.0 - 1e-12) and (best is None or length < best[0]):
-                best = (length, new)
-        if best is None:
-            j += 1
-        else:
-            pieces[j : j + 2] = best[1]
-            j = max(j - 1, 0)  # the previous corner's neighbourhood changed
-    return pieces
-
-
-def _cone_detours(md: _MeshData, pieces: list[tuple], tries: int = 8) -> list[tuple]:
-    """Try the other side of the cone vertices next to a geodesic; keep what is shorter.
-
-    Geodesics between two points differ by the side on which they pass cone vertices (angle sum
-    below 2 pi: a box corner); swings at the path's own corners cannot cross a cone the path
-    does not touch.  For the ``tries`` sharpest cones on the faces a geodesic crosses, the path
-    is forced through the cone and shortened again, which lets it swing past on the other side
-    (on a CAD box the trace and Dijkstra may both come down the wrong face next to a corner:
-    +2.8% without this).
-    """
-    if md.cone is None:
-        ang = intrinsic.corner_angles(md.l)
-        total = np.bincount(md.F.reshape(-1), weights=ang.reshape(-1), minlength=md.vf.shape[0])
-        bnd = np.zeros(md.vf.shape[0], dtype=bool)
-        bf, bc = np.nonzero(md.opp < 0)
-        bnd[md.F[bf, (bc + 1) % 3]] = bnd[md.F[bf, (bc + 2) % 3]] = True
-        md.cone = np.where(bnd, 0.0, np.maximum(2.0 * np.pi - total, 0.0))  # angle defect
-    length = sum(p[3] for p in pieces)
-    for _ in range(3):  # a few rounds: each kept detour is strictly shorter
-        on_path = {p[0] for p in pieces} | {p[2] for p in pieces}
-        cand = []
-        for j, piece in enumerate(pieces):  # pieces of one path: few
-            for c in np.unique(md.F[piece[1]]).tolist():
-                if c not in on_path and md.cone[c] > 1e-6:
-                    cand.append((md.cone[c], j, c))
-        best = None
-        for _, j, c in sorted(cand, reverse=True)[:tries]:
-            va, faces, vb, _ = pieces[j]
-            inc = np.flatnonzero((md.F[faces] == c).any(axis=1))
-            forced = (
-                pieces[:j]
-                + _taut(md, va, faces[: inc[0] + 1], c)
-                + _taut(md, c, faces[inc[-1] :], vb)
-                + pieces[j + 1 :]
-            )
-            new = _shorten(md, forced)
-            new_len = sum(p[3] for p in new)
-            if new_len < length * (1.0 - 1e-12) and (best is None or new_len < best[0]):
-                best = (new_len, new)
-        if best is None:
-            break
-        length, pieces = best
-    return pieces

@@ -1,0 +1,795 @@
+"""The compiled kernel of exact geodesics: window propagation on an intrinsic triangle mesh.
+
+:class:`~meschers_igl.geodesic.exact.ExactGeodesicSolver` sets up the mesh's arrays
+(:class:`MeshArrays`) and a query's (:class:`QueryArrays`), and calls :func:`propagate` until
+it returns :data:`DONE`; the algorithm (windows, pseudo-sources and their shadows, pruning,
+trimming, merging) is described in that module's docstring.  Hand-written in numba: no library
+propagates windows on a mesh given by its edge lengths.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from ..heap import heap_pop, heap_push
+
+TWO_PI = 2.0 * np.pi
+SADDLE_TOL = 1e-9  # angle excess (rad) above which a vertex is a saddle (pseudo-source)
+_REL = 1e-12  # relative slack in the pruning rules
+_MERGE = 1e-12  # relative: two windows whose unfolded sources differ by less are one window
+_TOUCH = 1e-12  # relative: window ends closer than this touch
+_SHADOW_SLACK = 1e-9  # rad: pseudo-sources' shadows are widened by this on each side
+_VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the window": a ray through
+# a vertex along a straight chain of edges (flat vertices) is the border of two windows and its
+# crossing is rounded by ~eps / sin(sliver angle); a distance taken this way is off by <= 2 _VIS L
+
+
+# ----------------------------------------------------------------------------------------------
+# compiled kernel
+# ----------------------------------------------------------------------------------------------
+@numba.njit(cache=True, nogil=True)
+def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
+    """Xin-Wang pruning: True when every point of the window is strictly beaten via a vertex."""
+    d0 = sig + np.sqrt((b0 - sx) ** 2 + sy * sy)
+    d1 = sig + np.sqrt((b1 - sx) ** 2 + sy * sy)
+    tol = _REL * (d1 + d0 + L)
+    if dist[a] + b1 < d1 - tol:
+        return True
+    if dist[b] + (L - b0) < d0 - tol:
+        return True
+    dc = dist[c]
+    if dc >= sig:
+        if (
+            dc + np.sqrt((cx - b0) ** 2 + cy * cy) < d0 - tol
+            and dc + np.sqrt((cx - b1) ** 2 + cy * cy) < d1 - tol
+        ):
+            return True
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
+def _cut(lo, hi, a, b, r1, r2, r3, nr, w0, w1, w2):  # pragma: no cover - compiled
+    """Cut from the ends of ``[lo, hi]`` the pieces of the overlap ``[a, b]`` (pieces
+    ``[a, r1], [r1, r2], [r2, r3]``, ``nr`` of them, the last ending at ``b``) that the other
+    window wins (``w0, w1, w2``); an interior piece is not cut (it would split the window)."""
+    i = 0
+    if a <= lo and w0:
+        lo = r1
+        i = 1
+        if nr > 1 and w1:
+            lo = r2
+            i = 2
+            if nr > 2 and w2:
+                lo = r3
+                i = 3
+    if i == nr:
+        return (hi, hi) if b >= hi else (lo, hi)
+    if b >= hi:
+        if nr == 3 and w2:
+            hi = r2
+            if w1 and i < 2:
+                hi = r1
+                if w0 and i < 1:
+                    hi = a
+        elif nr == 2 and w1:
+            hi = r1
+            if w0 and i < 1:
+                hi = a
+        elif nr == 1 and w0:
+            hi = a
+    return lo, hi
+
+
+@numba.njit(cache=True, nogil=True)
+def _gap(x, wx, wy2, ws, ox, oy2, osg):  # pragma: no cover - compiled
+    """``d_o(x) - d_w(x)`` for two windows' distance functions on one edge."""
+    return osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
+
+
+@numba.njit(cache=True, nogil=True)
+def _resolve(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cover - compiled
+    """Trim two overlapping windows ``w`` and ``o`` of one edge (same frame) against each other.
+
+    Both distance functions are ``sigma + sqrt((x - sx)^2 + sy^2)``; their difference
+    ``g = d_o - d_w`` has at most two roots in the overlap ``[a, b]`` (MMP's quadratic, from
+    squaring twice; it may add roots where ``g`` keeps its sign, which only splits a piece),
+    so the overlap splits into at most three pieces of constant sign.  A piece is won by one
+    window when it is nearer by more than the round-off slack at the piece's midpoint and at
+    its ends that are not roots (``g = 0`` there).  Each window loses the won pieces touching
+    its ends (:func:`_cut`).  The roots and the signs are computed once for the pair.
+
+    Returns
+    -------
+    (lo, hi, olo, ohi) : the two trimmed intervals (``hi <= lo``: the window is gone).
+    """
+    a = max(lo, olo)
+    b = min(hi, ohi)
+    if b <= a:
+        return lo, hi, olo, ohi
+    D = ws - osg
+    al = 2.0 * (wx - ox)
+    be = ox * ox - wx * wx + oy2 - wy2 - D * D
+    qa = al * al - 4.0 * D * D
+    qb = 2.0 * al * be + 8.0 * D * D * wx
+    qc = be * be - 4.0 * D * D * (wx * wx + wy2)
+    # the piece ends a < r1 (< r2 (< r3)), the last one b; scalars, not an array (an array
+    # here was allocated on every call: 1.5x the whole propagation)
+    r1 = b
+    r2 = b
+    r3 = b
+    nr = 1
+    scale = abs(qb) + abs(qc) + 1e-300
+    if abs(qa) * (L * L + 1.0) > 1e-14 * scale:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc >= 0.0:
+            sq = np.sqrt(disc)
+            qq = -0.5 * (qb + sq) if qb >= 0.0 else -0.5 * (qb - sq)
+            x1 = qq / qa
+            x2 = qc / qq if qq != 0.0 else x1
+            if x1 > x2:
+                x1, x2 = x2, x1
+            if a < x1 < b:
+                r1 = x1
+                nr = 2
+                if a < x2 < b and x2 != x1:
+                    r2 = x2
+                    nr = 3
+            elif a < x2 < b:
+                r1 = x2
+                nr = 2
+    elif qb != 0.0:
+        x1 = -qc / qb
+        if a < x1 < b:
+            r1 = x1
+            nr = 2
+    tol = _REL * (ws + osg + L)
+    ga = _gap(a, wx, wy2, ws, ox, oy2, osg)
+    gb = _gap(b, wx, wy2, ws, ox, oy2, osg)
+    g0 = _gap(0.5 * (a + r1), wx, wy2, ws, ox, oy2, osg)
+    # piece 0: its midpoint, a, and b when it is the only piece
+    o0 = g0 < -tol and ga < -tol and (nr > 1 or gb < -tol)
+    w0 = g0 > tol and ga > tol and (nr > 1 or gb > tol)
+    o1 = w1 = o2 = w2 = False
+    if nr > 1:
+        g1 = _gap(0.5 * (r1 + r2), wx, wy2, ws, ox, oy2, osg)
+        o1 = g1 < -tol and (nr > 2 or gb < -tol)
+        w1 = g1 > tol and (nr > 2 or gb > tol)
+    if nr > 2:
+        g2 = _gap(0.5 * (r2 + r3), wx, wy2, ws, ox, oy2, osg)
+        o2 = g2 < -tol and gb < -tol
+        w2 = g2 > tol and gb > tol
+    lo, hi = _cut(lo, hi, a, b, r1, r2, r3, nr, o0, o1, o2)
+    if hi > lo:  # o loses only to what is left of w
+        olo, ohi = _cut(olo, ohi, a, b, r1, r2, r3, nr, w0, w1, w2)
+    return lo, hi, olo, ohi
+
+
+@numba.njit(cache=True, nogil=True)
+def _block_remove(e, i, bstart, bn, aw, alo, ahi, pos):  # pragma: no cover - compiled
+    """Remove entry ``i`` of edge ``e``'s block: its last entry moves into the hole."""
+    base = bstart[e]
+    last = bn[e] - 1
+    if i != last:
+        aw[base + i] = aw[base + last]
+        alo[base + i] = alo[base + last]
+        ahi[base + i] = ahi[base + last]
+        pos[aw[base + i]] = i
+    bn[e] = last
+
+
+@numba.njit(cache=True, nogil=True)
+def _trim_by_ends(da, db, L, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
+    """Cut the parts of ``[b0, b1]`` where the route along the edge from ``A`` (a prefix: rule
+    1's difference decreases in ``q``) or from ``B`` (a suffix) is strictly shorter."""
+    y2 = sy * sy
+    tol = _REL * (sig + L + np.sqrt(sx * sx + y2))
+    if np.isfinite(da) and sig + np.sqrt((b0 - sx) ** 2 + y2) - da - b0 > tol:
+        k = da - sig
+        den = 2.0 * (sx + k)
+        if den > 0.0:
+            q = (sx * sx + y2 - k * k) / den - tol
+            b0 = max(b0, min(q, b1))
+    if np.isfinite(db) and sig + np.sqrt((b1 - sx) ** 2 + y2) - db - (L - b1) > tol:
+        k = db - sig
+        ax = L - sx
+        den = 2.0 * (ax + k)
+        if den > 0.0:
+            q = L - ((ax * ax + y2 - k * k) / den - tol)
+            b1 = min(b1, max(q, b0))
+    return b0, b1
+
+
+@numba.njit(cache=True, nogil=True)
+def _ring_pos(cpos, csgn, k, psi):  # pragma: no cover - compiled
+    """Ring position of the direction at angle ``psi`` from corner ``k``'s first edge (towards
+    its second); NaN for a vertex without a ring (no shadow is then used)."""
+    if csgn[k] == 0:
+        return np.nan
+    return cpos[k] + csgn[k] * psi
+
+
+@numba.njit(cache=True, nogil=True)
+def _shadow(b, p, sg, al, th, bnd, piece):  # pragma: no cover - compiled
+    """Part ``piece`` (0 or 1) of a corner's angles ``[0, al]`` into which a pseudo-source with
+    back direction ``b`` (a ring position) may send a shortest path on.
+
+    A shortest path through a vertex turns by at least ``pi`` on both sides (else a shortcut
+    past the vertex is shorter; Mitchell, Mount, Papadimitriou 1987), so from a vertex of total
+    angle ``th`` it goes on only at ring positions ``[b + pi, b + th - pi]`` (modulo ``th``: the
+    shadow, of width ``th - 2 pi``), and from a boundary vertex (ring ``[0, th]``) at
+    ``[0, b - pi]`` and ``[b + pi, th]``.  Any shortest path to the vertex gives the same shadow
+    (up to a round-off tie), so the one that set its distance is used, widened by
+    ``_SHADOW_SLACK``.  Returns the part as corner angles ``(psi0, psi1)``; empty if
+    ``psi1 <= psi0``.  ``p, sg``: the corner's first edge's ring position and turn.
+    """
+    lo = p if sg > 0 else p - al  # the corner as ring positions [lo, lo + al]
+    hi = lo + al
+    if bnd:
+        if piece == 0:
+            w0 = b + np.pi - _SHADOW_SLACK
+            w1 = th + _SHADOW_SLACK
+        else:
+            w0 = -_SHADOW_SLACK
+            w1 = b - np.pi + _SHADOW_SLACK
+    else:
+        w0 = b + np.pi - _SHADOW_SLACK
+        w1 = b + th - np.pi + _SHADOW_SLACK
+        k = np.floor(w0 / th)  # the wedge starting in [0, th), and shifted by -th
+        w0 -= k * th
+        w1 -= k * th
+        if piece == 1:
+            w0 -= th
+            w1 -= th
+    q0 = max(lo, w0)
+    q1 = min(hi, w1)
+    if q1 <= q0:
+        return 0.0, -1.0
+    if sg > 0:
+        return q0 - p, q1 - p
+    return p - q1, p - q0
+
+
+@numba.njit(cache=True, nogil=True)
+def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
+    """Where the ray from the apex ``C = (cx, cy)`` at angle ``psi`` from ``C->A`` (towards
+    ``C->B``) meets the edge ``AB`` (``A = (0, 0)``, ``B = (L, 0)``, ``cy > 0``)."""
+    cs = np.cos(psi)
+    sn = np.sin(psi)
+    dx = -cx * cs + cy * sn
+    dy = -cx * sn - cy * cs
+    if dy >= 0.0:
+        return np.inf
+    return cx - dx * cy / dy
+
+
+@numba.njit(cache=True, nogil=True)
+def walk_rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
+    """Walk each vertex's one-ring: ``cpos, csgn, theta, vbnd`` of :func:`propagate`."""
+    n = twin.size
+    cpos = np.zeros(n)
+    csgn = np.zeros(n)
+    theta = np.zeros(nv)
+    vbnd = np.zeros(nv, np.bool_)
+    for v in range(nv):
+        k0 = vptr[v]
+        deg = vptr[v + 1] - k0
+        if deg == 0:
+            continue
+        # start at a corner with a boundary edge at v, entering through it, if there is one
+        h0 = vcorner[k0]
+        win = F[h0 // 3, (h0 % 3 + 1) % 3]
+        for k in range(k0, k0 + deg):
+            h = vcorner[k]
+            f = h // 3
+            c = h - 3 * f
+            if twin[3 * f + (c + 1) % 3] < 0:  # the edge from v to F[f, c+2]
+                h0 = h
+                win = F[f, (c + 2) % 3]
+                vbnd[v] = True
+                break
+            if twin[3 * f + (c + 2) % 3] < 0:  # the edge from v to F[f, c+1]
+                h0 = h
+                win = F[f, (c + 1) % 3]
+                vbnd[v] = True
+                break
+        h = h0
+        pos = 0.0
+        ok = True
+        for step in range(deg):
+            f = h // 3
+            c = h - 3 * f
+            a = cang[h]
+            if win == F[f, (c + 1) % 3]:
+                csgn[h] = 1.0
+                cpos[h] = pos
+                wout = F[f, (c + 2) % 3]
+                hout = 3 * f + (c + 1) % 3  # opposite F[f, c+1]: the edge v - F[f, c+2]
+            elif win == F[f, (c + 2) % 3]:
+                csgn[h] = -1.0
+                cpos[h] = pos + a
+                wout = F[f, (c + 1) % 3]
+                hout = 3 * f + (c + 2) % 3
+            else:
+                ok = False
+                break
+            pos += a
+            t = twin[hout]
+            if step == deg - 1:
+                # a closed ring comes back to its first corner, an open one ends at the boundary
+                ok = (t < 0) if vbnd[v] else (t >= 0 and (t // 3) == (h0 // 3))
+                break
+            if t < 0:
+                ok = False
+                break
+            g = t // 3
+            cg = -1
+            for j in range(3):
+                if F[g, j] == v:
+                    cg = j
+            if cg < 0:
+                ok = False
+                break
+            h = 3 * g + cg
+            win = wout
+        theta[v] = pos
+        if not ok:
+            for k in range(k0, k0 + deg):
+                csgn[vcorner[k]] = 0.0
+    return cpos, csgn, theta, vbnd
+
+
+class MeshArrays(NamedTuple):
+    """The intrinsic mesh as the kernel reads it (built once per solver; see :func:`propagate`)."""
+
+    F: np.ndarray
+    fl: np.ndarray
+    fx: np.ndarray
+    fy: np.ndarray
+    twin: np.ndarray
+    rev: np.ndarray
+    hedge: np.ndarray
+    pseudo: np.ndarray
+    vptr: np.ndarray
+    vcorner: np.ndarray
+    cflip: np.ndarray
+    cang: np.ndarray
+    cpos: np.ndarray
+    csgn: np.ndarray
+    theta: np.ndarray
+    vbnd: np.ndarray
+    mdeg: np.int64
+
+
+class QueryArrays(NamedTuple):
+    """One query's arrays, written in place by the kernel (the solver's query state)."""
+
+    dist: np.ndarray
+    emitted: np.ndarray
+    bpos: np.ndarray
+    via: np.ndarray
+    vimg: np.ndarray
+    wh: np.ndarray
+    wb: np.ndarray
+    state: np.ndarray
+    pos: np.ndarray
+    free: np.ndarray
+    bstart: np.ndarray
+    bcls: np.ndarray
+    bn: np.ndarray
+    fhead: np.ndarray
+    aw: np.ndarray
+    alo: np.ndarray
+    ahi: np.ndarray
+    hk: np.ndarray
+    hv: np.ndarray
+
+
+# what the kernel returns: why it stopped
+DONE = 0  # the queue is empty, or every target is final
+REPORT = 1  # max_pops items taken out: time for a progress report
+GROW_HEAP = 2  # the heap might not hold one more step
+GROW_WINDOWS = 3  # the window table might not hold one more step
+GROW_ARENA = 4  # the edge blocks' arena might not hold one more step
+# the counters carried across calls, by index into ``ctr``
+C_HEAP, C_FREE, C_USED, C_ARENA_TOP, C_CREATED, C_EMITTED, C_MAX_BLOCK = range(7)
+# ``via[v]`` of a vertex whose distance is not set by a window or an edge (sources, unreached)
+NO_PARENT = -(1 << 62)
+
+
+@numba.njit(cache=True, nogil=True)
+def propagate(mesh, arr, ctr, max_pops, targets):  # pragma: no cover - compiled
+    """Exact distances from the sources queued in ``arr.hk, arr.hv`` (see the module docstring).
+
+    One function rather than helpers taking a dozen arrays each: the loop body is the whole
+    algorithm (pop, emit or enter, prune, trim, queue) and reads best in one place; numba
+    compiles it once.
+
+    ``mesh`` (:class:`MeshArrays`): ``fl, fx, fy`` (#F*3,): for half-edge ``h = 3 f + c`` (the edge opposite corner ``c``,
+    from ``F[f, c+1]`` to ``F[f, c+2]``) its length and the apex ``F[f, c]`` in its frame.
+    ``twin`` (#F*3,): the same edge seen from the other face (-1 on the boundary); ``rev``: the
+    twin runs the other way; ``hedge``: the edge id; ``cflip``: the half-edge's frame is the
+    mirror image (``x -> L - x``) of its edge's common frame (that of the edge's first half-edge).
+    ``cang, cpos, csgn`` (#F*3,): for the corner opposite half-edge ``h``, its angle, the ring
+    position of its first edge (to ``F[f, c+1]``; the angle from the first edge of the one-ring
+    of the corner's vertex) and its turn (+1 or -1) in that ring (0: the vertex has no ring to
+    walk, non-manifold); ``theta`` (#V,): total angles; ``vbnd``: boundary vertices (their ring
+    starts at a boundary edge); ``mdeg``: the largest vertex degree.
+
+    ``arr`` (:class:`QueryArrays`) and the counters ``ctr`` are the propagation's state, carried from
+    call to call (:class:`~meschers_igl.geodesic.exact._State`).  ``via, vimg`` record where each vertex's distance came from:
+    ``via[v] = h >= 0`` a window on half-edge ``h`` whose source image is ``vimg[v]`` in ``h``'s
+    frame, ``via[v] = -(u + 1)`` the edge from vertex ``u``.  The kernel runs until the queue is
+    empty (:data:`DONE`), ``max_pops`` items were taken out (:data:`REPORT`), or the heap, the
+    window table or the edge blocks' arena might not hold one more step (:data:`GROW_HEAP`,
+    :data:`GROW_WINDOWS`, :data:`GROW_ARENA`); the caller then grows that array and calls again.
+    Room is checked before each step, not at each write, so that a step is never left half done.
+    With ``targets`` (non-empty) it also ends (:data:`DONE`) once the least key left is at least
+    every target's distance: no later item can lower a distance below its key, so those are final.
+
+    The windows queued on an edge are kept in one contiguous block per edge (ids and their
+    extent in the edge's common frame), so that finding the ones a new window overlaps is a scan
+    of a few cache lines; a linked list through the window table cost one cache miss per queued
+    window, and there are ``O(sqrt n)`` of them per edge (measured: 35 per new window at 100k
+    faces, 3/4 of the time).
+    """
+    F, fl, fx, fy, twin, rev, hedge, pseudo = mesh[:8]
+    vptr, vcorner, cflip, cang, cpos, csgn, theta, vbnd, mdeg = mesh[8:]
+    dist, emitted, bpos, via, vimg, wh, wb, state, pos, free = arr[:10]
+    bstart, bcls, bn, fhead, aw, alo, ahi, hk, hv = arr[10:]
+    nh, nfree, nw, atop = ctr[C_HEAP], ctr[C_FREE], ctr[C_USED], ctr[C_ARENA_TOP]
+    created, emitted_windows, maxcap = ctr[C_CREATED], ctr[C_EMITTED], ctr[C_MAX_BLOCK]
+    # children produced by one step: half-edge; b0, b1, sx, sy, sigma
+    ch_h = np.empty(2 * mdeg, np.int64)
+    ch_b = np.empty((2 * mdeg, 5), np.float64)
+    upd = np.empty(3, np.int64)  # vertices whose distance a step lowered
+    status = 0
+    pops = 0
+    while True:
+        # room for one more step: <= 2 mdeg children and <= 2 mdeg + 3 pseudo-source events,
+        # each child at most one new edge block of twice the largest capacity so far
+        if nh == 0:
+            status = DONE
+            break
+        if pops >= max_pops:
+            status = REPORT
+            break
+        if targets.size and (pops & 1023) == 0:
+            far = 0.0  # the farthest target's distance so far (inf: one not reached yet)
+            for v in targets:
+                far = max(far, dist[v])
+            if hk[0] >= far:
+                status = DONE
+                break
+        if nh + 4 * mdeg + 8 > hk.size:
+            status = GROW_HEAP
+            break
+        if nfree + wh.size - nw < 2 * mdeg + 2:
+            status = GROW_WINDOWS
+            break
+        if atop + 2 * mdeg * (2 * maxcap + 8) > aw.size:
+            status = GROW_ARENA
+            break
+        pops += 1
+        key, item, nh = heap_pop(hk, hv, nh)
+        nch = 0
+        nu = 0
+        if item < 0:
+            # ---- a pseudo-source (or source) emits
+            v = -item - 1
+            if key > dist[v] or emitted[v] <= key:
+                continue  # stale event
+            emitted[v] = key
+            b = bpos[v]
+            for k in range(vptr[v], vptr[v + 1]):
+                h = vcorner[k]  # half-edge opposite v in its face
+                f = h // 3
+                c = h - 3 * f
+                # neighbours along the two edges at v (lengths: opposite b, opposite a)
+                for j in range(2):
+                    u = F[f, (c + 1 + j) % 3]
+                    du = key + fl[3 * f + (c + 2 - j) % 3]
+                    if du < dist[u]:
+                        dist[u] = du
+                        via[u] = -(v + 1)
+                        # u's path arrives along the edge from v: u's corner's second edge
+                        # (j = 0) or first edge (j = 1)
+                        cu = 3 * f + (c + 1 + j) % 3
+                        bpos[u] = _ring_pos(cpos, csgn, cu, cang[cu] if j == 0 else 0.0)
+                        if pseudo[u]:
+                            nh = heap_push(hk, hv, nh, du, -(u + 1))
+                t = twin[h]
+                if t < 0:
+                    continue
+                # the rays from v across the opposite edge: all of them from a source or a
+                # vertex without a ring, else those in its shadow (_shadow)
+                L = fl[h]
+                al = cang[h]
+                for piece in range(2):
+                    if b != b or csgn[h] == 0:
+                        if piece == 1:
+                            break
+                        p0, p1 = 0.0, al
+                    else:
+                        p0, p1 = _shadow(b, cpos[h], csgn[h], al, theta[v], vbnd[v], piece)
+                        if p1 <= p0:
+                            continue
+                    x0 = 0.0 if p0 <= 0.0 else _ray_hit(fx[h], fy[h], p0)
+                    x1 = L if p1 >= al else _ray_hit(fx[h], fy[h], p1)
+                    x0 = min(max(x0, 0.0), L)
+                    x1 = min(max(x1, 0.0), L)
+                    if x1 <= x0:
+                        continue
+                    emitted_windows += 1
+                    ch_h[nch] = t
+                    ch_b[nch, 0] = L - x1 if rev[h] else x0
+                    ch_b[nch, 1] = L - x0 if rev[h] else x1
+                    ch_b[nch, 2] = L - fx[h] if rev[h] else fx[h]
+                    ch_b[nch, 3] = -fy[h]
+                    ch_b[nch, 4] = key
+                    nch += 1
+        else:
+            # ---- a window enters face f through half-edge h
+            w = item
+            free[nfree] = w
+            nfree += 1
+            if state[w] != 0:
+                continue
+            # out of its edge's block: only queued windows trim newcomers (measured: the
+            # popped ones removed no more windows, and the blocks stay short)
+            h = wh[w]
+            e = hedge[h]
+            _block_remove(e, pos[w], bstart, bn, aw, alo, ahi, pos)
+            if bn[e] == 0:
+                aw[bstart[e]] = fhead[bcls[e]]
+                fhead[bcls[e]] = bstart[e]
+                bstart[e] = -1
+            b0 = wb[w, 0]
+            b1 = wb[w, 1]
+            sx = wb[w, 2]
+            sy = wb[w, 3]
+            sig = wb[w, 4]
+            f = h // 3
+            c = h - 3 * f
+            ia = F[f, (c + 1) % 3]
+            ib = F[f, (c + 2) % 3]
+            ic = F[f, c]
+            L = fl[h]
+            cx = fx[h]
+            cy = fy[h]
+            if _useless(dist, ia, ib, ic, L, cx, cy, b0, b1, sx, sy, sig):
+                continue
+            tol = _VIS * L
+            # the window's ends may be the edge's vertices; the apex when visible
+            if b0 <= tol:
+                dv = sig + np.hypot(sx, sy)
+                if dv < dist[ia]:
+                    dist[ia] = dv
+                    via[ia] = h
+                    vimg[ia, 0] = sx
+                    vimg[ia, 1] = sy
+                    # it arrives at A from below AB: past A's first edge (to B), away from C
+                    ca = 3 * f + (c + 1) % 3
+                    bpos[ia] = _ring_pos(cpos, csgn, ca, -np.arctan2(-sy, sx))
+                    upd[nu] = ia
+                    nu += 1
+            if b1 >= L - tol:
+                dv = sig + np.hypot(L - sx, sy)
+                if dv < dist[ib]:
+                    dist[ib] = dv
+                    via[ib] = h
+                    vimg[ib, 0] = sx
+                    vimg[ib, 1] = sy
+                    # at B: past B's second edge (to A), away from C
+                    cb = 3 * f + (c + 2) % 3
+                    bpos[ib] = _ring_pos(cpos, csgn, cb, cang[cb] + np.arctan2(-sy, L - sx))
+                    upd[nu] = ib
+                    nu += 1
+            # where the ray from s through the apex C crosses AB
+            tc = sx + (cx - sx) * (-sy) / (cy - sy)
+            if b0 - tol <= tc <= b1 + tol:
+                dv = sig + np.hypot(cx - sx, cy - sy)
+                if dv < dist[ic]:
+                    dist[ic] = dv
+                    via[ic] = h
+                    vimg[ic, 0] = sx
+                    vimg[ic, 1] = sy
+                    # within C's corner: the angle from C->A to C->s (C->B is counterclockwise)
+                    qx = sx - cx
+                    qy = sy - cy
+                    bpos[ic] = _ring_pos(
+                        cpos, csgn, h, np.arctan2(-cx * qy + cy * qx, -cx * qx - cy * qy)
+                    )
+                    upd[nu] = ic
+                    nu += 1
+            for side in range(2):
+                if side == 0:
+                    # child on AC: rays through [b0, min(b1, tc)]; frame: C -> A
+                    x0 = b0
+                    x1 = min(b1, tc)
+                    k = (c + 2) % 3
+                    ox, oy = cx, cy
+                    ex, ey = -cx, -cy
+                else:
+                    # child on CB: rays through [max(b0, tc), b1]; frame: B -> C
+                    x0 = max(b0, tc)
+                    x1 = b1
+                    k = (c + 1) % 3
+                    ox, oy = L, 0.0
+                    ex, ey = cx - L, cy
+                if x1 <= x0:
+                    continue
+                hc = 3 * f + k
+                t = twin[hc]
+                if t < 0:
+                    continue  # a boundary edge: rays end there
+                Lk = fl[hc]
+                ex /= Lk
+                ey /= Lk
+                # source and the two window ends in the child's frame
+                qx = sx - ox
+                qy = sy - oy
+                ssx = qx * ex + qy * ey
+                ssy = ex * qy - ey * qx
+                lo = Lk
+                hi = 0.0
+                for j in range(2):
+                    px = (x0 if j == 0 else x1) - ox
+                    py = -oy
+                    ppx = px * ex + py * ey
+                    ppy = ex * py - ey * px
+                    den = ssy - ppy
+                    if den > 0.0:
+                        uu = ssx + (ppx - ssx) * ssy / den
+                    else:
+                        uu = ppx
+                    uu = min(max(uu, 0.0), Lk)
+                    lo = min(lo, uu)
+                    hi = max(hi, uu)
+                if hi <= lo:
+                    continue
+                if rev[hc]:
+                    lo, hi = Lk - hi, Lk - lo
+                    ssx = Lk - ssx
+                ch_h[nch] = t
+                ch_b[nch, 0] = lo
+                ch_b[nch, 1] = hi
+                ch_b[nch, 2] = ssx
+                ch_b[nch, 3] = -ssy
+                ch_b[nch, 4] = sig
+                nch += 1
+        for j in range(nu):
+            u = upd[j]
+            if pseudo[u]:
+                nh = heap_push(hk, hv, nh, dist[u], -(u + 1))
+        # ---- prune, trim against the windows already on the edge, queue
+        for j in range(nch):
+            t = ch_h[j]
+            b0 = ch_b[j, 0]
+            b1 = ch_b[j, 1]
+            sx = ch_b[j, 2]
+            sy = ch_b[j, 3]
+            sig = ch_b[j, 4]
+            f = t // 3
+            c = t - 3 * f
+            L = fl[t]
+            ia, ib, ic = F[f, (c + 1) % 3], F[f, (c + 2) % 3], F[f, c]
+            if _useless(dist, ia, ib, ic, L, fx[t], fy[t], b0, b1, sx, sy, sig):
+                continue
+            b0, b1 = _trim_by_ends(dist[ia], dist[ib], L, b0, b1, sx, sy, sig)
+            if b1 <= b0:
+                continue
+            e = hedge[t]
+            flip = rev[t]
+            cf = cflip[t]
+            sy2 = sy * sy
+            base = bstart[e]
+            i = 0
+            while i < bn[e]:
+                o = aw[base + i]
+                # overlap test in the common frame, from the block (no access to o's row)
+                c0 = L - b1 if cf else b0
+                c1 = L - b0 if cf else b1
+                # (touching windows go on: they may be two pieces of one window, see below)
+                if ahi[base + i] < c0 - _TOUCH * L or alo[base + i] > c1 + _TOUCH * L:
+                    i += 1
+                    continue
+                olo = wb[o, 0]
+                ohi = wb[o, 1]
+                ox = wb[o, 2]
+                same = wh[o] == t
+                if same:
+                    # the same unfolded source (across flat vertices: the two children of a
+                    # window split at a vertex meet again behind it): one window for both
+                    mtol = _MERGE * (abs(sx) + abs(sy) + sig + L)
+                    if (
+                        abs(ox - sx) <= mtol
+                        and abs(wb[o, 3] - sy) <= mtol
+                        and abs(wb[o, 4] - sig) <= mtol
+                    ):
+                        if olo <= b0 and ohi >= b1:
+                            b1 = b0  # nothing new: the queued one covers it
+                            break
+                        b0 = min(b0, olo)
+                        b1 = max(b1, ohi)
+                        state[o] = 2
+                        _block_remove(e, i, bstart, bn, aw, alo, ahi, pos)
+                        i = 0  # the wider window may overlap windows already passed
+                        continue
+                if not same and flip:
+                    olo, ohi = L - ohi, L - olo
+                    ox = L - ox
+                oy2 = wb[o, 3] * wb[o, 3]
+                osg = wb[o, 4]
+                b0, b1, nlo, nhi = _resolve(b0, b1, sx, sy2, sig, olo, ohi, ox, oy2, osg, L)
+                if b1 <= b0:
+                    break
+                if nhi <= nlo:
+                    state[o] = 2  # dead: out of the block; its slot is freed when popped
+                    _block_remove(e, i, bstart, bn, aw, alo, ahi, pos)
+                    continue  # the block's last window moved to i
+                if nlo != olo or nhi != ohi:
+                    if not same and flip:
+                        nlo, nhi = L - nhi, L - nlo
+                    wb[o, 0] = nlo
+                    wb[o, 1] = nhi
+                    if cflip[wh[o]]:
+                        alo[base + i] = L - nhi
+                        ahi[base + i] = L - nlo
+                    else:
+                        alo[base + i] = nlo
+                        ahi[base + i] = nhi
+                i += 1
+            if b1 <= b0:
+                continue
+            if b0 <= sx <= b1:
+                kk = sig + abs(sy)
+            else:
+                kk = sig + min(np.sqrt((b0 - sx) ** 2 + sy * sy), np.sqrt((b1 - sx) ** 2 + sy * sy))
+            if nfree > 0:
+                nfree -= 1
+                w = free[nfree]
+            else:
+                w = nw
+                nw += 1
+            created += 1
+            wh[w] = t
+            wb[w, 0] = b0
+            wb[w, 1] = b1
+            wb[w, 2] = sx
+            wb[w, 3] = sy
+            wb[w, 4] = sig
+            state[w] = 0
+            # into the edge's block (a new block of twice the capacity when it is full)
+            k = bn[e]
+            if bstart[e] < 0 or k == 4 << bcls[e]:
+                cls = 0 if bstart[e] < 0 else bcls[e] + 1
+                size = 4 << cls
+                if fhead[cls] >= 0:
+                    nb = fhead[cls]
+                    fhead[cls] = aw[nb]
+                else:
+                    nb = atop
+                    atop += size
+                    maxcap = max(maxcap, size)
+                if bstart[e] >= 0:
+                    ob = bstart[e]
+                    aw[nb : nb + k] = aw[ob : ob + k]
+                    alo[nb : nb + k] = alo[ob : ob + k]
+                    ahi[nb : nb + k] = ahi[ob : ob + k]
+                    aw[ob] = fhead[bcls[e]]
+                    fhead[bcls[e]] = ob
+                bstart[e] = nb
+                bcls[e] = cls
+            base = bstart[e]
+            aw[base + k] = w
+            alo[base + k] = L - b1 if cf else b0
+            ahi[base + k] = L - b0 if cf else b1
+            pos[w] = k
+            bn[e] = k + 1
+            nh = heap_push(hk, hv, nh, kk, w)
+    ctr[C_HEAP], ctr[C_FREE], ctr[C_USED], ctr[C_ARENA_TOP] = nh, nfree, nw, atop
+    ctr[C_CREATED], ctr[C_EMITTED], ctr[C_MAX_BLOCK] = created, emitted_windows, maxcap
+    return status
