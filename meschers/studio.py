@@ -130,7 +130,9 @@ class StudioModel:
         self.turn = [0.0, 0.0]  # degrees about screen x, screen y
         self.light = np.array([0.4, 0.6, 0.7]) / np.linalg.norm([0.4, 0.6, 0.7])
         self.t_xy = self.t_zeta = 0.0
-        self.loop = 0
+        # the longest loop first: on a torus, the one around the hole (an impossibagel's)
+        sizes = [len(edges) for edges, _ in m.homology_generators()]
+        self.loop = int(np.argmax(sizes)) if sizes else 0
         self.picks: list[int] = []
         lo, hi = np.min(m.xy, axis=0), np.max(m.xy, axis=0)
         c, r = (lo + hi) / 2, (0.5 + FRAME_MARGIN) * float(np.max(hi - lo))
@@ -347,8 +349,8 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
 
     def reset_state() -> None:
         state.loops = [f"loop {i + 1}" for i in range(model.n_loops)]
-        state.loop = 0
-        state.period = float(model.periods[0]) if model.n_loops else 0.0
+        state.loop = model.loop
+        state.period = float(model.periods[model.loop]) if model.n_loops else 0.0
         state.period_span = float(max(3 * span, 1e-9))
         state.t_xy = state.t_zeta = 0.0
         state.title = f"meschers studio - {model.label}"
@@ -366,7 +368,8 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
 
     @state.change("t_xy", "t_zeta")
     def smooth(t_xy, t_zeta, **_):
-        guarded(model.set_smoothing)(t_xy, t_zeta)
+        if (float(t_xy or 0), float(t_zeta or 0)) != (model.t_xy, model.t_zeta):
+            guarded(model.set_smoothing)(t_xy or 0, t_zeta or 0)
 
     @state.change("period")
     def period(period, **_):

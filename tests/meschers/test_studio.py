@@ -86,6 +86,8 @@ def test_turning_is_the_rotation_and_turns_back_exactly(studio, torus):
 def test_paint_a_period_on_a_possible_torus(studio, torus):
     m, _ = torus
     assert not m.is_impossible() and studio.n_loops == 2
+    # the page starts on the loop around the hole (64 edges), not around the tube (24)
+    assert [len(e) for e, _ in m.homology_generators()][studio.loop] == 64
     np.testing.assert_array_equal(studio.base_periods, [0.0, 0.0])
     msg = studio.set_period(1, 0.75)
     assert "impossible" in msg
@@ -311,8 +313,10 @@ def test_page_in_headless_chromium(tmp_path):
     finally:
         _stop(proc)
     m = load(tmp_path / "painted.npz")
-    np.testing.assert_allclose(m.periods(), [1.25, 0.0], atol=1e-12)
-    torus, _ = default_torus()
+    torus, order = default_torus()
+    expect = np.zeros(2)
+    expect[StudioModel(torus, order, size=64).loop] = 1.25  # the loop the page starts on
+    np.testing.assert_allclose(m.periods(), expect, atol=1e-12)
     np.testing.assert_allclose(m.xy, torus.xy, atol=1e-12)  # turned back to 0 deg: unchanged
     assert list(work.iterdir()) == []
     for shot in sorted(shots.iterdir()):  # each screenshot shows the page and the figure
