@@ -92,9 +92,8 @@ def _arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarr
 def _depth_change(cen: np.ndarray, pairs: np.ndarray, T: np.ndarray, Z: np.ndarray) -> np.ndarray:
     """``z_j(c) - z_i(c)`` for pairs ``(i, j)``: corner depths ``Z (n, 3)`` of faces ``T (n, 3, 2)``
     interpolated (barycentric) at the points ``cen (k, 2)``."""
-    T = np.ascontiguousarray(T, dtype=np.float64)
-    Z = np.ascontiguousarray(Z, dtype=np.float64)
-    cen = np.ascontiguousarray(cen)
+    # writable C arrays always: a read-only one would be another type to numba, compiled again
+    T, Z, cen = (np.require(a, np.float64, ["C", "W"]) for a in (T, Z, cen))
     zj = overlap.barycentric_depths(cen, T, Z, np.ascontiguousarray(pairs[:, 1]))
     return zj - overlap.barycentric_depths(cen, T, Z, np.ascontiguousarray(pairs[:, 0]))
 

@@ -1,0 +1,86 @@
+"""Kernels compiled once, up front, with a notice; the warm-up covers the types real work uses."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+# Runs in a fresh process with an empty numba cache folder of its own, so it sees what a new
+# installation sees whatever this machine compiled before.
+SCRIPT = textwrap.dedent(
+    """
+    import io, contextlib
+    from numba.core import event
+    from meschers_igl import compiled
+    from meschers.warmup import ensure_compiled, cold_groups
+
+    before = compiled.cold_kernels(compiled.GROUPS["order"])
+    said = []
+    ensure_compiled(said.append, groups=["order"], processes=1)
+    after = compiled.cold_kernels(compiled.GROUPS["order"])
+    again = []
+    ensure_compiled(again.append, groups=["order"], processes=1)
+
+    # real work after the warm-up compiles nothing new: the warm-up used the same signatures
+    from meschers_igl import DepthOrder, gallery
+    with event.install_recorder("numba:compile") as rec:
+        gm = gallery.get_model("penrose_triangle")
+        o = DepthOrder.from_local_depth(gm.mescher)
+        o.linear_extension()
+        gm.mescher.subdivide(1, order=gm.order)
+    compiles = sorted({getattr(ev.data.get("dispatcher"), "__name__", "?")
+                       for _, ev in rec.buffer if ev.is_start})
+    print("BEFORE", len(before))
+    print("SAID", said)
+    print("AFTER", after)
+    print("AGAIN", again)
+    print("COMPILES", compiles)
+    """
+)
+
+
+@pytest.mark.slow
+def test_kernels_compile_once_with_a_notice_and_cover_real_work(tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    proc = subprocess.run(
+        [sys.executable, "-c", SCRIPT], env=env, capture_output=True, text=True, timeout=600
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = dict(line.split(" ", 1) for line in proc.stdout.splitlines() if " " in line)
+    assert int(out["BEFORE"]) >= 8  # an empty cache: the order kernels are all missing
+    said = eval(out["SAID"])  # noqa: S307 -- our own repr of a list of str
+    assert len(said) == 2 and said[0].startswith("compiling kernels (first run only, about ")
+    assert said[1].startswith("kernels compiled in ")
+    assert out["AFTER"] == "[]" and out["AGAIN"] == "[]"  # cached, and silent the second time
+    assert out["COMPILES"] == "[]", (
+        f"real work compiled kernels the warm-up missed: {out['COMPILES']}"
+    )
+
+
+def test_cold_kernels_skips_inlined_helpers_and_names_module_functions():
+    from meschers_igl import compiled
+
+    names = {
+        f"{d.py_func.__module__}.{d.py_func.__qualname__}"
+        for d in compiled.kernels(compiled.GROUPS["order"])
+    }
+    assert "meschers_igl.overlap.grid_overlaps" in names
+    cold = compiled.cold_kernels(compiled.GROUPS["order"])
+    assert set(cold) <= names
+    inlined = {
+        f"{d.py_func.__module__}.{d.py_func.__qualname__}"
+        for d in compiled.kernels(compiled.GROUPS["order"])
+        if d.targetoptions.get("inline", "never") != "never"
+    }
+    assert inlined and not inlined & set(cold)
+
+
+def test_warm_refuses_an_unknown_group():
+    from meschers_igl import MescherError, compiled
+
+    with pytest.raises(MescherError, match="group: expected one of"):
+        compiled.warm("everything")
