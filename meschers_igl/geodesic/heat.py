@@ -28,6 +28,7 @@ Every method is reached through :func:`meschers_igl.geodesic.geodesic_solver`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -221,6 +222,225 @@ def _regularize_unused(A: sp.spmatrix, F: np.ndarray, n: int) -> sp.csr_matrix:
     return sp.csr_matrix(A)
 
 
+@dataclass(frozen=True)
+class _HeatOptions:
+    """The variant a :class:`HeatGeodesicSolver` runs, after ``"auto"`` and the presets."""
+
+    method: str
+    boundary: str
+    intrinsic_delaunay: bool
+    refine: int
+    t_factor: float
+    pin_sets: bool  # source sets held at one value in the Poisson step (else potpourri3d's shift)
+
+    @classmethod
+    def resolve(cls, m, method, intrinsic_delaunay, boundary, refine, t_factor) -> _HeatOptions:
+        method = as_choice(method, "method", METHODS)
+        requested = method
+        if method == "auto":
+            method = choose_method(m)
+            if method == "geometry_central" and (
+                refine is not None
+                or intrinsic_delaunay is not None
+                or boundary not in (None, "neumann")
+            ):
+                method = "robust"  # the closest preset that takes those keywords
+        t_factor = 1.0 if t_factor is None else as_positive(t_factor, "t_factor")
+        if method == "geometry_central":
+            for name, value in (("refine", refine), ("intrinsic_delaunay", intrinsic_delaunay)):
+                if value is not None:
+                    raise MescherError(
+                        f"{name}: method='geometry_central' fixes it (intrinsic Delaunay, no "
+                        f"refinement), found {value!r}"
+                    )
+            if boundary is not None and as_choice(boundary, "boundary", _BOUNDARY) != "neumann":
+                raise MescherError(
+                    "boundary: method='geometry_central' solves the heat step with Neumann "
+                    f"conditions (as potpourri3d), found {boundary!r}"
+                )
+            # potpourri3d's offsets on source sets when asked for by name; auto pins them
+            return cls(method, "neumann", True, 0, t_factor, requested != "geometry_central")
+        p_refine, p_idt = _PRESETS[method]
+        refine = p_refine if refine is None else refine
+        if (
+            isinstance(refine, bool)
+            or not isinstance(refine, (int, np.integer))
+            or not 0 <= refine <= 4
+        ):
+            raise MescherError(f"refine: expected an integer in [0, 4], found {refine!r}")
+        boundary = as_choice("average" if boundary is None else boundary, "boundary", _BOUNDARY)
+        idt = p_idt if intrinsic_delaunay is None else bool(intrinsic_delaunay)
+        return cls(method, boundary, idt, int(refine), t_factor, True)
+
+
+@dataclass(frozen=True)
+class _HeatSystem:
+    """The operators the heat method runs on, on the mesh the heat flows on (the mescher, its
+    refined or intrinsic Delaunay triangulation, or potpourri3d's tufted cover); vertices
+    ``[0, #V)`` are the mescher's."""
+
+    t: float  # heat time
+    h: float  # mean edge length of that mesh
+    n: int  # its vertices
+    F: np.ndarray  # its faces
+    dim: int  # gradient blocks per face (3 in the camera frame, 2 intrinsic)
+    G: sp.csr_matrix  # per-face gradient
+    GtA: sp.csr_matrix  # divergence: G^T diag(area)
+    M: sp.csr_matrix  # mass
+    L: sp.csr_matrix  # cotangent Laplacian (negative semi-definite)
+    Ah: sp.csr_matrix  # heat matrix M - t L (rows of unused vertices regularized)
+    heat: Any  # solve with Ah (Neumann)
+    poisson: Any  # solve with -L pinned once per component (or screened, potpourri3d)
+    bnd: np.ndarray  # boundary vertices (for the Dirichlet heat step)
+    label: np.ndarray  # connected component of each vertex
+    ncomp: int
+    peer: bool  # potpourri3d's variant: heat from a unit without mass, mean shift on sets
+
+
+def _heat_system(m: Any, opt: _HeatOptions, t: float | None, solver: str) -> _HeatSystem:
+    """The presets' operators: the mescher's own, or rebuilt from its lengths after
+    ``opt.refine`` levels of intrinsic midpoint refinement and intrinsic Delaunay flips."""
+    n = int(m.n_vertices)
+    F = np.asarray(m.F, dtype=np.int64)
+    # mollified lengths (Sharp & Crane 2020): equal to the plain ones unless some face is
+    # nearly degenerate, and they keep every cotangent finite (m.grad() is the gradient of
+    # that same metric, so G^T A G = -L holds for the mescher's own operators too)
+    lm = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
+    own = not (opt.intrinsic_delaunay or opt.refine > 0)
+    nn = n
+    if own:
+        h = float(np.mean(m.edge_lengths()))
+        L, M, G = (sp.csr_matrix(x) for x in (m.cotmatrix(), m.massmatrix(), m.grad()))
+        area = np.asarray(m.face_areas(), dtype=np.float64)
+        fe = np.asarray(m.face_edges)  # the mescher's own edge topology, not recomputed
+    else:
+        edges, fe = np.asarray(m.edges), np.asarray(m.face_edges)
+        for level in range(opt.refine):
+            if level:  # the refined mesh's edges (the first level uses the mescher's)
+                edges, fe, _ = topology.edge_topology(F, nn, check=False)
+            lm, F, nn = intrinsic.midpoint_refine(lm, F, edges, fe, nn)
+        if opt.refine:
+            fe = topology.edge_topology(F, nn, check=False)[1]
+        h = float(lm.mean())
+        if opt.intrinsic_delaunay:
+            # flips beyond round-off only: the result does not depend on vertex order
+            lm, F, fe = intrinsic.intrinsic_delaunay(lm, F, tol=DELAUNAY_TOL, face_edges=fe)
+        L, M, G, area = intrinsic_operators(lm, F, nn)
+    t = as_positive(t, "t") if t is not None else opt.t_factor * h * h
+    dim = G.shape[0] // max(F.shape[0], 1)
+    Ah = _regularize_unused(M - t * L, F, nn)
+    bnd = np.zeros(nn, dtype=bool)
+    if F.shape[0]:
+        be = np.bincount(fe.reshape(-1), minlength=int(fe.max()) + 1) == 1
+        bface, bcorner = np.nonzero(be[fe])
+        bnd[F[bface, (bcorner + 1) % 3]] = True
+        bnd[F[bface, (bcorner + 2) % 3]] = True
+    # Poisson: -L pinned at one vertex per connected component (makes it definite)
+    if own and solver == "auto":
+        # the mescher already factors d01^T star1 d01 = -L with the same pins (first vertex of
+        # each component) for its Hodge decomposition: reuse it
+        ex = m.exact_part_solver()
+        label, ncomp, poisson = np.asarray(ex.labels), int(ex.ncomp), ex.solve
+    else:
+        ncomp, label = topology.connected_components(F, nn) if F.shape[0] else (nn, np.arange(nn))
+        poisson = _pinned_poisson(L, label, solver)
+    return _HeatSystem(
+        t=t,
+        h=h,
+        n=nn,
+        F=F,
+        dim=dim,
+        G=G,
+        GtA=sp.csr_matrix(G.T @ sp.diags(np.tile(area, dim))),
+        M=M,
+        L=L,
+        Ah=Ah,
+        heat=factorize_spd(Ah, backend=solver),
+        poisson=poisson,
+        bnd=bnd,
+        label=np.asarray(label),
+        ncomp=int(ncomp),
+        peer=False,
+    )
+
+
+def _pinned_poisson(L: sp.csr_matrix, label: np.ndarray, solver: str):
+    """Solve ``-L x = b`` with ``x = 0`` at the first vertex of each component."""
+    nn = L.shape[0]
+    pinned = np.zeros(nn, dtype=bool)
+    pinned[np.unique(label, return_index=True)[1]] = True
+    free = np.flatnonzero(~pinned)
+    K = (-L).tocsr()[free][:, free]
+    factor = factorize_spd(K, backend=solver) if free.size else None
+
+    def poisson(b: np.ndarray) -> np.ndarray:
+        x = np.zeros(b.shape)
+        if factor is not None:
+            x[free] = factor(np.ascontiguousarray(b[free]))
+        return x
+
+    return poisson
+
+
+def _peer_system(m: Any, opt: _HeatOptions, t: float | None, solver: str) -> _HeatSystem:
+    """``method="geometry_central"``: potpourri3d's heat method, operator for operator.
+
+    geometry-central's ``HeatMethodDistanceSolver`` (robust Laplacian on, potpourri3d's
+    default) builds the intrinsic tufted cover of the mesh: two copies of every face,
+    oppositely oriented, glued edge by edge (Sharp & Crane 2020).  On a manifold mesh that
+    is two sheets sharing the vertices, joined along the boundary (the double).  It mollifies
+    by ``1e-5`` mean edge lengths, flips edges of weight below ``-1e-6`` to Delaunay, and
+    factors ``M + t L`` (barycentric lumped masses, ``t`` the squared mean edge length of the
+    flipped cover) and ``L + 1e-6 I``.  Here: the mesh's intrinsic Delaunay triangulation
+    with the same tolerance, every operator doubled (two sheets); only when a boundary edge
+    of it would flip on the cover (opposite angle above 90 degrees: on the double its two
+    opposite angles are that one twice) is the double itself flipped and folded back onto
+    the vertices.
+    """
+    n = int(m.n_vertices)
+    F = np.asarray(m.F, dtype=np.int64)
+    l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
+    fe = np.asarray(m.face_edges, dtype=np.int64)
+    lt, Ft, fet = intrinsic.intrinsic_delaunay(l, F, tol=PEER_DELAUNAY_TOL, face_edges=fe)
+    sheets = 2.0
+    if F.shape[0]:
+        deg = np.bincount(fet.reshape(-1))
+        bcorner = deg[fet] == 1
+        # cover weight of a boundary edge: cot(opposite angle) from both of its copies
+        if bcorner.any() and 4.0 * intrinsic.half_cotangents(lt)[bcorner].min() < (
+            -2.0 * PEER_DELAUNAY_TOL
+        ):
+            lt, Ft = _flipped_double(l, F, fe, n)
+            sheets = 1.0
+    L, _, G, area = intrinsic_operators(lt, Ft, n)
+    mass = np.bincount(Ft.reshape(-1), weights=np.repeat(area / 3.0, 3), minlength=n)
+    h = float(lt.mean()) if lt.size else 1.0  # mean edge length of the cover (see above)
+    t = as_positive(t, "t") if t is not None else opt.t_factor * h * h
+    M = sp.diags(sheets * mass).tocsr()
+    L = sp.csr_matrix(sheets * L)
+    Ah = _regularize_unused(M - t * L, Ft, n)
+    K = sp.csr_matrix(-L + PEER_POISSON_SHIFT * sp.identity(n))
+    ncomp, label = topology.connected_components(F, n) if F.shape[0] else (n, np.arange(n))
+    return _HeatSystem(
+        t=t,
+        h=h,
+        n=n,
+        F=Ft,
+        dim=2,
+        G=G,
+        GtA=sp.csr_matrix(G.T @ sp.diags(np.tile(sheets * area, 2))),
+        M=M,
+        L=L,
+        Ah=Ah,
+        heat=factorize_spd(Ah, backend=solver),
+        poisson=factorize_spd(K, backend=solver),
+        bnd=np.zeros(n, dtype=bool),
+        label=np.asarray(label),
+        ncomp=int(ncomp),
+        peer=True,
+    )
+
+
 # ----------------------------------------------------------------------------------------------
 # heat method
 # ----------------------------------------------------------------------------------------------
@@ -241,7 +461,7 @@ class HeatGeodesicSolver:
         intrinsic midpoint refinement, then intrinsic Delaunay (4x the faces).
         ``"accurate"``: two levels, then intrinsic Delaunay (16x the faces, about 3x less
         error).  ``"geometry_central"``: potpourri3d's ``MeshHeatMethodDistanceSolver`` with its
-        defaults, reproduced to round-off (see ``_init_peer``): intrinsic Delaunay with
+        defaults, reproduced to round-off (see ``_peer_system``): intrinsic Delaunay with
         geometry-central's tolerance, barycentric masses, ``t = h^2``, heat from a unit at each
         source, the screened Poisson step ``(L + 1e-6 I) phi = div X`` on its tufted cover,
         and for source sets its shift (the mean over the sources is 0).  ``"auto"`` chooses
@@ -294,191 +514,21 @@ class HeatGeodesicSolver:
         t_factor: float | None = None,
         solver: str = "auto",
     ) -> None:
-        method = as_choice(method, "method", METHODS)
-        requested = method
-        if method == "auto":
-            method = choose_method(m)
-            if method == "geometry_central" and (
-                refine is not None
-                or intrinsic_delaunay is not None
-                or boundary not in (None, "neumann")
-            ):
-                method = "robust"  # the closest preset that takes those keywords
-        self.method = method
+        opt = _HeatOptions.resolve(m, method, intrinsic_delaunay, boundary, refine, t_factor)
+        self.method, self.boundary = opt.method, opt.boundary
+        self.intrinsic_delaunay, self.refine = opt.intrinsic_delaunay, opt.refine
         self.m = m
-        n = self.n_vertices = int(m.n_vertices)
+        self.n_vertices = int(m.n_vertices)
         self._solver = solver
+        self._pin_sets = opt.pin_sets
         self._far: list = []  # lazily factored heat steps with longer times, see _far_gradient
-        if method == "geometry_central":
-            for name, value in (("refine", refine), ("intrinsic_delaunay", intrinsic_delaunay)):
-                if value is not None:
-                    raise MescherError(
-                        f"{name}: method='geometry_central' fixes it (intrinsic Delaunay, no "
-                        f"refinement), found {value!r}"
-                    )
-            if boundary is not None and as_choice(boundary, "boundary", _BOUNDARY) != "neumann":
-                raise MescherError(
-                    "boundary: method='geometry_central' solves the heat step with Neumann "
-                    f"conditions (as potpourri3d), found {boundary!r}"
-                )
-            # potpourri3d's offsets on source sets when asked for by name; auto pins them
-            self._init_peer(m, t, 1.0 if t_factor is None else t_factor, solver)
-            self._pin_sets = requested != "geometry_central"
-            return
-        self._pin_sets = True
-        self._peer = False
-        if boundary is None:
-            boundary = "average"
-        p_refine, p_idt = _PRESETS[method]
-        if intrinsic_delaunay is None:
-            intrinsic_delaunay = p_idt
-        if refine is None:
-            refine = p_refine
-        if t_factor is None:
-            t_factor = 1.0
-        if (
-            isinstance(refine, bool)
-            or not isinstance(refine, (int, np.integer))
-            or not 0 <= refine <= 4
-        ):
-            raise MescherError(f"refine: expected an integer in [0, 4], found {refine!r}")
-        t_factor = as_positive(t_factor, "t_factor")
-        self.boundary = as_choice(boundary, "boundary", _BOUNDARY)
-        self.intrinsic_delaunay = bool(intrinsic_delaunay)
-        self.refine = int(refine)
-        F = np.asarray(m.F, dtype=np.int64)
-        # mollified lengths (Sharp & Crane 2020): equal to the plain ones unless some face is
-        # nearly degenerate, and they keep every cotangent finite
-        lm = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
-        # (m.grad() is the gradient of that same mollified metric, so G^T A G = -L holds for
-        # the mescher's own operators on degenerate meshes too)
-        own = not (self.intrinsic_delaunay or self.refine > 0)
-        if own:
-            nn = n
-            h = float(np.mean(m.edge_lengths()))
-            L = sp.csr_matrix(m.cotmatrix())
-            M = sp.csr_matrix(m.massmatrix())
-            G = sp.csr_matrix(m.grad())
-            area = np.asarray(m.face_areas(), dtype=np.float64)
-            fe = np.asarray(m.face_edges)  # the mescher's own edge topology, not recomputed
-        else:
-            nn = n
-            edges, fe = np.asarray(m.edges), np.asarray(m.face_edges)
-            for level in range(self.refine):
-                if level:  # the refined mesh's edges (the first level uses the mescher's)
-                    edges, fe, _ = topology.edge_topology(F, nn, check=False)
-                lm, F, nn = intrinsic.midpoint_refine(lm, F, edges, fe, nn)
-            if self.refine:
-                fe = topology.edge_topology(F, nn, check=False)[1]
-            h = float(lm.mean())
-            if self.intrinsic_delaunay:
-                # flips beyond round-off only: the result does not depend on vertex order
-                lm, F, fe = intrinsic.intrinsic_delaunay(lm, F, tol=DELAUNAY_TOL, face_edges=fe)
-            L, M, G, area = intrinsic_operators(lm, F, nn)
-        self.t = as_positive(t, "t") if t is not None else t_factor * h * h
-        self.h = h
-        self._n_inner = nn
-        self._dim = G.shape[0] // max(F.shape[0], 1)
-        self._G = G
-        self._GtA = sp.csr_matrix(G.T @ sp.diags(np.tile(area, self._dim)))
-        self._M = M
-        # heat step (Neumann): (M - t L) u = M u0
-        self._heat = factorize_spd(_regularize_unused(M - self.t * L, F, nn), backend=solver)
-        # heat step (Dirichlet): the same restricted to interior vertices
-        bnd = np.zeros(nn, dtype=bool)
-        if F.shape[0]:
-            be = np.bincount(fe.reshape(-1), minlength=int(fe.max()) + 1) == 1
-            bface, bcorner = np.nonzero(be[fe])
-            bnd[F[bface, (bcorner + 1) % 3]] = True
-            bnd[F[bface, (bcorner + 2) % 3]] = True
-        self._bnd = bnd
-        self._Ah = _regularize_unused(M - self.t * L, F, nn)
-        self._L, self._F_inner = L, F
-        self._heat_d = None
-        if bnd.any() and self.boundary != "neumann":
-            self._heat_d = self._dirichlet_factor(bnd)
-        # Poisson: -L pinned at one vertex per connected component (makes it definite)
-        if own and solver == "auto":
-            # the mescher already factors d01^T star1 d01 = -L with the same pins (first
-            # vertex of each component) for its Hodge decomposition: reuse it
-            ex = m.exact_part_solver()
-            label, ncomp = np.asarray(ex.labels), int(ex.ncomp)
-            self._poisson = ex.solve
-        else:
-            ncomp, label = (
-                topology.connected_components(F, nn) if F.shape[0] else (nn, np.arange(nn))
-            )
-            pinned = np.zeros(nn, dtype=bool)
-            pinned[np.unique(label, return_index=True)[1]] = True
-            free = np.flatnonzero(~pinned)
-            K = (-L).tocsr()[free][:, free]
-            factor = factorize_spd(K, backend=solver) if free.size else None
-
-            def poisson(b: np.ndarray) -> np.ndarray:
-                x = np.zeros(b.shape)
-                if factor is not None:
-                    x[free] = factor(np.ascontiguousarray(b[free]))
-                return x
-
-            self._poisson = poisson
-        self._label = label[:n]
-        self._label_inner = label
-        self._ncomp = ncomp
-
-    # ------------------------------------------------------------------------------------------
-    def _init_peer(self, m: Any, t: float | None, t_factor: float, solver: str) -> None:
-        """Set up ``method="geometry_central"``: potpourri3d's heat method, operator for operator.
-
-        geometry-central's ``HeatMethodDistanceSolver`` (robust Laplacian on, potpourri3d's
-        default) builds the intrinsic tufted cover of the mesh: two copies of every face,
-        oppositely oriented, glued edge by edge (Sharp & Crane 2020).  On a manifold mesh that
-        is two sheets sharing the vertices, joined along the boundary (the double).  It mollifies
-        by ``1e-5`` mean edge lengths, flips edges of weight below ``-1e-6`` to Delaunay, and
-        factors ``M + t L`` (barycentric lumped masses, ``t`` the squared mean edge length of the
-        flipped cover) and ``L + 1e-6 I``.  Here: the mesh's intrinsic Delaunay triangulation
-        with the same tolerance, every operator doubled (two sheets); only when a boundary edge
-        of it would flip on the cover (opposite angle above 90 degrees: on the double its two
-        opposite angles are that one twice) is the double itself flipped and folded back onto
-        the vertices.
-        """
-        self.boundary = "neumann"
-        self.intrinsic_delaunay, self.refine = True, 0
-        self._peer = True
-        n = self._n_inner = self.n_vertices
-        F = np.asarray(m.F, dtype=np.int64)
-        l = np.asarray(m.face_edge_lengths(mollified=True), dtype=np.float64)
-        fe = np.asarray(m.face_edges, dtype=np.int64)
-        lt, Ft, fet = intrinsic.intrinsic_delaunay(l, F, tol=PEER_DELAUNAY_TOL, face_edges=fe)
-        sheets = 2.0
-        if F.shape[0]:
-            deg = np.bincount(fet.reshape(-1))
-            bcorner = deg[fet] == 1
-            # cover weight of a boundary edge: cot(opposite angle) from both of its copies
-            if bcorner.any() and 4.0 * intrinsic.half_cotangents(lt)[bcorner].min() < (
-                -2.0 * PEER_DELAUNAY_TOL
-            ):
-                lt, Ft = _flipped_double(l, F, fe, n)
-                sheets = 1.0
-        L, _, G, area = intrinsic_operators(lt, Ft, n)
-        mass = np.bincount(Ft.reshape(-1), weights=np.repeat(area / 3.0, 3), minlength=n)
-        h = float(lt.mean()) if lt.size else 1.0  # mean edge length of the cover (see above)
-        self.t = as_positive(t, "t") if t is not None else as_positive(t_factor, "t_factor") * h * h
-        self.h = h
-        self._dim = 2
-        self._G = G
-        self._GtA = sp.csr_matrix(G.T @ sp.diags(np.tile(sheets * area, 2)))
-        self._M = sp.diags(sheets * mass).tocsr()
-        self._L = sheets * L
-        self._F_inner = Ft
-        self._bnd = np.zeros(n, dtype=bool)
-        self._heat_d = None
-        self._Ah = _regularize_unused(self._M - self.t * self._L, Ft, n)
-        self._heat = factorize_spd(self._Ah, backend=solver)
-        K = sp.csr_matrix(-self._L + PEER_POISSON_SHIFT * sp.identity(n))
-        self._poisson = factorize_spd(K, backend=solver)
-        ncomp, label = topology.connected_components(F, n) if F.shape[0] else (n, np.arange(n))
-        self._label = self._label_inner = np.asarray(label)
-        self._ncomp = int(ncomp)
+        build = _peer_system if opt.method == "geometry_central" else _heat_system
+        self._sys = build(m, opt, t, solver)
+        self.t, self.h = self._sys.t, self._sys.h
+        self._heat_d = None  # the Dirichlet heat step, factored when a boundary condition asks
+        if self._sys.bnd.any() and self.boundary != "neumann":
+            self._heat_d = self._dirichlet_factor(self._sys.bnd)
+        self._label = self._sys.label[: self.n_vertices]
 
     # ------------------------------------------------------------------------------------------
     def _dirichlet_factor(self, fixed: np.ndarray):
@@ -486,29 +536,29 @@ class HeatGeodesicSolver:
         free = np.flatnonzero(~fixed)
         if free.size == 0:
             return None
-        return free, factorize_spd(self._Ah[free][:, free], backend=self._solver)
+        return free, factorize_spd(self._sys.Ah[free][:, free], backend=self._solver)
 
     def _heat_solve(self, src: np.ndarray) -> np.ndarray:
         """Heat step from the sources' indicator with the chosen boundary condition."""
-        nn = self._n_inner
+        nn = self._sys.n
         u0 = np.zeros(nn)
         u0[src] = 1.0
-        b = self._M @ u0
+        b = self._sys.M @ u0
         b[src] += (b[src] == 0) * 1.0  # an unused (isolated) source vertex
         if self._heat_d is None:
-            return self._heat(b)
+            return self._sys.heat(b)
         # Dirichlet: u = 0 on the boundary.  A source on the boundary stays free (a Dirac on a
         # zero-value vertex would vanish); that needs its own factorization, once per query.
-        fixed = self._bnd.copy()
+        fixed = self._sys.bnd.copy()
         fixed[src] = False
         free, solve = (
-            self._heat_d if fixed.sum() == self._bnd.sum() else self._dirichlet_factor(fixed)
+            self._heat_d if fixed.sum() == self._sys.bnd.sum() else self._dirichlet_factor(fixed)
         )
         u_d = np.zeros(nn)
         u_d[free] = solve(b[free])
         if self.boundary == "dirichlet":
             return u_d
-        return 0.5 * (self._heat(b) + u_d)
+        return 0.5 * (self._sys.heat(b) + u_d)
 
     def distance(self, sources: Any, targets: Any = None) -> np.ndarray:
         """Geodesic distance from a vertex or a set of vertices (to the nearest one).
@@ -529,14 +579,14 @@ class HeatGeodesicSolver:
         src = as_index_array(sources, "sources", self.n_vertices)
         if targets is not None:
             as_index_array(targets, "targets", self.n_vertices)
-        dim = self._dim
-        if self._peer:  # potpourri3d: the heat of a unit at each source, no mass
-            b = np.zeros(self._n_inner)
+        dim = self._sys.dim
+        if self._sys.peer:  # potpourri3d: the heat of a unit at each source, no mass
+            b = np.zeros(self._sys.n)
             np.add.at(b, src, 1.0)
-            u = self._heat(b)
+            u = self._sys.heat(b)
         else:
             u = self._heat_solve(src)
-        gu = (self._G @ u).reshape(dim, -1)
+        gu = (self._sys.G @ u).reshape(dim, -1)
         self._far_gradient(u, src, gu)
         # Normalize after scaling by the largest component: far from the source the heat is
         # ~1e-280 and squaring it underflows (|grad u|^2 == 0 gave 5-8% mean error on a
@@ -545,18 +595,18 @@ class HeatGeodesicSolver:
         gs = np.divide(gu, amax, out=np.zeros_like(gu), where=amax > 0)
         norm = np.sqrt((gs * gs).sum(axis=0))
         X = -np.divide(gs, norm, out=np.zeros_like(gs), where=norm > 0)
-        rhs = self._GtA @ X.reshape(-1)
-        d = self._poisson(rhs)
+        rhs = self._sys.GtA @ X.reshape(-1)
+        d = self._sys.poisson(rhs)
         S = np.unique(src)
         if self._pin_sets and 1 < S.size <= _MAX_PINNED_SOURCES:
             d = self._pin_sources(d, S)
         d = d[: self.n_vertices]
         label = self._label
-        shift = np.full(self._ncomp, np.inf)
-        if self._peer and not self._pin_sets:
+        shift = np.full(self._sys.ncomp, np.inf)
+        if self._sys.peer and not self._pin_sets:
             # potpourri3d: the mean over the sources is 0 (per component here)
-            cnt = np.bincount(label[src], minlength=self._ncomp)
-            tot = np.bincount(label[src], weights=d[src], minlength=self._ncomp)
+            cnt = np.bincount(label[src], minlength=self._sys.ncomp)
+            tot = np.bincount(label[src], weights=d[src], minlength=self._sys.ncomp)
             np.divide(tot, cnt, out=shift, where=cnt > 0)
         else:  # shift per component so that the nearest source is at 0
             np.minimum.at(shift, label[src], d[src])
@@ -576,7 +626,7 @@ class HeatGeodesicSolver:
         direction comes from a heat step with a 100x longer time (10x slower decay), factored
         once on first need; repeated while some face is still that faint.
         """
-        F = self._F_inner
+        F = self._sys.F
         if F.shape[0] == 0:
             return
         scale = float(np.abs(u).max())
@@ -585,14 +635,14 @@ class HeatGeodesicSolver:
         while weak.any() and level < 3:
             if level == len(self._far):
                 t_far = self.t * 100.0 ** (level + 1)
-                A = _regularize_unused(self._M - t_far * self._L, F, self._n_inner)
+                A = _regularize_unused(self._sys.M - t_far * self._sys.L, F, self._sys.n)
                 self._far.append(factorize_spd(A, backend=self._solver))
-            u0 = np.zeros(self._n_inner)
+            u0 = np.zeros(self._sys.n)
             u0[src] = 1.0
-            b = self._M @ u0
+            b = self._sys.M @ u0
             b[src] += (b[src] == 0) * 1.0
             v = self._far[level](b)
-            gv = (self._G @ v).reshape(gu.shape)
+            gv = (self._sys.G @ v).reshape(gu.shape)
             gu[:, weak] = gv[:, weak]
             weak &= np.abs(v)[F].max(axis=1) < _FAR_RATIO * float(np.abs(v).max())
             level += 1
@@ -610,8 +660,8 @@ class HeatGeodesicSolver:
         nn, k = d0.size, S.size
         E = np.zeros((nn, k))
         E[S, np.arange(k)] = 1.0  # a load on a pinned vertex is dropped by the solve
-        Gm = self._poisson(E)
-        lab = self._label_inner[S]
+        Gm = self._sys.poisson(E)
+        lab = self._sys.label[S]
         rows, rhs = [], []
         for c in np.unique(lab):  # one block per component holding sources (few)
             js = np.flatnonzero(lab == c)

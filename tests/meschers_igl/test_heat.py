@@ -233,8 +233,8 @@ def test_boundary_conditions_differ_and_average():
     da = HeatGeodesicSolver(m, boundary="average", **kw)
     un, ud, ua = (x._heat_solve(np.array([s])) for x in (dn, dd, da))
     np.testing.assert_allclose(ua, 0.5 * (un + ud), atol=1e-15)
-    assert np.abs(ud[dd._bnd]).max() == 0.0  # source 210 is interior
-    assert np.abs(un[dn._bnd]).max() > 0
+    assert np.abs(ud[dd._sys.bnd]).max() == 0.0  # source 210 is interior
+    assert np.abs(un[dn._sys.bnd]).max() > 0
     de = exact(V, F, s)
     for S in (dn, dd, da):
         assert mean_rel(S.distance(s), de) < 0.05
@@ -554,7 +554,7 @@ def test_geometry_central_method_reproduces_potpourri3d(name):
         np.testing.assert_allclose(d[ok], p[ok], rtol=0, atol=1e-10 * np.abs(p[ok]).max())
     assert S.intrinsic_delaunay and S.refine == 0 and S.boundary == "neumann"
     # the double is built only where a boundary edge flips on it
-    assert S._F_inner.shape[0] == (2 if name == "low_row_sheet" else 1) * F.shape[0]
+    assert S._sys.F.shape[0] == (2 if name == "low_row_sheet" else 1) * F.shape[0]
 
 
 def test_geometry_central_method_rejects_other_presets():
@@ -689,7 +689,7 @@ def test_solver_reuses_the_meschers_topology_and_poisson_factor(monkeypatch):
     )
     S = HeatGeodesicSolver(m, method="standard")
     assert calls == [(m.n_vertices, m.n_vertices)]  # the heat step only (closed mesh)
-    assert S._poisson == ex.solve
+    assert S._sys.poisson == ex.solve
     d = S.distance(5)
     np.testing.assert_allclose(
         d, HeatGeodesicSolver(m, method="standard", solver="splu").distance(5), atol=1e-10
