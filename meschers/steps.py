@@ -6,16 +6,17 @@ under its own key and adds its figure.  What two steps need is computed once, in
 :class:`Subject`: one heat-method solver per (mescher, method), the exact distances, the
 smoothed meschers per time.
 
-========== =====================================================================================
-subdivide  midpoint 1-to-4 subdivision with the depth order carried along; periods must not move
-hodge      ``zeta = d01 z + omega`` (paper Eq. 3), the periods of ``omega`` drawn on the picture
-render     flat and smooth shading under four directional lights and an environment map
-heat       backward Euler heat diffusion from one vertex (paper Eq. 5) for three times ``t``
-geodesic   heat-method distance against exact distances (window propagation), a shortest path
-smoothing  Laplacian smoothing of xy, of the exact part of zeta and of both (paper Fig. 8)
-relighting the mescher and its bent embedding against the cut 3D model, light by light
-comparison mescher / cut / bent (paper Fig. 10, :func:`pyvista_views.compare.compare`)
-========== =====================================================================================
+================ ===================================================================================
+subdivide        midpoint 1-to-4 subdivision with the depth order carried along; periods must not move
+hodge            ``zeta = d01 z + omega`` (paper Eq. 3), the periods of ``omega`` drawn on the picture
+render           flat and smooth shading under four directional lights and an environment map
+loop_subdivision Loop subdivision with creases beside the input and plain Loop
+heat             backward Euler heat diffusion from one vertex (paper Eq. 5) for three times ``t``
+geodesic         heat-method distance against exact distances (window propagation), a shortest path
+smoothing        Laplacian smoothing of xy, of the exact part of zeta and of both (paper Fig. 8)
+relighting       the mescher and its bent embedding against the cut 3D model, light by light
+comparison       mescher / cut / bent (paper Fig. 10, :func:`pyvista_views.compare.compare`)
+================ ===================================================================================
 """
 
 from __future__ import annotations
@@ -48,6 +49,10 @@ PALETTE = ("#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
 #: Heat is drawn as log10(u / max u) from this value (black) to 0: a point source's heat spans
 #: many orders of magnitude, which a linear scale shows as a black figure with one bright dot.
 HEAT_LOG_MIN = -6.0
+#: The Heart figure smooths depth this many times longer than screen positions (see smoothing).
+ZETA_TIME_FACTOR = 10.0
+#: Smallest panel of the subdivision figure, in pixels (the study's quick cells are smaller).
+FIGURE_MIN_PX = 256
 
 
 @dataclass
@@ -75,6 +80,8 @@ class Subject:
     _solvers: dict = field(default_factory=dict, repr=False)
     _smoothed: dict = field(default_factory=dict, repr=False)
     exact: np.ndarray | None = field(default=None, repr=False)
+    #: the input mescher and order, before the study's midpoint subdivision
+    coarse: tuple | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         xy = np.asarray(self.m.xy)
@@ -230,6 +237,46 @@ def render(job: ModelJob, s: Subject) -> None:
         "environment lighting is defined on a mescher (it has no absolute depth).")  # fmt: skip
 
 
+def loop_subdivision(job: ModelJob, s: Subject) -> None:
+    """Loop subdivision of the input mescher beside its flat faces (paper Sec. 4.2): with the
+    crease rules (sharp edges kept) and, for comparison, plain Loop."""
+    from meschers_igl.painter import backface_share
+
+    m0, o0 = s.coarse if s.coarse is not None else (s.m, s.order)
+    levels = subdivision_levels(m0.n_faces, 2, job.st.max_faces)
+    if levels == 0:
+        job.record["loop_subdivision"] = {"skipped": "over the face budget"}
+        return
+    cell = max(job.st.cell, FIGURE_MIN_PX)
+    bounds = default_bounds(xy_box(np.asarray(m0.xy)), (cell, cell))
+    p0 = np.asarray(m0.periods())
+    rec: dict = {"levels": levels, "faces": [int(m0.n_faces), int(m0.n_faces * 4**levels)]}
+    panels = [job.renderer.shoot([("mescher", m0, o0, {"shading": "flat"})], bounds)]
+    notes = [f"{m0.n_faces} faces"]
+    for scheme, shading in (("loop", "flat"), ("loop", "smooth"), ("loop-smooth", "smooth")):
+        if o0 is None:
+            ml, ol = m0.subdivide(levels, scheme=scheme), None
+        else:
+            ml, ol = m0.subdivide(levels, scheme=scheme, order=o0)
+            ol = hide_back_faces(ml, ol)
+        panels.append(job.renderer.shoot([("mescher", ml, ol, {"shading": shading})], bounds))
+        back = float(backface_share(ml, ol, size=cell, bounds=bounds))
+        drift = float(np.abs(np.asarray(ml.periods()) - p0).max(initial=0.0))
+        rec[f"{scheme}_{shading}"] = {"backface_share": back, "period_drift": drift}
+        notes.append(f"back faces {back:.1%}")
+    job.record["loop_subdivision"] = rec
+    cols = ["input (flat)", f"Loop x{levels}, creases (flat)", "creases (smooth)",
+            "plain Loop (smooth)"]  # fmt: skip
+    fig = compose([panels], cols, notes=[notes])
+    job.figure(fig, f"{s.name}_subdivision.png", "Loop subdivision with creases",
+        f"The input mescher ({m0.n_faces} faces, flat) and {levels} levels of Loop subdivision of the "
+        "surface a person sees (paper Sec. 4.2), the depth order carried along: with the crease rules of "
+        "piecewise-smooth Loop subdivision (Hoppe et al. 1994; edges sharper than 30 degrees stay "
+        "sharp, corners stay put), flat and smooth shading, and plain Loop, which rounds every edge. "
+        "Under each panel: the share of the figure showing a back face. The periods are kept "
+        f"(largest change {max(v['period_drift'] for k, v in rec.items() if isinstance(v, dict)):.1e}).")  # fmt: skip
+
+
 def heat(job: ModelJob, s: Subject) -> None:
     """Backward Euler heat diffusion from one vertex for three times (paper Eq. 5)."""
     st, m, scale = job.st, s.m, s.scale
@@ -290,7 +337,7 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     kw = {"shading": "smooth", "scalars": d_acc, "cmap": GEODESIC_CMAP, "clim": clim,
           "isolines": st.isolines}  # fmt: skip
     img = job.renderer.shoot(
-        [_mescher(s, **kw), ("path", path, None, {"color": "#ff2020", "width": 3}),
+        [_mescher(s, **kw), ("path", path, None, {"color": "#ff2020", "width": 3, "hidden": "dashed"}),
          ("points", sources, None, {"color": "white", "radius": 5}),
          ("points", [target], None, {"color": "#ff2020", "radius": 5})],
         bounds,
@@ -308,24 +355,30 @@ def geodesic(job: ModelJob, s: Subject) -> None:
         f"Heat-method distance (Crane et al.; paper Sec. 4.3) from vertex {source} (white dot; one source "
         f"per connected component), accurate preset, with {st.isolines} isolines, and the shortest path "
         "(red) to the farthest vertex, traced down the distance's gradient and pulled taut; length "
-        f"{path.length:.4g}. The path and the dots are drawn only where they lie on the visible surface "
-        f"(where the path passes behind another sheet it is left out).{err}")  # fmt: skip
+        f"{path.length:.4g}. The path is solid where it lies on the visible surface and dashed where it "
+        f"passes behind another sheet; the dots are drawn only where they are visible.{err}")  # fmt: skip
 
 
 def smoothing(job: ModelJob, s: Subject) -> None:
     """Smoothing of xy, of the exact part of zeta and of both (the paper's Heart figure).
 
-    One factorization per time: ``m.smooth(t, t)`` smooths both with one ``M - tL``; the rows
-    "xy" and "zeta" take its xy / its zeta (one backward Euler step is linear and acts on xy
-    and on the exact part of zeta independently).
+    Depth is smoothed ``ZETA_TIME_FACTOR`` times longer than xy: at equal times the exact part
+    of a box model's zeta barely moves (mean dL 0.002-0.025 against the unsmoothed panel), and
+    the rows would look alike.  ``m.smooth(t, 10 t)`` gives the bottom row; the top and middle
+    rows take its xy / its zeta (one backward Euler step acts on xy and on the exact part of
+    zeta independently).  Under each panel: dL, the mean luminance change from the first
+    column on the figure's pixels.
     """
     st, m = job.st, s.m
     p0 = np.asarray(m.periods())
     bounds = s.bounds(st.cell)
     rows: list[list[np.ndarray]] = [[], [], []]
+    notes: list[list[str]] = [[], [], []]
+    change_dl: dict = {"xy": [], "zeta": [], "both": []}
     drift = {"xy": 0.0, "zeta": 0.0, "both": 0.0}
     for factor in st.smooth_times:
-        both = s.smoothed(factor * s.scale * s.scale)
+        t = factor * s.scale * s.scale
+        both = m.smooth(t_xy=t, t_zeta=ZETA_TIME_FACTOR * t)
         versions = {"xy": m.with_xy(both.xy), "zeta": m.with_zeta(both.zeta), "both": both}
         for i, (row, ms) in enumerate(versions.items()):
             change = np.abs(loop_periods(m, ms.zeta) - p0).max(initial=0.0)
@@ -335,20 +388,29 @@ def smoothing(job: ModelJob, s: Subject) -> None:
             moved = row != "zeta" and factor > 0 and s.order is not None
             # where the surface turns edge-on, back faces go behind the front faces
             order = hide_back_faces(ms, s.order.follow(ms)) if moved else s.order
-            rows[i].append(
-                job.renderer.shoot([("mescher", ms, order, {"shading": "smooth"})], bounds)
-            )
+            img = job.renderer.shoot([("mescher", ms, order, {"shading": "smooth"})], bounds)
+            rows[i].append(img)
+            first = rows[i][0].astype(np.float64)
+            figure = np.any(first < 255, axis=-1) | np.any(img < 255, axis=-1)
+            dl = float(np.abs(img.astype(np.float64) - first).mean(axis=-1)[figure].mean() / 255)
+            change_dl[row].append(dl)
+            notes[i].append(f"dL {dl:.3f}")
     job.record["smoothing"] = {
         "t": [f * s.scale * s.scale for f in st.smooth_times],
+        "t_zeta_factor": ZETA_TIME_FACTOR,
         "period_drift": drift,
+        "luminance_change": change_dl,
     }
     cols = [f"t = {f:g} s^2" for f in st.smooth_times]
-    fig = compose(rows, cols, ["smooth xy", "smooth zeta", "smooth both"])
+    fig = compose(rows, cols, ["smooth xy (t)", f"smooth zeta ({ZETA_TIME_FACTOR:g} t)",
+                               "smooth both"], notes)  # fmt: skip
     job.figure(fig, f"{s.name}_smoothing.png", "Smoothing (the paper's Heart figure)",
-        "Laplacian smoothing (M - tL) u = M u0 of the screen positions xy (top), of the exact part z of "
-        "zeta with omega kept (middle; paper Eq. 6), and of both (bottom), for growing t (s: diagonal of "
-        "the xy box; same camera in every panel). The harmonic part is in the kernel of the smoothing, so "
-        f"the periods do not move: largest change {max(drift.values()):.1e}.")  # fmt: skip
+        "Laplacian smoothing (M - tL) u = M u0 of the screen positions xy for time t (top), of the exact "
+        f"part z of zeta with omega kept for time {ZETA_TIME_FACTOR:g} t (middle; paper Eq. 6), and of "
+        "both (bottom), for growing t (s: diagonal of the xy box; same camera in every panel). Under each "
+        "panel, dL: the mean luminance change from the first column (0 = none, 1 = black to white). "
+        "The harmonic part is in the kernel of the smoothing, so the periods do not move: largest "
+        f"change {max(drift.values()):.1e}.")  # fmt: skip
 
 
 def relighting(job: ModelJob, s: Subject) -> None:
@@ -476,6 +538,7 @@ def straight_cut_or_none(m: Any, order: Any = None) -> Any:
 STEPS = (
     ("hodge", "Hodge decomposition", hodge),
     ("render", "render and relight", render),
+    ("loop_subdivision", "Loop subdivision", loop_subdivision),
     ("heat", "heat diffusion", heat),
     ("geodesic", "geodesic distance", geodesic),
     ("smoothing", "smoothing", smoothing),
@@ -489,6 +552,6 @@ def run_mescher_steps(job: ModelJob, name: str, m0: Any, order0: Any, reference:
     """Subdivide, then every step of :data:`STEPS` on the subdivided mescher."""
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)
-    s = Subject(name, m, order, reference, reference_note)
+    s = Subject(name, m, order, reference, reference_note, coarse=(m0, order0))
     for key, label, fn in STEPS:
         job.step(key, label, fn, job, s)

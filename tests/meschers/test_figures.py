@@ -129,3 +129,25 @@ def test_heat_panels_are_at_most_5_percent_black():
 
     assert black_share(render(m, order, cmap=HEAT_CMAP, **kw)) <= 0.05
     assert black_share(render(m, order, cmap="inferno", **kw)) > 0.2
+
+
+def test_compose_leaves_no_empty_band_between_rows():
+    """A wide figure in square panels: the white rows common to every panel are cut (6 px
+    kept either side), the same rows from each panel."""
+    from meschers.figures import trim_rows
+
+    a = np.full((200, 120, 3), 255, np.uint8)
+    a[80:120, 10:110] = 90  # a wide figure in the middle
+    b = a.copy()
+    b[70:75, 50:60] = 0  # reaches 10 rows higher
+    ((ta, tb),) = trim_rows([[a, b]])
+    assert ta.shape == tb.shape == (120 - 70 + 12, 120, 3)
+    np.testing.assert_array_equal(ta, a[64:126])
+    assert trim_rows([[a]], min_height=160)[0][0].shape[0] == 160
+    fig = np.asarray(compose([[a, b], [a, b]], row_labels=["one", "a much longer label"]))
+    white_run = 0
+    longest = 0
+    for row in (fig < 250).any(axis=(1, 2)):
+        white_run = 0 if row else white_run + 1
+        longest = max(longest, white_run)
+    assert longest <= 2 * 6 + 18  # the padding of two panels and a notes line at most
