@@ -38,9 +38,8 @@ walk), and points where a polyline goes straight on are dropped, so a bar's edge
 mesh edges is one two-point line.  :func:`line_drawing` returns a :class:`LineDrawing`;
 ``pyvista_views.draw`` writes it as SVG or PDF and overlays it on a render.
 
-Everything is vectorized: the broad phase bins boxes into a uniform grid
-(:func:`meschers_igl.geometry2d.candidate_pairs`' cell size rule), clipping and interval
-unions are array operations.
+Everything is vectorized: the broad phase bins the faces' boxes once into a uniform grid,
+clipping and interval unions are array operations, the joining walk is compiled.
 """
 
 from __future__ import annotations
@@ -55,7 +54,7 @@ from numba import njit
 from scipy.spatial import cKDTree
 
 from .errors import MescherError
-from .geometry2d import _choose_cell, _grid_cells, default_tol, triangle_heights
+from .geometry2d import _grid_cells, default_tol, triangle_heights
 from .painter import _draw_order
 from .topology import edge_faces
 from .validate import as_choice, as_positive
@@ -167,56 +166,87 @@ def _double_area(T: np.ndarray) -> np.ndarray:
     return a2
 
 
-def _box_pairs(lo_a, hi_a, lo_b, hi_b) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs ``(i, j)`` of boxes ``a_i`` and ``b_j`` that meet (closed boxes), each once.
+class _FaceGrid:
+    """The faces that cover something, binned once into a uniform grid (cell size by
+    :func:`meschers_igl.geometry2d.candidate_pairs`' rule), for box queries."""
 
-    Both sets are binned into the uniform grid whose cell suits the ``b`` boxes
-    (:func:`meschers_igl.geometry2d.candidate_pairs`' rule); a pair is kept in the cell holding
-    the lower-left corner of the two boxes' intersection, so no pair is reported twice.
-    """
-    if len(lo_a) == 0 or len(lo_b) == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    origin = np.minimum(lo_a.min(axis=0), lo_b.min(axis=0))
-    h = _choose_cell(lo_b, hi_b, origin)
-    a0, a1 = _grid_cells(lo_a, hi_a, origin, h)
-    b0, b1 = _grid_cells(lo_b, hi_b, origin, h)
-    ny = int(max(a1[:, 1].max(), b1[:, 1].max())) + 1
+    def __init__(self, T: np.ndarray, area2: np.ndarray):
+        self.faces = np.flatnonzero(area2 != 0)
+        Tf = T[self.faces]
+        self.lo, self.hi = Tf.min(axis=1), Tf.max(axis=1)
+        if len(self.faces) == 0:
+            return
+        self.origin = self.lo.min(axis=0)
+        self.h = self._cell()
+        c0, c1 = _grid_cells(self.lo, self.hi, self.origin, self.h)
+        self.n = c1.max(axis=0) + 1  # cells along x and y
+        item, cell = self._entries(c0, c1)
+        o = np.argsort(cell)
+        self.item, self.cell = item[o], cell[o]
 
-    def entries(c0, c1):
+    def _cell(self) -> float:
+        """Half the median face box: queries (thin segments, points) meet few faces per cell
+        even where several sheets overlap; doubled while faces would fill > 16 cells each."""
+        ext = (self.hi - self.lo).max(axis=1)
+        span = float((self.hi.max(axis=0) - self.lo.min(axis=0)).max())
+        if span == 0.0:
+            return 1.0
+        h = max(0.5 * float(np.median(ext)), span / (4.0 * len(ext) + 1.0))
+        for _ in range(16):
+            c0, c1 = _grid_cells(self.lo, self.hi, self.origin, h)
+            if float(np.prod(c1 - c0 + 1, axis=1, dtype=np.float64).sum()) <= 16.0 * len(ext):
+                break
+            h *= 2.0
+        return h
+
+    def _entries(self, c0: np.ndarray, c1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         nx_, ny_ = c1[:, 0] - c0[:, 0] + 1, c1[:, 1] - c0[:, 1] + 1
         k = nx_ * ny_
         item = np.repeat(np.arange(len(c0)), k)
         local = _ranges(k)
         cx = c0[item, 0] + local // ny_[item]
         cy = c0[item, 1] + local % ny_[item]
-        return item, cx * ny + cy
+        return item, cx * self.n[1] + cy
 
-    ia, ca = entries(a0, a1)
-    ib, cb = entries(b0, b1)
-    o = np.argsort(cb, kind="stable")
-    ib, cb = ib[o], cb[o]
-    start = np.searchsorted(cb, ca, "left")
-    stop = np.searchsorted(cb, ca, "right")
-    k = stop - start
-    pa = np.repeat(ia, k)
-    cell = np.repeat(ca, k)
-    pb = ib[np.repeat(start, k) + _ranges(k)]
-    # keep a pair in the cell of the lower-left corner of the boxes' intersection, if they meet
-    lo = np.maximum(lo_a[pa], lo_b[pb])
-    hi = np.minimum(hi_a[pa], hi_b[pb])
-    meet = np.all(lo <= hi, axis=1)
-    c = np.floor((lo - origin) / h).astype(np.int64)
-    own = (c[:, 0] * ny + np.minimum(c[:, 1], ny - 1)) == cell
-    keep = meet & own
-    return pa[keep], pb[keep]
+    def pairs(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(i, face)`` for every query box ``[lo_i, hi_i]`` meeting a face's box, once each
+        (a pair is kept in the cell of the lower-left corner of the two boxes' intersection)."""
+        if len(lo) == 0 or len(self.faces) == 0:
+            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+        top = self.n - 1
+        c0, c1 = (
+            np.clip(c, 0, top) for c in _grid_cells(lo, hi, self.origin, self.h)
+        )  # cells outside the grid hold no face
+        ia, ca = self._entries(c0, np.maximum(c1, c0))
+        start = np.searchsorted(self.cell, ca, "left")
+        k = np.searchsorted(self.cell, ca, "right") - start
+        pa = np.repeat(ia, k)
+        cell = np.repeat(ca, k)
+        pb = self.item[np.repeat(start, k) + _ranges(k)]
+        ilo = np.maximum(lo[pa], self.lo[pb])
+        ihi = np.minimum(hi[pa], self.hi[pb])
+        meet = np.all(ilo <= ihi, axis=1)
+        c = np.clip(np.floor((ilo - self.origin) / self.h).astype(np.int64), 0, top)
+        keep = meet & ((c[:, 0] * self.n[1] + c[:, 1]) == cell)
+        return pa[keep], self.faces[pb[keep]]
 
 
-def _faces_of_points(P: np.ndarray, T: np.ndarray, ok: np.ndarray, scale: float):
-    """Candidate ``(point, face)`` pairs whose boxes meet, faces restricted to ``ok``."""
-    faces = np.flatnonzero(ok)
-    pad = 1e-12 * scale
-    pi, j = _box_pairs(P - pad, P + pad, T[faces].min(axis=1), T[faces].max(axis=1))
-    return pi, faces[j]
+def _is_near(near: np.ndarray | None, anchor: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """Is face ``g[k]`` near ``anchor[k]``?  ``near``: sorted keys ``anchor * #F + face``
+    (None: nothing is near); anchors < 0 have no neighbours."""
+    out = np.zeros(len(g), dtype=bool)
+    if near is None or len(near) == 0 or len(g) == 0:
+        return out
+    has = anchor >= 0
+    n = np.int64(_NEAR_BASE)
+    q = anchor[has] * n + g[has]
+    pos = np.minimum(np.searchsorted(near, q), len(near) - 1)
+    out[has] = near[pos] == q
+    return out
+
+
+# key base of the "near" relation (anchor * base + face): larger than any face count
+_NEAR_BASE = 1 << 31
 
 
 def _contains(T: np.ndarray, P: np.ndarray, area2: np.ndarray, tol: float) -> np.ndarray:
@@ -252,7 +282,10 @@ def crease_edges(m: Any, crease_angle: float = 30.0) -> tuple[np.ndarray, np.nda
     crease : (#E,) bool
     """
     crease_angle = as_positive(crease_angle, "crease_angle", allow_zero=True)
-    ef = edge_faces(np.asarray(m.face_edges), m.n_edges)
+    return _dihedral(m, edge_faces(np.asarray(m.face_edges), m.n_edges), crease_angle)
+
+
+def _dihedral(m: Any, ef: np.ndarray, crease_angle: float) -> tuple[np.ndarray, np.ndarray]:
     N = np.asarray(m.face_normals())
     inner = ef[:, 1] >= 0
     angle = np.full(m.n_edges, np.nan)
@@ -310,9 +343,10 @@ def _hidden_intervals(
     T: np.ndarray,
     area2: np.ndarray,
     rank: np.ndarray,
-    near: sp.csr_matrix | None,
+    near: np.ndarray | None,
     scale: float,
     tol: float,
+    grid: _FaceGrid,
 ) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """Parameter intervals ``(seg, t0, t1)`` where segment ``A + t (B - A)`` is hidden, and the
     break points ``(seg, t)`` where it crosses the boundary of any face.
@@ -326,25 +360,10 @@ def _hidden_intervals(
     of its own faces shows beside it.
     """
     n = len(A)
-    ok = area2 != 0
-    faces = np.flatnonzero(ok)
     pad = tol + 1e-12 * scale  # faces whose edge lies within tol of a segment are met too
-    lo_s, hi_s = np.minimum(A, B) - pad, np.maximum(A, B) + pad
-    s, j = _box_pairs(lo_s, hi_s, T[faces].min(axis=1), T[faces].max(axis=1))
-    g = faces[j]
-    if near is not None and len(s):
-        anc = anchor[s]
-        has = anc >= 0
-        if has.any():
-            # membership of (anchor, g) in the sparse "near" relation, by sorted keys
-            coo = near.tocoo()
-            nn = np.int64(near.shape[1])
-            keys = np.sort(coo.row.astype(np.int64) * nn + coo.col)
-            q = anc[has] * nn + g[has]
-            pos = np.minimum(np.searchsorted(keys, q), max(len(keys) - 1, 0))
-            drop = np.zeros(len(s), dtype=bool)
-            drop[np.flatnonzero(has)] = (keys[pos] == q) if len(keys) else False
-            s, g = s[~drop], g[~drop]
+    s, g = grid.pairs(np.minimum(A, B) - pad, np.maximum(A, B) + pad)
+    drop = _is_near(near, anchor[s], g)
+    s, g = s[~drop], g[~drop]
     Tg, a, d = T[g], A[s], B[s] - A[s]
     inv = np.sign(area2[g]) / np.abs(area2[g])
     t0 = np.zeros(len(s))
@@ -418,26 +437,21 @@ def _complement(n: int, seg: np.ndarray, t0: np.ndarray, t1: np.ndarray):
     return out_s, out_lo, out_hi
 
 
-def _top_faces(P, T, area2, rank, anchor, near, scale) -> np.ndarray:
+def _top_faces(P, T, area2, rank, draw, anchor, near, scale, grid) -> np.ndarray:
     """The last face drawn that contains each point (closed faces), -1 for none; faces
     ``near`` a point's anchor face are skipped."""
     top = np.full(len(P), -1, dtype=np.int64)
     if len(P) == 0:
         return top
-    pi, g = _faces_of_points(P, T, area2 != 0, scale)
+    pad = 1e-12 * scale
+    pi, g = grid.pairs(P - pad, P + pad)
     inside = _contains(T[g], P[pi], area2[g], -1e-12)
     pi, g = pi[inside], g[inside]
-    if near is not None and len(pi):
-        anc = anchor[pi]
-        has = anc >= 0
-        if has.any():
-            hit = np.zeros(len(pi), dtype=bool)
-            hit[has] = np.asarray(near[anc[has], g[has]]).ravel() != 0
-            pi, g = pi[~hit], g[~hit]
+    hit = _is_near(near, anchor[pi], g)
+    pi, g = pi[~hit], g[~hit]
     best = np.full(len(P), -1, dtype=np.int64)
     np.maximum.at(best, pi, rank[g])
-    order_faces = np.argsort(rank)
-    top[best >= 0] = order_faces[best[best >= 0]]
+    top[best >= 0] = draw[best[best >= 0]]
     return top
 
 
@@ -643,16 +657,18 @@ def line_drawing(
     except AttributeError:
         raise MescherError(f"m: expected a Mescher, found {type(m).__name__}") from None
     nF, nV = len(F), len(xy)
+    draw = _draw_order(m, order)
     rank = np.empty(nF, dtype=np.int64)
-    rank[_draw_order(m, order)] = np.arange(nF)
+    rank[draw] = np.arange(nF)
     T = xy[F]
     area2 = _double_area(T)
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     box = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
     scale = float(max(hi - lo)) or 1.0
 
+    crease_angle = as_positive(crease_angle, "crease_angle", allow_zero=True)
     ef = edge_faces(np.asarray(m.face_edges), len(E))
-    _, crease = crease_edges(m, crease_angle)
+    _, crease = _dihedral(m, ef, crease_angle)
     boundary = ef[:, 1] < 0
     f1, f2 = ef[:, 0], ef[:, 1]
     front = area2 > 0
@@ -672,6 +688,7 @@ def line_drawing(
     own = [np.stack([f1[e_src], f2[e_src]], axis=1)]
     is_crease_src = [crease[e_src]]
     near = None
+    grid = _FaceGrid(T, area2)
     if contours == "interpolated":
         cf, cedge, CP = interpolated_contours(m)
         ok = np.linalg.norm(CP[cedge[:, 1]] - CP[cedge[:, 0]], axis=1) > _MIN_PIECE * scale
@@ -680,12 +697,10 @@ def line_drawing(
             VF = sp.csr_matrix(
                 (np.ones(3 * nF), (np.repeat(np.arange(nF), 3), F.ravel())), shape=(nF, nV)
             )
-            ring1 = (VF @ VF.T).tocsr()
-            ring1.data[:] = 1.0
-            ring2 = (ring1 @ ring1).tocsr()
-            ring2.data[:] = 1.0
-            near = ring2
+            ring1 = (VF @ VF.T).tocsr()  # faces sharing a corner
             r1 = ring1[cf].tocsr()
+            r2 = (r1 @ ring1).tocoo()  # the two-ring of each contour face
+            near = np.unique(cf[r2.row] * np.int64(_NEAR_BASE) + r2.col)
             # the local fold is drawn up to the last face of the one-ring
             seg_thr = np.maximum.reduceat(rank[r1.indices], r1.indptr[:-1])
             A.append(CP[cedge[:, 0]])
@@ -701,7 +716,7 @@ def line_drawing(
     n_seg = len(A)
 
     (hs, h0, h1), (bs, bt) = _hidden_intervals(
-        A, B, thr, anchor, T, area2, rank, near, scale, default_tol(xy)
+        A, B, thr, anchor, T, area2, rank, near, scale, default_tol(xy), grid
     )
     vs, v0, v1 = _complement(n_seg, hs, h0, h1)
     pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
@@ -747,7 +762,7 @@ def line_drawing(
     probe = _PROBE * scale
     P = np.concatenate([mid + probe * nrm, mid - probe * nrm])
     anc2 = np.concatenate([anchor[ps], anchor[ps]])
-    top = _top_faces(P, T, area2, rank, anc2, near, scale)
+    top = _top_faces(P, T, area2, rank, draw, anc2, near, scale, grid)
     left, right = top[: len(ps)], top[len(ps) :]
     o1, o2 = own[ps, 0], own[ps, 1]
     is_crease = (o2 >= 0) & (((left == o1) & (right == o2)) | ((left == o2) & (right == o1)))
