@@ -2,7 +2,7 @@
 
 The model is the gallery's Penrose tribar cut model at high resolution, capped at its two open
 ends (a closed U-shaped solid whose ends line up on screen).  Prints the conversion time
-(``meschers_igl.models.model_to_mescher``) of both paths -- the closed surface (caps paired,
+(``meschers_igl.obtain.model_to_mescher``) of both paths -- the closed surface (caps paired,
 opened and glued crosswise, order from the model's depths) and the visible surface
 (hidden-surface removal, visible map, gluing) -- and, as a yardstick measured in the same
 run on the same mesh, ``igl.cotmatrix``.
@@ -23,7 +23,7 @@ import igl  # noqa: E402
 import numpy as np  # noqa: E402
 
 from meschers_igl.gallery import get_model  # noqa: E402
-from meschers_igl.models import model_to_mescher  # noqa: E402
+from meschers_igl.obtain import model_to_mescher  # noqa: E402
 from meschers_igl.topology import boundary_loops  # noqa: E402
 
 

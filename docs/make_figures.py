@@ -22,7 +22,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from meschers_igl import Mescher, gallery
-from meschers_igl.models import model_to_mescher
+from meschers_igl.obtain import model_to_mescher
 from meschers_igl.operators import view_frame
 from pyvista_views import render
 

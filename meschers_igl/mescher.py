@@ -220,7 +220,7 @@ class Mescher:
         return_report=False, **kwargs,
     ):  # fmt: skip
         """Any 3D model -- cut models, closed solids, separate blocks, reliefs, soups -- as seen
-        from ``view``, by :func:`meschers_igl.models.model_to_mescher` (which picks the route:
+        from ``view``, by :func:`meschers_igl.obtain.model_to_mescher` (which picks the route:
         a cut model open at a seam whose loops glue is glued there; anything else is seen).
 
         By default (``hidden="auto"``) the whole model, opened at its junctions and glued
@@ -230,17 +230,23 @@ class Mescher:
         ``hidden=False`` (and whenever no junction is found, or with ``perceive``) the visible
         surface only.  ``view="auto"`` finds the view where junctions line up (``view_start=``
         searches near a guess), ``perceive="manhattan"`` snaps normals to the perceived right
-        angles.  See :func:`meschers_igl.visible.see_model` (which returns arrays; the depth
-        order is in ``report.arcs``, or use :func:`meschers_igl.models.model_to_mescher`).
+        angles.  See :func:`meschers_igl.obtain.see_model` (which returns arrays; the depth
+        order is in ``report.arcs``, or use :func:`meschers_igl.obtain.model_to_mescher`).
 
         Returns
         -------
-        Mescher, and the :class:`~meschers_igl.visible.ConversionReport` with ``return_report``.
+        Mescher, and the :class:`~meschers_igl.obtain.ConversionReport` with ``return_report``.
         """
-        from .models import model_to_mescher  # the one door: it picks the route
+        from .obtain.choose import drop_small_periods, obtain  # the one door's choice
 
-        m, _, report = model_to_mescher(V, F, view=view, up=up, perceive=perceive, **kwargs)
-        return (m, report) if return_report else m
+        got = obtain(V, F, view=view, up=up, perceive=perceive, **kwargs)
+        if got.cut is not None:
+            a = got.cut
+            m = cls(a.F, a.xy, a.edges, a.zeta, project=True)
+        else:
+            m = cls.from_corner_depths(got.seen.F, got.seen.xy, got.seen.Z)
+        m = drop_small_periods(m, got.report)
+        return (m, got.report) if return_report else m
 
     def with_xy(self, xy, order=None):
         """Same topology and depths, new screen positions.

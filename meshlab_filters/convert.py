@@ -18,7 +18,7 @@ import numpy as np
 import pymeshlab
 
 from meschers_igl import Mescher, MescherError
-from meschers_igl.models import cut_model_to_mescher as core_cut_model_to_mescher
+from meschers_igl.obtain import cut_model_to_mescher as core_cut_model_to_mescher
 from meschers_igl.validate import as_faces, as_points
 
 from ._filters import apply
@@ -60,7 +60,7 @@ def cut_model_to_mescher(
 
     A path is loaded and cleaned with :func:`load_artist_model` (exact duplicates only, so the
     cut's front/back pairs survive); arrays are used as given.  Then
-    :func:`meschers_igl.models.cut_model_to_mescher` glues the cut and orders the faces that
+    :func:`meschers_igl.obtain.cut_model_to_mescher` glues the cut and orders the faces that
     overlap on screen by the cut model's own depths (the one implementation, shared with the
     PyVista accessor and the command line).
 
@@ -116,7 +116,7 @@ def model_to_mescher(
 ):
     """Any artist model -- cut models, closed solids, separate blocks, reliefs, STL soups,
     scenes -- as seen from a view: (mescher, depth order, report); the route (cut model glued
-    at its seam, or seen from the view) is picked by :func:`meschers_igl.models.model_to_mescher`
+    at its seam, or seen from the view) is picked by :func:`meschers_igl.obtain.model_to_mescher`
     and named in ``report.route`` / ``report.reason``.
 
     A path is read with PyMeshLab (polygons triangulated); vertices that coincide in 3D are
@@ -125,7 +125,7 @@ def model_to_mescher(
     non-manifold edges this leaves, removing real surface faces); then :func:`clean_mesh`
     repairs what is left (duplicate and zero-area faces, non-manifold edges and vertices,
     orientation; its :class:`CleanupReport` lands in ``report.cleanup``) and
-    :func:`meschers_igl.models.model_to_mescher` builds what the viewer sees.
+    :func:`meschers_igl.obtain.model_to_mescher` builds what the viewer sees.
 
     Parameters
     ----------
@@ -139,7 +139,7 @@ def model_to_mescher(
         Relative tolerance of the conversion.
     hidden : {"auto", True, False}, default: "auto"
         Keep the hidden side (a closed surface glued at its junctions) or build the visible
-        surface only (see :func:`meschers_igl.visible.see_model`).
+        surface only (see :func:`meschers_igl.obtain.see_model`).
     view_start : (3,) array_like, optional
         With ``view="auto"``: a view near the intended one (within 10 degrees).
     route : {"auto", "cut", "seen"}, default: "auto"
@@ -149,11 +149,11 @@ def model_to_mescher(
     -------
     m : Mescher
     order : DepthOrder
-    report : meschers_igl.visible.ConversionReport
+    report : meschers_igl.obtain.ConversionReport
         Junctions with their depth gaps, arcs, repairs (clean-up included), warnings, the view.
     """
-    from meschers_igl.models import model_to_mescher as core_model_to_mescher
-    from meschers_igl.visible import drop_contact_faces, weld
+    from meschers_igl.obtain import drop_contact_faces, weld
+    from meschers_igl.obtain import model_to_mescher as core_model_to_mescher
 
     from .cleanup import clean_mesh
     from .load import read_meshset

@@ -5,7 +5,7 @@ Two kinds of :class:`pyvista.PolyData` meet a mescher:
 - a **cut model** (paper Sections 3.4-3.5): an ordinary 3D triangle mesh, e.g. from
   ``pv.read("penrose.obj")``, whose cut boundaries coincide on screen when seen from ``view``;
   :meth:`MescherAccessor.to_mescher` glues it and orders its faces where they overlap on
-  screen by the model's own depths (:func:`meschers_igl.models.cut_model_to_mescher`);
+  screen by the model's own depths (:func:`meschers_igl.obtain.cut_model_to_mescher`);
 - a **flattened mescher**: what :meth:`MescherAccessor.to_polydata`,
   :func:`pyvista_views.to_polydata` (``embed=True``) and ``pv.read("x.mescher")`` give, which
   carries the mescher in its arrays (``cell_data["face_id"]``, ``point_data["vertex_id"]``,
@@ -25,7 +25,7 @@ import pyvista as pv
 
 from meschers_igl import Mescher
 from meschers_igl.errors import MescherError
-from meschers_igl.models import cut_model_to_mescher
+from meschers_igl.obtain import cut_model_to_mescher
 from meschers_igl.order import DepthOrder
 
 from .polydata import (
@@ -73,7 +73,7 @@ class MescherAccessor:
             Cut model only: screen up.
         tol, merge
             Cut model only: gluing tolerance and explicit vertex pairs, as in
-            :func:`meschers_igl.models.cut_model_to_mescher`.
+            :func:`meschers_igl.obtain.cut_model_to_mescher`.
 
         Returns
         -------
@@ -107,12 +107,12 @@ class MescherAccessor:
     ):
         """Any 3D model (closed solids, separate blocks, soups) as seen from ``view``.
 
-        :func:`meschers_igl.models.model_to_mescher` of the mesh's triangles: ``(m, order,
+        :func:`meschers_igl.obtain.model_to_mescher` of the mesh's triangles: ``(m, order,
         report)`` with false edges glued crosswise and hidden gaps bridged (their depth gaps
         become periods); ``view="auto"``, ``perceive="manhattan"`` and the keywords
         (``hidden=``, ``view_start=``, ``tol=``) as there.
         """
-        from meschers_igl.models import model_to_mescher
+        from meschers_igl.obtain import model_to_mescher
 
         mesh = _triangles(self._mesh)
         return model_to_mescher(

@@ -23,7 +23,7 @@ import pytest
 from visible_models import ISO_UP, ISO_VIEW, block_stairs, hidden_gap_cube, triangulate, u_tribar
 
 from meschers_igl import MescherError
-from meschers_igl.models import PERIOD_RTOL, model_to_mescher
+from meschers_igl.obtain import PERIOD_RTOL, model_to_mescher
 
 REAL = Path(__file__).resolve().parents[3] / "shared" / "real_models"
 N_FUZZ = int(os.environ.get("MESCHERS_FUZZ", "6"))

@@ -19,7 +19,7 @@ from scipy.optimize import linprog
 from visible_models import ISO_UP, ISO_VIEW, soup, triangulate, write_obj, write_stl
 
 from meschers_igl import Mescher, MescherWarning
-from meschers_igl.models import model_to_mescher
+from meschers_igl.obtain import model_to_mescher
 from meschers_igl.operators import view_frame
 
 K, A, LAM = 4, 1.0, 0.3

@@ -27,10 +27,8 @@ from visible_models import (
 )
 
 from meschers_igl import Mescher, MescherError, MescherWarning
-from meschers_igl.autoview import find_view
-from meschers_igl.models import model_to_mescher
+from meschers_igl.obtain import find_view, model_to_mescher, see_model
 from meschers_igl.operators import view_frame
-from meschers_igl.visible import see_model
 
 MODELS = {"u_tribar": u_tribar, "block_stairs": block_stairs, "hidden_gap_frame": hidden_gap_frame,
           "hidden_gap_cube": hidden_gap_cube}  # fmt: skip
@@ -177,7 +175,7 @@ def test_visible_surface_faces_the_viewer_and_keeps_the_models_normals(converted
 
 
 def _cleaned(V, F):
-    from meschers_igl.visible import drop_contact_faces, orient_outward, weld
+    from meschers_igl.obtain import drop_contact_faces, orient_outward, weld
 
     diag = np.linalg.norm(np.ptp(V, axis=0))
     Vw, Fw, _ = weld(V, F, 1e-9 * diag)
@@ -448,7 +446,7 @@ def test_shipped_cut_models_seen_from_their_view():
     on impossible_cube.obj; blocks a hair apart were bridged through the block between them."""
     from visible_models import read_obj
 
-    from meschers_igl.models import cut_model_to_mescher
+    from meschers_igl.obtain import cut_model_to_mescher
     from meschers_igl.paradox import list_paradox_models, paradox_model
 
     names = list_paradox_models()
@@ -505,7 +503,7 @@ def test_nearly_closed_part_is_oriented_by_its_volume():
     hole capped (a fan), not by the view."""
     from visible_models import AXES, convex_block
 
-    from meschers_igl.visible import orient_outward, solid_like_parts
+    from meschers_igl.obtain import orient_outward, solid_like_parts
 
     hs = np.array([np.r_[a, -1.0] for a in AXES] + [np.r_[-a, -1.0] for a in AXES])
     Vb, Pb = convex_block(hs, np.zeros(3))

@@ -23,7 +23,7 @@ from visible_models import (
     u_tribar,
 )
 
-from meschers_igl.models import model_to_mescher
+from meschers_igl.obtain import model_to_mescher
 from meschers_igl.operators import view_frame
 
 pv = pytest.importorskip("pyvista")

@@ -1,0 +1,239 @@
+"""Gluing the visible map: each shared screen edge is continuous, a false edge (glued
+crosswise: its depth gap becomes a period) or a true occlusion (cut, with a depth-order arc)."""
+
+from __future__ import annotations
+
+import igl
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
+
+from .records import FalseEdges, Glue, Junction
+
+
+# ------------------------------------------------------------------------------ gluing
+def edge_on_source(xy, E, src, C, F, tol):
+    """Index k of the source face's edge that screen edge E lies on (-1: inside the face).
+
+    ``k`` is libigl's convention: edge ``k`` runs ``F[f, k] -> F[f, (k + 1) % 3]``.
+    """
+    out = np.full(E.shape[0], -1, dtype=np.int64)
+    p, q = xy[E[:, 0]], xy[E[:, 1]]
+    for k in range(3):
+        a = C[F[src, k], :2]
+        b = C[F[src, (k + 1) % 3], :2]
+        d = b - a
+        L = np.linalg.norm(d, axis=1)
+        L = np.where(L > 0, L, 1.0)
+
+        wp, wq = p - a, q - a
+        dp = np.abs(wp[:, 0] * d[:, 1] - wp[:, 1] * d[:, 0]) / L
+        dq = np.abs(wq[:, 0] * d[:, 1] - wq[:, 1] * d[:, 0]) / L
+        out[(dp <= tol) & (dq <= tol) & (out < 0)] = k
+    return out
+
+
+def interior_edges(Fa: np.ndarray, n: int):
+    """(pairs of faces sharing an edge, the edge's vertices, corner index in each face)."""
+    he = np.stack([Fa[:, [1, 2]], Fa[:, [2, 0]], Fa[:, [0, 1]]], axis=1).reshape(-1, 2)
+    key = np.minimum(he[:, 0], he[:, 1]) * n + np.maximum(he[:, 0], he[:, 1])
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    same = np.flatnonzero(ks[1:] == ks[:-1])
+    h1, h2 = order[same], order[same + 1]
+    return h1, h2, he
+
+
+def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None):
+    """Per shared screen edge: glue (continuous or false edge) or cut with an arc.
+
+    ``ftol`` (#F,): per model face, the tolerance of its own part (``tol`` relative to the
+    part's size, not the scene's): a false edge needs both model edges to coincide on screen
+    to their parts' precision, so blocks a hair apart in a large scene are not glued.
+    """
+    ftol = np.full(F.shape[0], tol) if ftol is None else ftol
+    h1, h2, he = interior_edges(Fa, xy.shape[0])
+    f1, f2 = h1 // 3, h2 // 3
+    E = he[h1]  # p -> q as in face f1
+    # depth of p and q in each face (corner positions of the half-edge)
+    k1 = h1 % 3
+    z1p, z1q = Z[f1, (k1 + 1) % 3], Z[f1, (k1 + 2) % 3]
+    k2 = h2 % 3
+    # in f2 the half-edge runs q -> p
+    z2q, z2p = Z[f2, (k2 + 1) % 3], Z[f2, (k2 + 2) % 3]
+    dp, dq = z2p - z1p, z2q - z1q
+    continuous = (np.abs(dp) <= tol) & (np.abs(dq) <= tol)
+    parallel = np.abs(dp - dq) <= tol
+    # does each side end there on its own surface (silhouette or boundary of the model)?
+    TT, _ = igl.triangle_triangle_adjacency(F)
+    TT = np.asarray(TT)
+
+    def ends(fs):
+        s = src[fs]
+        k = edge_on_source(xy, E, s, C, F, np.minimum(ftol[src[f1]], ftol[src[f2]]))
+        nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
+        return k >= 0, (k >= 0) & ((nb < 0) | ~front[np.maximum(nb, 0)])
+
+    (on1, e1), (on2, e2) = ends(f1), ends(f2)
+    far1 = (dp + dq) > 0  # face 2 nearer
+    # a false edge: both sides lie on an edge of their own model face and the nearer side ends
+    # there (silhouette or boundary); the farther side may turn a crease whose other face the
+    # nearer one hides -- the viewer sees one crease or one flat continuation
+    false_edge = ~continuous & parallel & on1 & on2 & np.where(far1, e2, e1)
+    glue = continuous | false_edge
+    cut = ~glue
+    # true occlusion: the far face gets an arc to the near one
+    arcs = np.stack([np.where(far1, f1, f2), np.where(far1, f2, f1)], axis=1)[cut]
+    return (
+        Glue(h1, h2, glue, continuous),
+        arcs.astype(np.int64),
+        FalseEdges(E[false_edge], 0.5 * (dp + dq)[false_edge],
+                   np.where(far1, h1, h2)[cut & ~np.where(far1, e1, e2)]),
+    )  # fmt: skip
+
+
+def reglue(glue: dict, Fb: np.ndarray, Z: np.ndarray, arcs: np.ndarray, tol: float):
+    """Glued edges whose (perceived) depths on the two sides are no longer parallel become
+    occlusions (cut, far -> near arc); parallel jumps stay glued (perceived false edges)."""
+    h1, h2, ok = glue.h1, glue.h2, glue.glued.copy()
+    a = he_depth(Z, h1)
+    b = he_depth(Z, h2)[:, ::-1]  # the partner runs the other way
+    d = b - a  # (k, 2): depth jump at tail and head
+    # the model's own continuous edges stay glued (a crease a person sees; the projection onto
+    # integrable forms reconciles the snapped planes there)
+    jump = ok & (np.abs(d[:, 0] - d[:, 1]) > tol)
+    bad = jump & ~glue.continuous
+    # the model's own continuous edges become cuts too, unless that cuts the loops a person
+    # follows (a relief whose snapped planes disagree at every crease): then they stay glued
+    # and the projection onto integrable forms reconciles the snapped planes there
+    cut_all = glue.with_glued(ok & ~jump)
+    if betti1(cut_and_glue(Fb, cut_all)[0]) >= betti1(
+        cut_and_glue(Fb, glue.with_glued(ok & ~bad))[0]
+    ):
+        bad = jump
+    if bad.any():
+        ok[bad] = False
+        far1 = d[bad].sum(axis=1) > 0
+        f1, f2 = h1[bad] // 3, h2[bad] // 3
+        new = np.stack([np.where(far1, f1, f2), np.where(far1, f2, f1)], axis=1)
+        arcs = np.vstack([arcs, new]).astype(np.int64)
+    return glue.with_glued(ok), arcs
+
+
+def betti1(F: np.ndarray) -> int:
+    """First Betti number of a triangle mesh (orientable, manifold): ``E - V - F + C + closed``
+    with ``C`` its connected parts and ``closed`` those without boundary (``b2``)."""
+    he = np.stack([F[:, [1, 2]], F[:, [2, 0]], F[:, [0, 1]]], axis=1).reshape(-1, 2)
+    n = int(F.max(initial=0)) + 1
+    key = np.minimum(he[:, 0], he[:, 1]) * n + np.maximum(he[:, 0], he[:, 1])
+    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    A = sp.coo_matrix((np.ones(f.size), (f, he[:, 0])), shape=(F.shape[0], n)).tocsr()
+    A = sp.bmat([[None, A], [A.T, None]])
+    k, lab = csgraph.connected_components(A, directed=False)
+    comp = lab[: F.shape[0]]
+    used = np.unique(F)
+    parts = np.unique(comp)
+    open_part = np.zeros(k, dtype=bool)
+    open_part[comp[f[(cnt[inv] == 1)]]] = True
+    n_closed = int(np.count_nonzero(~open_part[parts]))
+    return int(cnt.size - used.size - F.shape[0] + parts.size + n_closed)
+
+
+def stuck_cuts(Fm: np.ndarray, h1: np.ndarray, h2: np.ndarray) -> np.ndarray:
+    """Cut edges whose two sides still share both end vertices after gluing (indices)."""
+    f1, k1, f2, k2 = h1 // 3, h1 % 3, h2 // 3, h2 % 3
+    a1, b1 = Fm[f1, (k1 + 1) % 3], Fm[f1, (k1 + 2) % 3]
+    b2, a2 = Fm[f2, (k2 + 1) % 3], Fm[f2, (k2 + 2) % 3]
+    return np.flatnonzero((a1 == a2) & (b1 == b2))
+
+
+def split_cut_faces(xy, Fa, src, h1, h2):
+    """Split both faces of each stuck cut edge at the edge's midpoint, one new vertex per side."""
+    hs = np.concatenate([h1, h2])
+    f, k = hs // 3, hs % 3
+    _, first = np.unique(f, return_index=True)  # one split per face per pass
+    f, k = f[first], k[first]
+    a, b, c = Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3], Fa[f, k]
+    m = xy.shape[0] + np.arange(f.size)
+    xy = np.vstack([xy, 0.5 * (xy[a] + xy[b])])
+    keep = np.ones(Fa.shape[0], dtype=bool)
+    keep[f] = False
+    Fa = np.vstack([Fa[keep], np.stack([a, m, c], 1), np.stack([m, b, c], 1)])
+    src = np.concatenate([src[keep], src[f], src[f]])
+    return xy, Fa, src
+
+
+def false_edge_junctions(xy, fe) -> list:
+    """Chains of false edges (connected on screen) as junctions."""
+    E = fe.E
+    if E.shape[0] == 0:
+        return []
+    n = xy.shape[0]
+    A = sp.coo_matrix((np.ones(E.shape[0]), (E[:, 0], E[:, 1])), shape=(n, n))
+    _, lab = csgraph.connected_components(A, directed=False)
+    comp = lab[E[:, 0]]
+    out = []
+    for c in np.unique(comp).tolist():  # one per junction, few
+        s = comp == c
+        mid = 0.5 * (xy[E[s, 0]] + xy[E[s, 1]])
+        out.append(Junction("false edge", mid.mean(axis=0), float(np.median(np.abs(fe.gap[s]))),
+                            int(s.sum())))  # fmt: skip
+    return out
+
+
+def cut_and_glue(Fa, glue):
+    """Mescher faces: corners united across glued half-edge pairs (connected components).
+
+    Returns
+    -------
+    Fm : (#F, 3) int64
+        Faces over the mescher's vertices.
+    corner_vertex : (3 #F,) int64
+        Planar (screen) vertex of each corner, to take the mescher vertices' positions from.
+    """
+    nf = Fa.shape[0]
+    h1, h2, ok = glue.h1, glue.h2, glue.glued
+    g1, g2 = h1[ok], h2[ok]
+    f1, k1, f2, k2 = g1 // 3, g1 % 3, g2 // 3, g2 % 3
+    # half-edge k of face f runs corner k+1 -> k+2; its partner runs the other way
+    c1p, c1q = 3 * f1 + (k1 + 1) % 3, 3 * f1 + (k1 + 2) % 3
+    c2q, c2p = 3 * f2 + (k2 + 1) % 3, 3 * f2 + (k2 + 2) % 3
+    rows = np.concatenate([c1p, c1q])
+    cols = np.concatenate([c2p, c2q])
+    n = 3 * nf
+    A = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(n, n))
+    _, lab = csgraph.connected_components(A, directed=False)
+    _, Fm = np.unique(lab, return_inverse=True)
+    return Fm.reshape(-1, 3).astype(np.int64), Fa.reshape(-1)
+
+
+def he_depth(Z, h):
+    """(k, 2) depths of the tail and head of half-edges ``h`` (= 3 f + k)."""
+    f, k = h // 3, h % 3
+    return np.stack([Z[f, (k + 1) % 3], Z[f, (k + 2) % 3]], axis=1)
+
+
+def depths_have_period(F: np.ndarray, Z: np.ndarray, tol: float) -> bool:
+    """Do the per-face corner depths ``Z`` fail to integrate on the glued surface ``F``?
+
+    Edge values ``zeta`` (the faces' depth differences, averaged per edge) are integrable iff
+    ``zeta = d01 z`` for some ``z``: the least-squares residual (``scipy.sparse.linalg.lsqr``)
+    exceeds ``tol`` somewhere exactly when a loop gains depth (a period spreads over its edges).
+    """
+    from scipy.sparse.linalg import lsqr
+
+    n = int(F.max()) + 1
+    a = F.reshape(-1)
+    b = F[:, [1, 2, 0]].reshape(-1)
+    dz = (Z[:, [1, 2, 0]] - Z).reshape(-1)
+    key = np.minimum(a, b) * n + np.maximum(a, b)
+    uk, inv = np.unique(key, return_inverse=True)
+    sgn = np.where(a < b, 1.0, -1.0)
+    zeta = np.bincount(inv, weights=sgn * dz) / np.bincount(inv)
+    lo, hi = uk // n, uk % n
+    m = uk.size
+    D = sp.csr_matrix((np.r_[-np.ones(m), np.ones(m)], (np.r_[np.arange(m), np.arange(m)],
+                       np.r_[lo, hi])), shape=(m, n))  # fmt: skip
+    z = lsqr(D, zeta, atol=1e-14, btol=1e-14, iter_lim=10 * n)[0]
+    return bool(np.abs(D @ z - zeta).max(initial=0.0) > tol)

@@ -1,0 +1,425 @@
+"""Junctions on the whole model: caps (planar patches bounded by one loop) paired as the two
+ends of a broken bar -- a false edge where they coincide on screen, a hidden gap where the
+bar runs behind an occluder -- and the model opened there and glued crosswise."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import igl
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
+from scipy.spatial import cKDTree
+
+from ..errors import MescherError
+from .clip import FRONT_NZ
+from .records import Junction, VisibleModel
+
+# ------------------------------------------------------------------------------ closed surface
+#: Unit normals closer than this (1 - cos) count as equal or opposite when caps are paired.
+CAP_NORMAL_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Cap:
+    """A planar patch bounded by one loop (a bar's end face): its faces, loop and normal."""
+
+    faces: np.ndarray
+    loop: np.ndarray
+    normal: np.ndarray
+
+
+def planar_patches(V: np.ndarray, F: np.ndarray, TT: np.ndarray, tol: float) -> np.ndarray:
+    """(#F,) label of the coplanar patch of each face (faces joined across shared edges)."""
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    g = TT.reshape(-1)
+    ok = g >= 0
+    f, g = f[ok], g[ok]
+    same = (np.einsum("ij,ij->i", n[f], n[g]) >= 1.0 - CAP_NORMAL_TOL) & (
+        np.abs(np.einsum("ij,ij->i", V[F[g, 0]] - V[F[f, 0]], n[f])) <= tol
+    )
+    A = sp.coo_matrix((np.ones(int(same.sum())), (f[same], g[same])), shape=(F.shape[0],) * 2)
+    return csgraph.connected_components(A, directed=False)[1]
+
+
+def find_caps(V, F, TT, patch, tol) -> list:
+    """Patches bounded by a single loop whose normal has an opposite among the patches (the
+    candidates for the two ends of a broken bar); others are never caps."""
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    k = int(patch.max()) + 1
+    first = np.full(k, F.shape[0])
+    np.minimum.at(first, patch, np.arange(F.shape[0]))
+    pn = n[first]
+    key = np.round(pn / 1e-6).astype(np.int64)
+    have = {tuple(r) for r in key.tolist()}
+    cand = np.flatnonzero([tuple(-x for x in r) in have for r in key.tolist()])  # per patch
+    # boundary half-edges of each patch: its faces' half-edges whose neighbour is elsewhere
+    fe = np.repeat(np.arange(F.shape[0]), 3)
+    nb = TT.reshape(-1)
+    bd = (nb < 0) | (patch[np.maximum(nb, 0)] != patch[fe])
+    corner = np.tile(np.arange(3), F.shape[0])
+    tail, head = F[fe, corner], F[fe, (corner + 1) % 3]
+    in_cand = np.isin(patch[fe], cand) & bd
+    out = []
+    pe = patch[fe[in_cand]]
+    order = np.argsort(pe, kind="stable")
+    pe, t, h = pe[order], tail[in_cand][order], head[in_cand][order]
+    if pe.size == 0:
+        return out
+    starts = np.flatnonzero(np.r_[True, pe[1:] != pe[:-1]])
+    fo = np.argsort(patch, kind="stable")  # faces grouped by patch
+    fstart = np.searchsorted(patch[fo], np.arange(k + 1))
+    for s, e in zip(starts.tolist(), np.r_[starts[1:], pe.size].tolist()):  # candidate caps
+        nxt = dict(zip(t[s:e].tolist(), h[s:e].tolist()))
+        if len(nxt) != e - s:
+            continue  # a vertex with two outgoing boundary edges: not a simple loop
+        loop = [t[s]]
+        while len(loop) <= e - s and nxt[loop[-1]] != loop[0]:
+            loop.append(nxt[loop[-1]])
+        if len(loop) != e - s:
+            continue  # more than one loop (a patch with a hole)
+        p = int(pe[s])
+        out.append(Cap(fo[fstart[p] : fstart[p + 1]], np.asarray(loop, np.int64), pn[p]))
+    return out
+
+
+def _match_loops(A: np.ndarray, B: np.ndarray, tol: float):
+    """Correspondence ``B[perm] == A + T`` of two loops congruent by a translation, or None."""
+    if A.shape != B.shape:
+        return None
+    T = B.mean(axis=0) - A.mean(axis=0)
+    d, perm = cKDTree(B).query(A + T)
+    if np.max(d) > tol or np.unique(perm).size != perm.size:
+        return None
+    return perm, T
+
+
+def _side_direction(V, F, TT, cap: Cap, tol: float):
+    """The common direction of the side faces next to a cap (a prism's lateral edges), or None."""
+    fs = cap.faces
+    nbs = TT[fs].reshape(-1)
+    nbs = np.unique(nbs[(nbs >= 0) & ~np.isin(nbs, fs)])
+    if nbs.size < 2:
+        return None  # a loose patch (no side faces): not a bar's end
+    n = np.cross(V[F[nbs, 1]] - V[F[nbs, 0]], V[F[nbs, 2]] - V[F[nbs, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    # two side planes that are not parallel meet along the bar's direction
+    c = np.cross(n[0], n)
+    k = int(np.argmax(np.linalg.norm(c, axis=1)))
+    if np.linalg.norm(c[k]) < 1e-6:
+        return None
+    d = c[k] / np.linalg.norm(c[k])
+    if np.max(np.abs(n @ d)) > 1e-6:
+        return None  # the side faces do not share one direction: not a bar's end
+    return d if d @ cap.normal > 0 else -d
+
+
+def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
+    """Are the 3D ``points`` (on a bridge) behind model faces nearer than both pieces?
+
+    Faces of the pieces' own parts (``own``, (#F,) bool) count only when they are nearer by
+    more than ``margin`` (a bar's width): two blocks a hair apart cover the hair between them
+    with their own faces, which hides nothing a viewer would complete.
+    """
+    from ..geometry2d import barycentric
+
+    P = points @ R.T
+    T = C[F[front]]
+    slack = np.where(own[front], margin, 0.0)
+    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
+    for x, z in zip(P[:, :2], P[:, 2]):  # a dozen sample points
+        cand = np.flatnonzero(np.all((lo <= x + tol) & (hi >= x - tol), axis=1))
+        if cand.size == 0:
+            return False
+        B = barycentric(np.repeat(x[None], cand.size, 0), T[cand, :, :2])
+        inside = np.all(B >= -1e-9, axis=1)
+        if not inside.any():
+            return False
+        zf = (B[inside] * T[cand[inside], :, 2]).sum(axis=1) - slack[cand[inside]]
+        if zf.max() <= max(z, z + depth_gap) + tol:
+            return False
+    return True
+
+
+@dataclass(frozen=True)
+class BarEnds:
+    """Two caps that may be the ends of one broken bar (view-independent).
+
+    Attributes
+    ----------
+    first, second : Cap
+    T : (3,) float
+        Translation from ``first``'s loop to ``second``'s.
+    d : (3,) float or None
+        The bar's direction at ``first`` (its side faces' common direction, pointing out of
+        the cap), None when the caps' sides do not run along one direction.
+    """
+
+    first: Cap
+    second: Cap
+    T: np.ndarray
+    d: np.ndarray | None
+
+
+#: Without a view, at most this many cap pairs are compared (all pairs of caps with opposite
+#: normals and equal loops); a model with more (thousands of equal boxes) gets no hidden-gap
+#: search for view="auto" (with a view, the pairs are found on screen, in linear time).
+MAX_CAP_PAIRS = 20000
+
+
+def bar_end_pairs(
+    V: np.ndarray, F: np.ndarray, tol: float, TT: np.ndarray | None = None, R: Any = None
+) -> list:
+    """Pairs of caps -- planar patches bounded by one loop -- with opposite normals whose loops
+    are congruent by a translation: the candidates for the two ends of a broken bar.  Each
+    unordered pair comes once per orientation.
+
+    Parameters
+    ----------
+    V : (#V, 3) float64, F : (#F, 3) int64
+    tol : float
+        Absolute tolerance.
+    TT : (#F, 3) int64, optional
+        ``igl.triangle_triangle_adjacency(F)[0]``.
+    R : (3, 3) float64, optional
+        A view frame: only pairs that can be junctions from it are returned, found on screen
+        (caps that coincide, or that lie on one screen line along their bar) in linear time.
+        Without it (the automatic view), every pair with opposite normals and equal loops is
+        compared, up to :data:`MAX_CAP_PAIRS`.
+
+    Returns
+    -------
+    list of BarEnds
+    """
+    if TT is None:
+        TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    caps = find_caps(V, F, TT, planar_patches(V, F, TT, tol), tol)
+    if len(caps) < 2:
+        return []
+    size = np.array([c.loop.size for c in caps])
+    nkey = np.round(np.array([c.normal for c in caps]) / 1e-6).astype(np.int64)
+    cen = np.array([V[c.loop].mean(axis=0) for c in caps])
+    sides: dict[int, Any] = {}
+
+    def side(i):
+        if i not in sides:
+            sides[i] = _side_direction(V, F, TT, caps[i], tol)
+        return sides[i]
+
+    if R is None:
+        groups: dict[tuple, list] = {}
+        for i, key in enumerate(map(tuple, np.c_[size, nkey].tolist())):  # one per cap
+            groups.setdefault(key, []).append(i)
+        cand = []
+        for i in range(len(caps)):  # caps, and their opposite group
+            cand += [(i, j) for j in groups.get((size[i], *(-nkey[i]).tolist()), []) if j > i]
+            if len(cand) > MAX_CAP_PAIRS:
+                return []
+    else:
+        R = np.asarray(R, dtype=np.float64)
+        s2 = cen @ R[:2].T
+        cand = cKDTree(s2).query_pairs(tol, output_type="ndarray").tolist()
+        # caps on one screen line along their bar: key (direction angle, offset of the line)
+        rows, keys = [], []
+        for i in range(len(caps)):  # one per cap
+            d = side(i)
+            if d is None:
+                continue
+            u = R[:2] @ d
+            if np.linalg.norm(u) <= 1e-9:
+                continue
+            u /= np.linalg.norm(u)
+            if u[0] < 0 or (u[0] == 0 and u[1] < 0):
+                u = -u
+            rows.append(i)
+            keys.append([np.arctan2(u[1], u[0]), u[0] * s2[i, 1] - u[1] * s2[i, 0]])
+        if rows:
+            K = np.asarray(keys) * [np.linalg.norm(np.ptp(s2, axis=0)) + 1.0, 1.0]
+            lp = cKDTree(K).query_pairs(10 * tol, output_type="ndarray")
+            cand += np.asarray(rows)[lp].tolist()
+    out = []
+    for i, j in sorted({(min(p), max(p)) for p in cand}):  # the candidate pairs
+        a, b = caps[i], caps[j]
+        if size[i] != size[j] or a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
+            continue
+        match = _match_loops(V[a.loop], V[b.loop], tol)
+        if match is None:
+            continue
+        T = match[1]
+        da, db = side(i), side(j)
+        facing = da is not None and db is not None and da @ db <= -1.0 + 1e-9
+        out.append(BarEnds(a, b, T, da if facing else None))
+        out.append(BarEnds(b, a, -T, db if facing else None))
+    return out
+
+
+def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
+    """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
+    ("hidden gap", g, ell) or None.  Pieces in line in 3D (``g`` = 0) are no junction: joining
+    them behind an occluder would change the topology without a period (a grid of blocks
+    would be joined into a lattice)."""
+    v = R[2]
+    gap = float(be.T @ v)
+    if np.linalg.norm(be.T - gap * v) <= tol and abs(gap) > tol:
+        # both caps contain the view and coincide on screen: a false edge
+        if abs(be.first.normal @ v) > 1e-6 or gap < 0:
+            return None  # (each unordered pair once: the one gaining depth)
+        return "false edge", gap, None
+    d = be.d
+    if not bridge or d is None or be.first.normal @ d <= 0:
+        return None
+    M = np.stack([d, v], axis=1)
+    (ell, g), *_ = np.linalg.lstsq(M, be.T, rcond=None)
+    if ell <= tol or abs(g) <= tol or np.linalg.norm(M @ [ell, g] - be.T) > tol:
+        return None
+    P0 = V[be.first.loop]
+    c0 = P0.mean(axis=0)
+    axis = c0 + np.array([[0.25], [0.5], [0.75]]) * ell * d
+    # the bridge must run through empty space (not through a block in between) and be hidden
+    # (libigl's generalized winding number: ~1 inside a solid)
+    if np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5):
+        return None
+    S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
+    own = np.isin(part, part[[be.first.faces[0], be.second.faces[0]]])
+    width = float(np.ptp(P0, axis=0).max())
+    if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
+        return None
+    return "hidden gap", float(g), float(ell)
+
+
+def parts_and_front(V, F, TT, R):
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    ok = TT.reshape(-1) >= 0
+    A = sp.coo_matrix((np.ones(int(ok.sum())), (f[ok], TT.reshape(-1)[ok])), (F.shape[0],) * 2)
+    part = csgraph.connected_components(A, directed=False)[1]
+    C = V @ R.T
+    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    front = N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300)
+    return part, C, front
+
+
+def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None = None):
+    """Open a closed model at its junctions so that the cut-model gluing closes it crosswise.
+
+    Pairs of *caps* (:func:`bar_end_pairs`: planar patches bounded by one loop, normals
+    opposite, loops congruent by a translation ``T``) are the two ends of a bar the artist
+    broke:
+
+    * **false edge**: ``T`` is along the view (the caps coincide on screen, each containing the
+      view direction, e.g. a capped U-tribar): both caps are removed; the two open loops
+      coincide on screen and are glued crosswise by the cut-model path, ``|T|`` is the period;
+    * **hidden gap** (``bridge``): ``T = l d + g v`` with ``d`` the bar's direction (the common
+      direction of the faces beside each cap, pointing from one cap to the other), the bridge
+      between them through empty space and hidden behind nearer faces: both caps are removed
+      and the bar is continued from the first cap by ``l d`` (a tube of the same cross-section,
+      the first piece's depth); its end loop coincides on screen with the second cap's loop,
+      ``g`` apart in depth: the period.  Pieces in line in 3D (``g`` = 0) are left apart.
+
+    Parameters
+    ----------
+    V : (#V, 3) float64, F : (#F, 3) int64
+        A cleaned model (welded, oriented outward).
+    R : (3, 3) float64
+        ``view_frame(view, up)``.
+    tol : float
+        Absolute tolerance.
+    bridge : bool
+        Also bridge hidden gaps.
+    pairs : list of BarEnds, optional
+        :func:`bar_end_pairs` of the model, when already computed.
+
+    Returns
+    -------
+    V2 : (#V2, 3) float64
+        ``V`` with the tube ends appended.
+    F2 : (#F2, 3) int64
+        Faces of the opened model (caps removed, tubes added).
+    source : (#F2,) int64
+        Face of ``F`` each face comes from, -1 for tube faces.
+    junctions : list of Junction
+    """
+    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    if pairs is None:
+        pairs = bar_end_pairs(V, F, tol, TT, R)
+    part, C, front = parts_and_front(V, F, TT, R)
+    used, drop, junctions = set(), [], []
+    newV, newF = [], []
+    nV = V.shape[0]
+    for be in pairs:  # a few candidate pairs
+        ids = {id(be.first), id(be.second)}
+        if ids & used:
+            continue
+        found = junction_at(V, F, C, R, be, tol, front, part, bridge)
+        if found is None:
+            continue
+        kind, gap, ell = found
+        used |= ids
+        drop += [be.first.faces, be.second.faces]
+        loop = be.first.loop
+        if kind == "hidden gap":
+            ends = nV + np.arange(loop.size)
+            nV += loop.size
+            newV.append(V[loop] + ell * be.d)
+            nxt = np.roll(np.arange(loop.size), -1)
+            p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
+            newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
+        pos = C[be.second.loop, :2].mean(axis=0)  # where the two sides are glued
+        junctions.append(Junction(kind, pos, abs(gap), int(loop.size)))
+    if not junctions:
+        return V, F, np.arange(F.shape[0]), []
+    keep = np.ones(F.shape[0], dtype=bool)
+    keep[np.concatenate(drop)] = False
+    tubes = np.vstack(newF) if newF else np.zeros((0, 3), np.int64)
+    V2 = np.vstack([V, *newV]) if newV else V
+    F2 = np.vstack([F[keep], tubes]).astype(np.int64)
+    source = np.concatenate([np.flatnonzero(keep), np.full(tubes.shape[0], -1)])
+    return V2, F2, source, junctions
+
+
+def closed_surface(V, F, R, tol, rel, bridge, report, strict):
+    """The whole model opened at its junctions and glued crosswise (``hidden=True``), or None."""
+    from types import SimpleNamespace
+
+    from ..cutmesh import glue_cut_mesh
+    from ..order import DepthOrder
+
+    V2, F2, source, junctions = close_junctions(V, F, R, tol, bridge)
+    try:
+        g = glue_cut_mesh(V2, F2, view=R[2], up=R[1], tol=rel)
+    except MescherError as err:
+        if strict:
+            raise
+        msg = f"the closed surface could not be glued ({err}); the visible surface instead"
+        report.warnings.append(msg)
+        return None
+    for p in g["pairings"]:  # cut loops the model came with (a cut model)
+        pos = g["xy"][g["vmap"][p.loop_a]].mean(axis=0)
+        if not any(np.linalg.norm(pos - j.position) <= 10 * tol for j in junctions):
+            junctions.append(Junction("false edge", pos, abs(p.depth_gap), int(p.loop_a.size)))
+    if not junctions:
+        if strict:
+            raise MescherError(
+                "hidden: expected junctions to glue (caps that pair up, hidden gaps, cut loops "
+                "that coincide on screen), found none"
+            )
+        return None
+    Z = (V2 @ R.T)[F2][:, :, 2]
+    order = DepthOrder.from_embedding(SimpleNamespace(F=g["F"], xy=g["xy"]), Z)
+    report.junctions = junctions
+    report.route = "closed"
+    report.reason = (
+        f"{len(junctions)} junction(s) found: the whole model opened there and glued crosswise"
+    )
+    report.arcs = np.asarray(order.arcs)
+    report.n_arcs = order.n_arcs
+    report.source_face = source
+    report.repairs.append(
+        f"kept the hidden side: {len(junctions)} junction(s) opened and glued crosswise, "
+        f"{int(np.count_nonzero(source < 0))} bridge face(s)"
+    )
+    return VisibleModel(F=g["F"], xy=g["xy"], Z=Z, arcs=report.arcs, report=report)

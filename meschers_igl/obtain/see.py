@@ -1,0 +1,279 @@
+from __future__ import annotations
+
+import warnings
+from typing import Any
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import MescherError, MescherWarning
+from ..operators import view_frame
+from ..validate import as_faces, as_points
+from .amodal import bridge_hidden_gaps
+from .cleanup import (
+    drop_contact_faces,
+    manifold_notes,
+    open_faces,
+    orient_outward,
+    pinch_warning,
+    solid_like_parts,
+    weld,
+)  # fmt: skip
+from .clip import FRONT_NZ, REL_GRID, REL_TOL, plane_depth, visible_map
+from .glue import (
+    classify,
+    cut_and_glue,
+    depths_have_period,
+    false_edge_junctions,
+    reglue,
+    split_cut_faces,
+    stuck_cuts,
+)  # fmt: skip
+from .junctions import closed_surface
+from .perceive import model_face_axes, perceive_manhattan, perceived_frame
+from .records import ConversionReport, VisibleModel
+from .view import find_model_view
+
+
+def see_model(
+    V: Any,
+    F: Any,
+    view: Any = (0.0, 0.0, 1.0),
+    up: Any = (0.0, 1.0, 0.0),
+    perceive: str | None = None,
+    *,
+    tol: float | None = None,
+    bridge: bool = True,
+    hidden: bool | str = "auto",
+    view_start: Any = None,
+) -> VisibleModel:
+    """The visible surface of a 3D model from an orthographic view, false edges glued.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float
+        Model vertices (world frame); closed solids, separate parts, open reliefs, soups.
+    F : (#F, 3) array_like of int
+        Triangles (any orientation: each part is oriented outward by its signed volume).
+    view : (3,) array_like or "auto", default: (0, 0, 1)
+        Direction from the model toward the camera; ``"auto"``: the view from which the
+        model's junctions line up (:func:`find_model_view`: vertex pairs that coincide, or
+        the pieces of a bar broken behind an occluder; reported in ``report.view``).
+    up : (3,) array_like, default: (0, 1, 0)
+        Screen up (with ``view="auto"``: world +z projected, as modelling tools do).
+    perceive : {None, "manhattan"}, default: None
+        ``"manhattan"``: snap each face's normal to the perceived orthogonal frame and
+        re-project zeta (paper Eq. 3-4), see :mod:`meschers_igl.manhattan`; the angles are in
+        ``report.snapped``.
+    tol : float, optional
+        Relative tolerance (of the bounding-box diagonal) for screen coincidence and depth
+        continuity; default :data:`REL_TOL`.
+    bridge : bool, default: True
+        Bridge hidden gaps (amodal completion).
+    view_start : (3,) array_like, optional
+        With ``view="auto"``: a view near the intended one (searched within 10 degrees).
+    hidden : {"auto", True, False}, default: "auto"
+        Keep the hidden side: the whole model, opened at its junctions and glued crosswise by
+        the cut-model path (:func:`close_junctions`, :func:`meschers_igl.cutmesh.glue_cut_mesh`),
+        a closed surface like a cut model's, with its own depths and the order of its
+        overlapping faces.  ``"auto"``: when junctions are found (paired caps, hidden gaps,
+        coinciding cut loops) and the gluing is a manifold, else (and with ``perceive``) the
+        visible surface; ``True``: refuse when it cannot be built; ``False``: always the
+        visible surface.
+
+    Returns
+    -------
+    VisibleModel
+        ``F``, ``xy``, per-face corner depths ``Z`` (zeta of an edge is the depth difference
+        along it, the same on both sides of a glued false edge), depth-order ``arcs`` and the
+        ``report``.
+
+    Raises
+    ------
+    MescherError
+        Bad arrays, a model with no face toward the viewer.
+    """
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    if perceive not in (None, "manhattan"):
+        raise MescherError(f"perceive: expected None or 'manhattan', found {perceive!r}")
+    used = np.unique(F)
+    diag = float(np.linalg.norm(V[used].max(axis=0) - V[used].min(axis=0)))
+    if diag == 0.0:
+        raise MescherError("V: expected vertices spanning a non-empty box, found a single point")
+    report = ConversionReport()
+    rel = REL_TOL if tol is None else float(tol)
+    tol_abs = rel * diag
+    grid = REL_GRID * diag
+
+    V, F, part = _clean(V, F, tol_abs, report)
+    _check_options(view, view_start, hidden, perceive)
+    if isinstance(view, str):
+        judge = lambda v, u: _false_edge_seen(V, F, v, u, tol_abs)  # noqa: E731
+        view, up = find_model_view(V, F, tol_abs, start=view_start, judge=judge)
+    R = view_frame(view, up)
+    report.view, report.up = R[2].copy(), R[1].copy()
+    pinch_warning(F, report)
+    manifold_notes(F, report)
+    if hidden is not False and perceive is None:
+        closed = closed_surface(V, F, R, tol_abs, rel, bridge, report, strict=hidden is True)
+        if closed is not None:
+            return closed
+    C = V @ R.T
+    F, N, front = _facing(V, F, C, part, report)
+    xy, Fa, src, pl_all = visible_map(C, F, front, tol_abs, grid)
+    ftol = _part_tolerances(V, F, part, tol_abs, rel)
+    g = _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report)
+    Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
+    report.junctions = false_edge_junctions(xy, fe) + bridges
+    report.route = "visible"
+    if not report.reason:
+        report.reason = (
+            "perceived depths are read on the visible surface"
+            if perceive
+            else "no junction to open on the whole model: the surface the viewer sees"
+        )
+    report.n_arcs = int(arcs.shape[0])
+    report.source_face = np.where(is_bridge, -1, sb)
+    first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
+    first[Fm.reshape(-1)] = corner_vertex
+    report.arcs = arcs
+    _expectation_warning(report, V, F, C, front)
+    return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
+
+
+def _clean(V, F, tol_abs, report):
+    """Weld (a soup: corners apart by less than the tolerance), drop contact faces, orient
+    each part outward; the repairs go to the report.  Returns (V, F, part)."""
+    V, F, n_merged = weld(V, F, 0.5 * tol_abs)
+    if n_merged:
+        report.repairs.append(f"welded {n_merged} vertex(es) that coincide in 3D")
+    F, n_contact = drop_contact_faces(F)
+    if n_contact:
+        report.repairs.append(
+            f"removed {n_contact} pair(s) of coincident opposite faces (blocks touching)"
+        )
+    F, n_flip, part = orient_outward(V, F)
+    if n_flip:
+        n_parts = int(part.max()) + 1
+        report.repairs.append(f"re-oriented {n_flip} face(s) outward ({n_parts} part(s))")
+    return V, F, part
+
+
+def _check_options(view, view_start, hidden, perceive) -> None:
+    if view_start is not None and not (isinstance(view, str) and view == "auto"):
+        raise MescherError(f"view_start: expected view='auto' with it, found view={view!r}")
+    if isinstance(view, str) and view != "auto":
+        raise MescherError(f"view: expected a direction (3,) or 'auto', found {view!r}")
+    if hidden not in ("auto", True, False):
+        raise MescherError(f"hidden: expected 'auto', True or False, found {hidden!r}")
+    if hidden is True and perceive is not None:
+        raise MescherError(
+            f"hidden: expected False or 'auto' with perceive={perceive!r} (perceived depths are "
+            "read on the visible surface), found True"
+        )
+
+
+def _facing(V, F, C, part, report):
+    """Open parts (a relief, a sheet) have no outside: each is turned toward the view.
+    Returns (F, N (#F, 3) camera-frame normals, front (#F,) bool)."""
+    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    open_face = open_faces(F)
+    k = int(part.max()) + 1
+    is_open = np.bincount(part, weights=open_face, minlength=k) > 0
+    is_open &= ~solid_like_parts(V, F, part)  # nearly closed: oriented by its volume already
+    away = is_open & (np.bincount(part, weights=N[:, 2], minlength=k) < 0)
+    if away.any():
+        turn = away[part]
+        F = F.copy()
+        F[turn] = F[turn][:, [0, 2, 1]]
+        N[turn] *= -1
+        report.repairs.append(f"turned {int(away.sum())} open part(s) toward the viewer")
+    nrm = np.linalg.norm(N, axis=1)
+    front = N[:, 2] > FRONT_NZ * np.maximum(nrm, 1e-300)
+    if not front.any():
+        raise MescherError(f"F: expected faces facing the view, found none (of {F.shape[0]})")
+    return F, N, front
+
+
+def _part_tolerances(V, F, part, tol_abs, rel):
+    """(#F,) each face's part's own precision: ``rel`` times the part's bounding-box diagonal,
+    at most ``tol_abs`` (a scene's boxes are small beside its ground plane)."""
+    n_parts = int(part.max()) + 1
+    lo = np.full((n_parts, 3), np.inf)
+    hi = np.full((n_parts, 3), -np.inf)
+    np.minimum.at(lo, np.repeat(part, 3), V[F].reshape(-1, 3))
+    np.maximum.at(hi, np.repeat(part, 3), V[F].reshape(-1, 3))
+    return np.minimum(tol_abs, rel * np.linalg.norm(hi - lo, axis=1))[part]
+
+
+def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report):
+    """Classify, bridge, perceive and glue the visible map; occlusion edges still glued through
+    their end fans are split and the map glued again (at most 4 passes).
+
+    Returns (Fm, corner_vertex, xy, Z, arcs, false_edges, bridges, is_bridge, source)."""
+    E = axes_model = None
+    for _ in range(4):  # occlusion edges that stay glued through their end fans get split
+        Z = plane_depth(xy[Fa], pl_all[src][:, None, :])
+        glue, arcs, fe = classify(xy, Fa, src, Z, C, F, front, tol_abs, ftol)
+        is_bridge = np.zeros(Fa.shape[0], dtype=bool)
+        bridges: list = []
+        Fb, sb, Zb = Fa, src, Z
+        if bridge:
+            Fb, sb, Zb, is_bridge, glue, arcs, bridges = bridge_hidden_gaps(
+                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs, C[F][:, :, :2], (C, F)
+            )
+        if perceive == "manhattan":
+            if E is None:
+                E = perceived_frame(xy, Fb, Zb)
+                axes_model = model_face_axes(C, F, E)  # read from the model's own polygons
+            Zb, report.snapped = perceive_manhattan(xy, Fb, Zb, axis=axes_model[sb], E=E)
+            glue, arcs = reglue(glue, Fb, Zb, arcs, tol_abs)
+        Fm, corner_vertex = cut_and_glue(Fb, glue)
+        h1, h2 = glue.h1[~glue.glued], glue.h2[~glue.glued]
+        stuck = stuck_cuts(Fm, h1, h2)
+        if stuck.size == 0:
+            break
+        xy, Fa, src = split_cut_faces(xy, Fa, src, h1[stuck], h2[stuck])
+    return Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb
+
+
+def _expectation_warning(report, V, F, C, front) -> None:
+    """Warn when nothing impossible was found although the model looks built for it.
+
+    Two signs that a junction was meant: silhouette vertices that *nearly* line up on screen
+    (within 1% of the size) far apart in depth -- the view is slightly off, try ``view="auto"``
+    -- and faces whose normals are near, but not exactly on, three orthogonal directions -- a
+    sheared trick, try ``perceive="manhattan"``.
+    """
+    if any(j.depth_gap > 0 for j in report.junctions if j.kind != "occluded continuation"):
+        return
+    if report.snapped is not None and report.snapped.max(initial=0.0) > 1e-6:
+        return  # the perceived (snapped) depths decide; the caller sees the periods
+    diag = float(np.linalg.norm(np.ptp(V, axis=0)))
+    vs = np.unique(F[front])
+    P = C[vs]
+    near = cKDTree(P[:, :2]).query_pairs(1e-2 * diag, output_type="ndarray")
+    dz = np.abs(P[near[:, 0], 2] - P[near[:, 1], 2]) if near.size else np.zeros(0)
+    hints = []
+    if np.any(dz > 0.2 * diag):
+        hints.append("view='auto' (vertices far apart in depth nearly line up on screen)")
+    if report.snapped is None:
+        hints.append("perceive='manhattan' (if the figure looks impossible by its right angles)")
+    msg = "the result is possible (no junction glued, no period); try " + " or ".join(hints)
+    report.warnings.append(msg)
+    warnings.warn(f"see_model: {msg}", MescherWarning, stacklevel=4)
+
+
+def _false_edge_seen(V, F, v, up, tol) -> bool:
+    """Does the visible surface from ``v`` glue a false edge with a depth gap (a junction)?"""
+    diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MescherWarning)
+        try:
+            vm = see_model(V, F, v, up, tol=tol / diag, bridge=False, hidden=False)
+        except MescherError:
+            return False
+    if not any(j.kind == "false edge" and j.depth_gap > tol for j in vm.report.junctions):
+        return False
+    return depths_have_period(vm.F, vm.Z, 10.0 * tol)

@@ -1,0 +1,340 @@
+"""The view from which a model's impossible junctions line up (``view="auto"``).
+
+An impossible figure is built so that, from one orthographic view, parts far apart in depth
+coincide on screen: the two sides of a cut, the end of a bar and the start of another.  Their
+vertices then pair up along one direction -- the view.  So the view is the direction shared by
+the most vertex-pair differences ``V[i] - V[j]`` (a vote over pair directions, like a Hough
+transform on the sphere), refined to round-off as the direction that makes the supporting pairs
+coincide best: the top eigenvector of ``sum d d^T`` over their differences ``d`` (minimising
+``sum |d - (d . v) v|^2``, the squared screen distances).
+
+The sign is not visible in the pairing (``v`` and ``-v`` line up the same pairs): we follow the
+convention of modelling tools (Blender, ParadoxToolkit), a camera above the horizon with world
+``+z`` up, so ``v_z >= 0`` and screen up is world ``z`` projected onto the screen.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import igl
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..errors import MescherError
+from ..operators import view_frame
+from ..topology import boundary_loops
+from ..validate import as_faces, as_points
+from .clip import REL_TOL
+from .junctions import BarEnds, bar_end_pairs, junction_at, parts_and_front
+
+#: Vertices taking part in the vote (all pairs among them are tried).
+MAX_VOTERS = 1500
+#: Pair directions within this angle (radians) vote for the same view.
+VOTE_ANGLE = 2e-4
+#: Distinct directions (by votes) judged before giving up.
+MAX_DIRECTIONS = 200
+#: Largest share of the model's area seen edge-on from an acceptable view.
+MAX_EDGE_ON = 0.2
+
+
+def up_for_view(view: Any) -> np.ndarray:
+    """Screen up for ``view``: world +z projected onto the screen plane (+y if view is vertical)."""
+    v = np.asarray(view, dtype=np.float64)
+    v = v / np.linalg.norm(v)
+    for axis in (np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])):
+        u = axis - (axis @ v) * v
+        if np.linalg.norm(u) > 1e-6:
+            return u / np.linalg.norm(u)
+    raise MescherError(f"view: expected a finite direction, found {v.tolist()}")  # unreachable
+
+
+def _voters(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Boundary vertices of a cut model, else every used vertex (sampled down to MAX_VOTERS)."""
+    loops = boundary_loops(F)
+    S = np.unique(np.concatenate(loops)) if loops else np.unique(F)
+    if S.size > MAX_VOTERS:
+        S = np.sort(rng.choice(S, MAX_VOTERS, replace=False))
+    return S
+
+
+def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 1):
+    """The orthographic view in which most vertex pairs coincide on screen.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float
+    F : (#F, 3) array_like of int
+    return_support : bool, default: False
+        Also return the supporting vertex pairs.
+    max_views : int, default: 1
+        With more than one: a list of up to ``max_views`` candidates ``(view, up, pairs)``,
+        distinct directions in decreasing support (for a caller that judges each).
+
+    Returns
+    -------
+    view : (3,) float64
+        Unit direction from the model toward the camera (``view[2] >= 0``).
+    up : (3,) float64
+        Screen up (:func:`up_for_view`).
+    pairs : (k, 2) int64
+        Only with ``return_support``: the vertex pairs that coincide from ``view``.
+
+    Raises
+    ------
+    MescherError
+        When no two vertex pairs share a direction (nothing lines up from any view).
+    """
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    S = _voters(V, F, np.random.default_rng(0))
+    i, j = np.triu_indices(S.size, k=1)
+    D = V[S[j]] - V[S[i]]
+    L = np.linalg.norm(D, axis=1)
+    scale = float(np.ptp(V[S], axis=0).max()) if S.size else 0.0
+    ok = L > 1e-6 * max(scale, 1e-300)
+    # pairs on a common face are the model's own edges and diagonals, not junctions
+    pos = np.full(V.shape[0], -1)
+    pos[S] = np.arange(S.size)
+    Fs = pos[F]
+    on_face = set()
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        e = np.sort(Fs[:, [a, b]], axis=1)
+        e = e[(e >= 0).all(axis=1)]
+        on_face.update((e[:, 0] * S.size + e[:, 1]).tolist())
+    key = i * S.size + j
+    ok &= ~np.isin(key, np.fromiter(on_face, dtype=np.int64, count=len(on_face)))
+    D, L, i, j = D[ok], L[ok], i[ok], j[ok]
+    U = D / L[:, None]
+    U *= np.where(U @ np.array([1e-3, 1e-2, 1.0]) < 0, -1.0, 1.0)[:, None]  # one hemisphere
+    tree = cKDTree(np.vstack([U, -U]))
+    # votes: pairs whose directions agree within VOTE_ANGLE (either sign), longer pairs first
+    counts = np.array([len(c) for c in tree.query_ball_point(U, VOTE_ANGLE)])
+    if counts.size == 0 or counts.max() < 2:
+        raise MescherError(
+            "V: expected vertex pairs that line up along a common direction (a view in which "
+            "parts of the model coincide on screen), found none; pass view= explicitly"
+        )
+    # candidates by votes; a view must not see much of the model edge-on (a view along an
+    # axis of a box model lines up many pairs but shows its side faces as lines)
+    T = V[F]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    area = np.linalg.norm(n, axis=1)
+    nu = n / np.maximum(area, 1e-300)[:, None]
+    order = np.lexsort((-L, -counts))
+    found = []
+    tried = np.zeros(U.shape[0], dtype=bool)  # pairs whose direction was already judged
+    n_tried = 0
+    for c in order.tolist():  # the best-supported distinct directions first, few tried
+        if tried[c]:
+            continue
+        if counts[c] < 2 or n_tried >= MAX_DIRECTIONS or len(found) >= max_views:
+            break
+        n_tried += 1
+        tried |= np.abs(U @ U[c]) >= np.cos(VOTE_ANGLE)
+        edge_on = float(area[np.abs(nu @ U[c]) < 1e-3].sum() / area.sum())
+        if edge_on <= MAX_EDGE_ON:
+            found.append(c)
+    if not found:
+        raise MescherError(
+            "V: expected vertex pairs that line up along a direction from which the model is "
+            "not seen edge-on, found none; pass view= explicitly"
+        )
+    out = []
+    for k in found:  # refine each candidate
+        support = np.flatnonzero(np.abs(U @ U[k]) >= np.cos(VOTE_ANGLE))
+        # the direction that makes the supporting pairs coincide best (weighted by length^2)
+        M = D[support].T @ D[support]
+        w, E = np.linalg.eigh(M)
+        v = E[:, -1]
+        if v[2] < 0 or (abs(v[2]) <= 1e-12 and v[1] < 0):
+            v = -v
+        out.append((v, up_for_view(v), np.stack([S[i[support]], S[j[support]]], axis=1)))
+    if max_views == 1:
+        v, up, pairs = out[0]
+        return (v, up, pairs) if return_support else (v, up)
+    return out
+
+
+# ------------------------------------------------------------------------------ automatic view
+#: A hidden gap is looked for on circles passing within this angle of a start view.
+START_ANGLE = np.radians(10.0)
+
+
+#: At most this many pairs of bar ends (the nearest first) are searched for a hidden gap.
+MAX_AUTO_BARS = 16
+
+
+def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50):
+    """The view on the circle where ``be``'s pieces line up that centres the part hiding the
+    gap (seen from ``v0``) on the gap: ``v`` along ``c_occ - p`` with ``c_occ`` the occluding
+    part's (area-weighted) centroid and ``p`` the gap's middle on the first piece's line."""
+    from ..geometry2d import barycentric
+    from .view import up_for_view
+
+    w = np.cross(be.d, be.T)
+    w /= np.linalg.norm(w)
+    R = view_frame(v0, up_for_view(v0))
+    _, C, front = parts_and_front(V, F, TT, R)
+    found = junction_at(V, F, C, R, be, tol, front, part, True)
+    if found is None or found[0] == "false edge":
+        return None
+    ell = found[2]
+    c0 = V[be.first.loop].mean(axis=0)
+    mid = (c0 + 0.5 * ell * be.d) @ R.T
+    T = C[F[front]]
+    B = barycentric(np.repeat(mid[None, :2], T.shape[0], 0), T[:, :, :2])
+    inside = np.flatnonzero(np.all(B >= -1e-9, axis=1))
+    z = (B[inside] * T[inside, :, 2]).sum(axis=1)
+    occ = part[np.flatnonzero(front)[inside[np.argmax(z)]]]
+    Fo = F[part == occ]
+    Tw = V[Fo]
+    area = 0.5 * np.linalg.norm(np.cross(Tw[:, 1] - Tw[:, 0], Tw[:, 2] - Tw[:, 0]), axis=1)
+    c_occ = (area[:, None] * Tw.mean(axis=1)).sum(axis=0) / area.sum()
+    v = v0 / np.linalg.norm(v0)
+    for _ in range(iters):  # converges in a few steps (the gap's middle moves little)
+        M = np.stack([be.d, v], axis=1)
+        (ell, _), *_ = np.linalg.lstsq(M, be.T, rcond=None)
+        u = c_occ - (c0 + 0.5 * ell * be.d)
+        u -= (u @ w) * w
+        u /= np.linalg.norm(u)
+        if np.linalg.norm(u - v) < 1e-15:
+            break
+        v = u
+    R = view_frame(v, up_for_view(v))
+    _, C, front = parts_and_front(V, F, TT, R)
+    found = junction_at(V, F, C, R, be, tol, front, part, True)
+    return None if found is None or found[0] != "hidden gap" else v
+
+
+def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None, judge: Any = None):
+    """``view="auto"`` for any model: the view from which its junctions line up.
+
+    1. Coincidences (:func:`meschers_igl.autoview.find_view`, a vote over vertex pairs that
+       line up, refined to round-off): taken when a false edge (two caps coinciding on
+       screen) or a hidden gap is seen from it -- cut files and capped solids.
+    2. Hidden gaps: the two pieces of a broken bar (:func:`bar_end_pairs`, bar direction
+       ``d``, pieces ``T`` apart) line up on screen exactly for the views ``v`` in the plane
+       of ``d`` and ``T``: one circle of views.  Along it, the view is the one that centres the
+       part hiding the gap on the gap (``v`` along the line from the gap's middle to the
+       occluder's centroid, iterated with the gap's middle): where an artist puts the crossing
+       bar.  The circle is searched from ``start`` (circles within 10 degrees of it) or, from
+       the model alone, in 2-degree steps for a view where the gap is hidden (the
+       :data:`MAX_AUTO_BARS` pairs of bar ends nearest each other).  A cut model (open loops)
+       takes the vote's view, as :func:`~meschers_igl.autoview.find_view` gives it.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float, F : (#F, 3) array_like of int
+        The model (cleaned: welded, oriented outward -- :func:`see_model` passes it so).
+    tol : float, optional
+        Absolute tolerance (default 1e-5 of the bounding-box diagonal).
+    start : (3,) array_like, optional
+        A view near the intended one (e.g. off by a few degrees).
+    judge : callable, optional
+        ``judge(view, up) -> bool``: is a junction seen from the vote's view (besides paired
+        caps)?  :func:`meschers_igl.obtain.see_model` passes one that glues the visible surface
+        and asks for a loop that gains depth.
+
+    Returns
+    -------
+    view, up : (3,) float64
+        Unit view (toward the camera) and screen up (world +z projected).
+
+    Raises
+    ------
+    MescherError
+        When no view lines up a junction (near ``start``, when given).
+    """
+    from ..topology import boundary_loops
+    from .view import find_view, up_for_view
+
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
+    tol = REL_TOL * diag if tol is None else float(tol)
+    if start is not None:
+        start = as_points(np.reshape(start, (1, 3)), "start", 3)[0]
+        if np.linalg.norm(start) == 0:
+            raise MescherError("start: expected a non-zero direction, found (0, 0, 0)")
+        start = start / np.linalg.norm(start)
+    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    pairs = bar_end_pairs(V, F, tol, TT)
+    R0 = view_frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
+    part = parts_and_front(V, F, TT, R0)[0]
+
+    def seen(v):
+        R = view_frame(v, up_for_view(v))
+        _, C, front = parts_and_front(V, F, TT, R)
+        return any(junction_at(V, F, C, R, be, tol, front, part, True) for be in pairs)
+
+    err = None
+    try:
+        v, up = find_view(V, F)
+    except MescherError as e:
+        v, err = None, e
+    # a cut model's junctions are its open loops, which the vote pairs (as autoview does)
+    if v is not None and bool(boundary_loops(F)):
+        if start is None or v @ start >= np.cos(START_ANGLE):
+            return v, up
+    near = v is not None and (start is None or v @ start >= np.cos(START_ANGLE))
+    # the best-supported direction, when a junction is seen from it (caps that pair up, or a
+    # false edge on the visible surface closing a loop that gains depth); a weaker direction
+    # lines up pairs by accident (a staircase seen from below, a frame along its diagonal)
+    if near and (seen(v) or (judge is not None and judge(v, up))):
+        return v, up
+    # hidden gaps: the bar ends nearest each other first, a bounded number of them
+    cand = [be for be in pairs
+            if be.d is not None and np.linalg.norm(np.cross(be.d, be.T)) > tol]  # fmt: skip
+    cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
+    vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start)
+    if vb is not None:
+        return vb, up_for_view(vb)
+    if start is not None:
+        raise MescherError(
+            f"view: expected a view within {np.degrees(START_ANGLE):.0f} degrees of "
+            f"{np.round(start, 6).tolist()} from which junctions line up, found none"
+        )
+    if err is not None:
+        raise err
+    raise MescherError(
+        f"view: expected a view from which junctions line up, found none (tried the view "
+        f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {len(cand)} pair(s) of "
+        "bar ends for a hidden gap); pass view= or view_start="
+    )
+
+
+def _hidden_gap_view(V, F, TT, part, cand, tol, start):
+    """The view hiding a bar's gap, searched on each candidate's circle of views (from
+    ``start`` when given, else in 2-degree steps), nearest ``start``; None when none."""
+    best = None
+    for be in cand:  # a few candidate bar ends
+        w = np.cross(be.d, be.T)
+        w /= np.linalg.norm(w)
+        e1 = be.d
+        e2 = np.cross(w, e1)
+        if start is not None:
+            if abs(start @ w) > np.sin(START_ANGLE):
+                continue
+            th0 = np.arctan2(start @ e2, start @ e1)
+            k = np.repeat(np.arange(1.0, 11.0), 2) * np.tile([-1.0, 1.0], 10)
+            steps = th0 + np.radians(np.r_[0.0, k])  # the start first, then 1 degree apart
+        else:
+            steps = np.radians(np.arange(0.0, 360.0, 2.0))
+        # T = l d + g v(theta) in the circle's frame: keep the views with l > 0 and g != 0
+        t1, t2 = be.T @ e1, be.T @ e2
+        sn = np.sin(steps)
+        g = t2 / np.where(np.abs(sn) > 1e-9, sn, np.nan)
+        steps = steps[(t1 - g * np.cos(steps) > tol) & (np.abs(g) > tol)]
+        vb = None
+        for th in steps:  # until a view hiding the gap is met
+            v0 = np.cos(th) * e1 + np.sin(th) * e2
+            vb = _occluder_centred_view(V, F, TT, part, be, tol, v0)
+            if vb is not None:
+                break
+        if vb is None:
+            continue
+        score = 0.0 if start is None else -float(vb @ start)
+        if best is None or score < best[0]:
+            best = (score, vb)
+    return None if best is None else best[1]
