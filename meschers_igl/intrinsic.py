@@ -30,6 +30,8 @@ from .errors import MescherError
 
 __all__ = [
     "MOLLIFY_FACTOR",
+    "apex_offset",
+    "apex_offsets",
     "corner_angles",
     "cotangents",
     "double_areas",
@@ -129,15 +131,35 @@ def layout(l) -> np.ndarray:
     libigl's Python bindings have no intrinsic layout.
     """
     l = _lengths(l)
-    l0, l1, l2 = l[:, 0], l[:, 1], l[:, 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x2 = np.where(l2 > 0, (l1 * l1 + l2 * l2 - l0 * l0) / (2.0 * l2), 0.0)
-        y2 = np.where(l2 > 0, double_areas(l) / l2, l1)
+    l2 = l[:, 2]
+    x2, y2 = apex_offsets(l2, l[:, 1], l[:, 0])
+    y2 = np.where(l2 > 0, y2, l[:, 1])
     P = np.zeros((l.shape[0], 3, 2))
     P[:, 1, 0] = l2
     P[:, 2, 0] = x2
     P[:, 2, 1] = y2
     return P
+
+
+def apex_offsets(base, la, lb) -> tuple[np.ndarray, np.ndarray]:
+    """``(x, y)`` of the apex ``c`` of triangles over the segment from ``(0, 0)`` to
+    ``(base, 0)`` with ``|c| = la`` and ``|c - (base, 0)| = lb``, ``y >= 0``: along the segment by
+    the law of cosines, off it by Kahan's area (``sqrt(la^2 - x^2)`` would cancel on needles);
+    ``(0, 0)`` where ``base`` is 0.  The one law-of-cosines layout (:func:`apex_offset` is its
+    scalar twin for compiled kernels)."""
+    base, la, lb = np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in (base, la, lb)))
+    dbl = double_areas(np.stack([lb, la, base], axis=-1).reshape(-1, 3)).reshape(base.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(base > 0, (la * la - lb * lb + base * base) / (2.0 * base), 0.0)
+        y = np.where(base > 0, dbl / base, 0.0)
+    return x, y
+
+
+def apex_offset(base: float, la: float, lb: float) -> tuple[float, float]:
+    """Scalar :func:`apex_offsets` for compiled kernels (compiled by :func:`apex_kernel`)."""
+    if base <= 0.0:
+        return 0.0, 0.0
+    return (la * la - lb * lb + base * base) / (2.0 * base), _dbl_area(lb, la, base) / base
 
 
 def place_apex(pa, pb, la, lb, side: float = 1.0) -> np.ndarray:
@@ -161,13 +183,10 @@ def place_apex(pa, pb, la, lb, side: float = 1.0) -> np.ndarray:
     pb = np.asarray(pb, dtype=np.float64)
     e = pb - pa
     L = np.sqrt((e * e).sum(axis=-1))
-    la = np.asarray(la, dtype=np.float64)
-    lb = np.asarray(lb, dtype=np.float64)
-    dbl = double_areas(np.stack(np.broadcast_arrays(lb, la, L), axis=-1).reshape(-1, 3))
-    dbl = dbl.reshape(np.shape(L))
+    x, y = apex_offsets(L, la, lb)
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = np.where(L > 0, (la * la - lb * lb + L * L) / (2.0 * L * L), 0.0)
-        y = np.where(L > 0, dbl / (L * L), 0.0)
+        x = np.where(L > 0, x / L, 0.0)  # in units of the segment
+        y = np.where(L > 0, y / L, 0.0)
     nrm = np.stack([-e[..., 1], e[..., 0]], axis=-1)
     return pa + x[..., None] * e + (np.asarray(side, dtype=np.float64) * y)[..., None] * nrm
 
@@ -322,6 +341,7 @@ def double_area_kahan(a: float, b: float, c: float) -> float:
 
 _FLIP_JIT = None
 _AREA_JIT = None
+_APEX_JIT = None
 
 
 def double_area_kernel():
@@ -335,18 +355,31 @@ def double_area_kernel():
     return _AREA_JIT
 
 
-def _flip_kernel():
-    """The flip loop compiled by numba on first use (see :func:`double_area_kernel`)."""
-    global _FLIP_JIT, _dbl_area
-    if _FLIP_JIT is None:
+def apex_kernel():
+    """:func:`apex_offset` compiled by numba on first use (see :func:`double_area_kernel`)."""
+    global _APEX_JIT, _dbl_area
+    if _APEX_JIT is None:
         import numba
 
         _dbl_area = double_area_kernel()  # a compiled global for the kernel to call
+        _APEX_JIT = numba.njit(cache=True, nogil=True)(apex_offset)
+    return _APEX_JIT
+
+
+def _flip_kernel():
+    """The flip loop compiled by numba on first use (see :func:`double_area_kernel`)."""
+    global _FLIP_JIT, _dbl_area, _apex_offset
+    if _FLIP_JIT is None:
+        import numba
+
+        _dbl_area = double_area_kernel()  # compiled globals for the kernel to call
+        _apex_offset = apex_kernel()
         _FLIP_JIT = numba.njit(cache=True, nogil=True)(_flip_to_delaunay)
     return _FLIP_JIT
 
 
-_dbl_area = double_area_kahan  # replaced by the compiled one before the flip kernel compiles
+_dbl_area = double_area_kahan  # replaced by the compiled one before a kernel compiles
+_apex_offset = apex_offset  # likewise
 
 
 def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - compiled
@@ -388,9 +421,9 @@ def _flip_to_delaunay(F, l, opp, fe, tol, max_flips):  # pragma: no cover - comp
             continue
         X, Y, Z, W = opp[g, j1], opp[f, i2], opp[f, i1], opp[g, j2]
         # the quad in the plane: b = (0, 0), c = (l_bc, 0), a above, d below
-        xa = (l_ab * l_ab + l_bc * l_bc - l_ca * l_ca) / (2.0 * l_bc)
-        xd = (l_bd * l_bd + l_bc * l_bc - l_dc * l_dc) / (2.0 * l_bc)
-        l_ad = np.sqrt((xa - xd) ** 2 + (A_f / l_bc + A_g / l_bc) ** 2)
+        xa, ya = _apex_offset(l_bc, l_ab, l_ca)
+        xd, yd = _apex_offset(l_bc, l_bd, l_dc)
+        l_ad = np.sqrt((xa - xd) ** 2 + (ya + yd) ** 2)
         if not np.isfinite(l_ad):
             continue
         e0, eX, eY, eZ, eW = fe[f, i], fe[g, j1], fe[f, i2], fe[f, i1], fe[g, j2]

@@ -198,12 +198,7 @@ class ExactGeodesicSolver:
         L = lf.reshape(-1)
         lac = np.roll(lf, -2, axis=1).reshape(-1)  # |A C|: opposite corner c+2
         lbc = np.roll(lf, -1, axis=1).reshape(-1)  # |B C|: opposite corner c+1
-        dbl = np.repeat(intrinsic.double_areas(lf), 3)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            fx = (L * L + lac * lac - lbc * lbc) / (2.0 * L)
-            fy = dbl / L
-        fx[~np.isfinite(fx)] = 0.0
-        fy[~np.isfinite(fy)] = 0.0
+        fx, fy = intrinsic.apex_offsets(L, lac, lbc)
         # twins: the two half-edges of each edge
         he = fe.reshape(-1)
         order = np.argsort(he, kind="stable")

@@ -78,7 +78,7 @@ def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndar
     return n, Pn
 
 
-_dbl_area = intrinsic.double_area_kernel()  # Kahan's Heron formula, compiled
+_apex_offset = intrinsic.apex_kernel()  # the law-of-cosines layout, compiled
 
 
 @numba.njit(cache=True)
@@ -115,9 +115,7 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
         cv[c] = F[f0, c]
     L0, L1, L2 = l[f0, 0], l[f0, 1], l[f0, 2]
     cp[1, 0] = L2
-    if L2 > 0:
-        cp[2, 0] = (L1 * L1 + L2 * L2 - L0 * L0) / (2.0 * L2)
-        cp[2, 1] = _dbl_area(L0, L1, L2) / L2
+    cp[2, 0], cp[2, 1] = _apex_offset(L2, L1, L0)
     for c in range(3):
         if cv[c] == v0:
             pl[0, 0] = pr[0, 0] = cp[c, 0]
@@ -155,12 +153,11 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
         e0, e1 = pb0 - pa0, pb1 - pa1
         cross = e0 * (pp1 - pa1) - e1 * (pp0 - pa0)
         side = -1.0 if cross >= 0 else 1.0  # the apex on the far side of the portal
-        LL = e0 * e0 + e1 * e1
-        x = 0.0
-        y = 0.0
-        if LL > 0:
-            x = (la * la - lb * lb + LL) / (2.0 * LL)
-            y = _dbl_area(lb, la, np.sqrt(LL)) / LL
+        LL = np.sqrt(e0 * e0 + e1 * e1)
+        x, y = _apex_offset(LL, la, lb)
+        if LL > 0:  # in units of the portal
+            x /= LL
+            y /= LL
         pc0 = pa0 + x * e0 - side * y * e1
         pc1 = pa1 + x * e1 + side * y * e0
         if cross > 0:

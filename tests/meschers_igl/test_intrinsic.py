@@ -149,3 +149,26 @@ def test_midpoint_refine_one_triangle_by_hand():
 def test_bad_lengths_raise():
     with pytest.raises(MescherError, match="l: expected"):
         intrinsic.double_areas(np.ones((3, 2)))
+
+
+def test_apex_offsets_one_layout_for_arrays_and_kernels():
+    """The apex over a segment keeps both distances (also on needles, where sqrt(la^2 - x^2)
+    cancels), and the compiled scalar equals the vectorized form."""
+    from meschers_igl.intrinsic import apex_kernel, apex_offsets
+
+    rng = np.random.default_rng(0)
+    a, b = rng.uniform(0.1, 1.0, 200), rng.uniform(0.1, 1.0, 200)
+    base = np.abs(a - b) + rng.uniform(0.0, 1.0, 200) * (a + b - np.abs(a - b))
+    base = np.r_[base, 1.0, 2.0]  # a needle (height 1e-6) and a degenerate flat triangle
+    needle = np.hypot(0.5, 1e-6)
+    a, b = np.r_[a, needle, 1.0], np.r_[b, needle, 1.0]
+    x, y = apex_offsets(base, a, b)
+    assert (y >= 0).all()
+    np.testing.assert_allclose(np.hypot(x, y), a, rtol=1e-12)
+    np.testing.assert_allclose(np.hypot(x - base, y), b, rtol=1e-12)
+    assert y[-2] == pytest.approx(1e-6, rel=1e-3) and y[-1] == 0.0
+    kernel = apex_kernel()
+    for k in range(base.size):
+        np.testing.assert_allclose(
+            kernel(base[k], a[k], b[k]), (x[k], y[k]), rtol=1e-14, atol=1e-300
+        )
