@@ -244,7 +244,11 @@ def main(argv=None) -> int:
     rows = []
     for model, axes in load_models(folder if folder.is_dir() else None, only):
         for k, light in enumerate(lights):
-            r = run_case(model, axes, light, args.resolution, args.iters)
+            try:
+                r = run_case(model, axes, light, args.resolution, args.iters)
+            except Exception as exc:  # a crash is a result too: it fails every column
+                r = {"model": model.name, "light": [float(v) for v in light],
+                     "error": f"{type(exc).__name__}: {exc}", "target_img": np.ones((8, 8, 3))}  # fmt: skip
             rows.append(r)
             if args.figures:
                 Path(args.figures).mkdir(parents=True, exist_ok=True)

@@ -14,6 +14,11 @@ Writes into ``DIR``:
   outline (``figure_period``), the light used (``light``; ``light_estimated`` when no
   ``--light`` was given and the picture's creases and shades fixed it), CPU and wall time.
 
+``TARGET`` may also be a black-on-white line drawing of a figure of boxes (told apart by
+:func:`meschers_igl.inverse.drawing.is_line_drawing`): its closed regions become faces shaded by
+their Manhattan reading (:func:`meschers_igl.inverse.drawing.shade_drawing`, saved as
+``drawing_shaded.png``), which is then fitted as a picture.
+
 ``TARGET`` may be a built-in: ``penrose`` (the Penrose triangle drawn by this package's own
 rasterizer) or ``tribar``, ``cube``, ``stairs``: real 3D box models
 (:mod:`meschers_igl.inverse.models`) rendered by PyVista's z-buffer (:func:`zbuffer_picture`).
@@ -194,9 +199,18 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
         raise MescherError(
             f"TARGET: expected a square image (it spans [-1, 1]^2), found {img.width}x{img.height}"
         )
-    if img.width != resolution:
+    if img.width != resolution and resolution > 0:
         img = img.resize((resolution, resolution), Image.Resampling.BOX)
     return np.asarray(img, dtype=np.float64) / 255.0
+
+
+def _resize_flat(image: np.ndarray, resolution: int) -> np.ndarray:
+    """A flat-shaded picture at another size, nearest pixel (no new shades at the edges)."""
+    n = image.shape[0]
+    if n == resolution:
+        return image
+    idx = np.minimum(((np.arange(resolution) + 0.5) * n / resolution).astype(np.int64), n - 1)
+    return image[idx][:, idx]
 
 
 def _background(target: np.ndarray) -> np.ndarray:
@@ -275,6 +289,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         argv = sys.argv[1:] if args is None else list(args)
         args = _parser().parse_args(_join_negative_values(argv))
     from meschers_igl import save
+    from meschers_igl.inverse.drawing import is_line_drawing, shade_drawing
     from meschers_igl.inverse.metrics import (
         figure_period,
         image_psnr,
@@ -307,8 +322,17 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     if args.target in BUILTIN:
         target, model = _builtin_target(args.target, res, lights, colors, args.ambient)
     else:
-        target = _load_target(args.target, res)
+        target = _load_target(args.target, 0)  # the file's own size: thin lines stay dark
     bg = _background(target)
+    drawing = None
+    if model is None and is_line_drawing(target, bg):
+        # a line drawing: faces between the lines, shaded by their Manhattan reading
+        drawing = shade_drawing(target, bg, light=lights[0] if given else None,
+                                ambient=args.ambient)  # fmt: skip
+        target = _resize_flat(drawing.picture, res)
+        lights, given = [tuple(float(v) for v in drawing.light)], True
+    elif model is None and target.shape[0] != res:
+        target = _load_target(args.target, res)
     if int(target_mask(target, bg).sum()) < 16:
         raise MescherError(
             f"TARGET: expected a figure on a plain background, found {args.target!r} with no "
@@ -366,8 +390,11 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         "iters": iters,
         "init": args.init,
         "light": [list(v) for v in lights],
-        "light_estimated": not given and args.init == "picture",
+        "light_estimated": drawing is None and not given and args.init == "picture",
+        "drawing": drawing is not None,
     }
+    if drawing is not None:
+        _save_png(out / "drawing_shaded.png", drawing.picture)
     if model is not None:
         metrics["true_gap"] = float(model[0].gap * model[1])
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2))

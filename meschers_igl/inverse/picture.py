@@ -175,8 +175,9 @@ def _three_means(v: np.ndarray, w: np.ndarray) -> np.ndarray:
     S2 = np.r_[0.0, np.cumsum(w * v * v)]
 
     def cost(i, j):  # weighted sum of squares of v[i:j]
-        ww = W1[j] - W1[i]
-        return S2[j] - S2[i] - (S1[j] - S1[i]) ** 2 / np.maximum(ww, 1e-300)
+        ww = np.maximum(W1[j] - W1[i], 1e-300)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return S2[j] - S2[i] - (S1[j] - S1[i]) ** 2 / ww
 
     a, b = np.meshgrid(np.arange(1, n), np.arange(1, n), indexing="ij")
     ok = a < b
@@ -333,7 +334,21 @@ def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: floa
     spec = {"vertices": verts, "segments": segs}
     if holes:
         spec["holes"] = np.asarray(holes)
-    tri = triangle.triangulate(spec, f"pq{min_angle:g}a{max_area_px * pixel * pixel:.3e}")
+    area = f"a{max_area_px * pixel * pixel:.3e}"
+    tri = None
+    # Triangle's quality refinement gives up where constraints nearly touch (a frame of bars
+    # two pixels wide): milder settings then
+    for opts in (f"pq{min_angle:g}{area}", f"pq10{area}", f"p{area}", "p"):
+        try:
+            tri = triangle.triangulate(spec, opts)
+            break
+        except RuntimeError:
+            continue
+    if tri is None:
+        raise MescherError(
+            "polygons: expected region boundaries Triangle can triangulate, found boundaries it "
+            "rejects at every quality setting (lines closer than floating point can separate)"
+        )
     xy = np.asarray(tri["vertices"], dtype=np.float64)
     F = np.asarray(tri["triangles"], dtype=np.int64)
     # region of each triangle: the piece holding its centroid (none: outside the figure)

@@ -1,0 +1,254 @@
+"""A black-on-white line drawing of a figure of boxes read as a shaded picture.
+
+A person reads a drawing of a Penrose triangle, a Reutersvärd triangle or an impossible cube
+as faces of three orientations: the closed regions between the lines are the faces, the three
+directions the lines run in are the screen projections of three right-angled directions
+(a Manhattan reading), and a face is spanned by the two directions its edges follow.  This
+module makes that reading into the flat-shaded picture the rest of the pipeline takes
+(:func:`meschers_igl.inverse.picture.mescher_from_picture`):
+
+1. :func:`is_line_drawing`: dark lines on a light ground, nearly nothing in between.
+2. :func:`shade_drawing`: the regions of paper no line crosses; the one touching the border is
+   the ground.  The lines' directions (length-weighted orientation histogram of the regions'
+   straightened outlines) give three directions and, by :func:`.picture.frames_from_creases`,
+   the right-angled frame (of its two Necker readings, the one seen from above).  A region
+   whose edges follow two of the directions is a face of the third direction's orientation;
+   a region with edges along all three (the hole of a tribar) or along none is a hole.  Each
+   face is painted with the Lambertian shade of its normal under a light that gives the three
+   orientations three distinct shades, and each line pixel takes the colour of the nearest
+   face or hole, so that the figure's outline runs along the middle of its outer lines.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import MescherError
+from .targets import target_mask
+
+#: the frame's Lambertian terms n_k . l of the light painting a drawing: three distinct shades
+DRAWING_SHADES = np.array([0.42, 0.63, 0.93])
+
+
+@dataclass
+class DrawingReading:
+    """What :func:`shade_drawing` reads.
+
+    Attributes
+    ----------
+    picture : (N, N, 3) float64
+        The drawing as a flat-shaded picture on the drawing's ground colour.
+    faces : (N, N) int64
+        Face region per pixel (line pixels given to the nearest region), -1 on the ground and
+        in holes.
+    orientation : (R,) int64
+        Orientation (0, 1, 2) of each face region, -1 for holes.
+    normals : (3, 3) float64
+        Row ``k``: the normal of orientation ``k`` (camera frame, ``n_z > 0``).
+    directions : (3, 2) float64
+        Unit screen direction of the lines along axis ``k`` (the projection of ``normals[k]``).
+    light : (3,) float64
+        The light that paints ``picture``.
+    """
+
+    picture: np.ndarray
+    faces: np.ndarray
+    orientation: np.ndarray
+    normals: np.ndarray
+    directions: np.ndarray
+    light: np.ndarray
+
+
+def is_line_drawing(
+    target: np.ndarray, background=(1.0, 1.0, 1.0), ink: float = 0.5, mid: float = 0.03
+) -> bool:
+    """Whether a picture is dark lines on a light ground rather than shaded faces.
+
+    True when the pixels unlike the ground are mostly dark (grey under ``ink``), at most
+    ``mid`` of them in the middle greys ``(0.3, 0.75)`` (anti-aliased line edges), the ground
+    is light, and the lines leave some paper inside their outline (they are lines, not a
+    dark silhouette).
+
+    Parameters
+    ----------
+    target : (H, W, 3) float in [0, 1]
+    background : (3,) float
+    ink : float
+    mid : float
+    """
+    t = np.asarray(target, dtype=np.float64)
+    if float(np.mean(background)) < 0.75:
+        return False
+    mask = target_mask(t, background)
+    if mask.sum() < 16:
+        return False
+    grey = t.mean(axis=-1)[mask]
+    dark = grey < ink
+    midtone = (grey > 0.3) & (grey < 0.75)
+    if dark.mean() < 0.8 or midtone.mean() > mid:
+        return False
+    # lines enclose paper: the figure's filled outline holds light pixels that are not ground
+    from scipy import ndimage
+
+    filled = ndimage.binary_fill_holes(mask)
+    return bool((filled & ~mask).sum() > mask.sum() * 0.5)
+
+
+def _line_directions(lines, polys, piece_region, n_regions: int, min_sep_deg: float = 20.0):
+    """The three main orientations of the lines, and each region's outline along each.
+
+    Parameters
+    ----------
+    lines : list of shapely LineString
+        Straightened boundaries (:func:`.picture.region_polygons`).
+    polys : list of shapely Polygon
+        The pieces; ``piece_region`` their region.
+    n_regions : int
+    min_sep_deg : float
+        Two orientations are at least this far apart.
+
+    Returns
+    -------
+    dirs : (3, 2) float64
+        Unit directions: peaks of the length-weighted histogram of segment orientations
+        (1 degree bins, smoothed over 5), each refined by the weighted mean of the doubled
+        angles within 5 degrees.
+    along : (R, 3) float64
+        Length of each region's outline within 10 degrees of each direction.
+    total : (R,) float64
+        Length of each region's outline.
+    """
+    segs = np.concatenate([np.diff(np.asarray(g.coords), axis=0) for g in lines])
+    ln = np.linalg.norm(segs, axis=1)
+    ang = np.mod(np.arctan2(segs[:, 1], segs[:, 0]), np.pi)
+    hist = np.bincount(np.floor(np.degrees(ang)).astype(np.int64) % 180, ln, minlength=180)
+    smooth = sum(np.roll(hist, s_) for s_ in range(-2, 3))
+    centre = np.arange(180) + 0.5
+    dirs = []
+    for _ in range(3):
+        k = int(np.argmax(smooth))
+        if smooth[k] <= 0:
+            raise MescherError(
+                f"target: expected lines along three directions (a drawing of boxes), found "
+                f"{len(dirs)}"
+            )
+        pk = math.radians(centre[k])
+        near = np.abs(np.angle(np.exp(2j * (ang - pk)))) < 2.0 * math.radians(5.0)
+        z = (ln[near] * np.exp(2j * ang[near])).sum()
+        th = 0.5 * math.atan2(z.imag, z.real)
+        dirs.append((math.cos(th), math.sin(th)))
+        gap = np.abs((centre - centre[k] + 90.0) % 180.0 - 90.0)
+        smooth = np.where(gap < min_sep_deg, 0.0, smooth)
+    dirs = np.asarray(dirs)
+    along = np.zeros((n_regions, 3))
+    total = np.zeros(n_regions)
+    cos10 = math.cos(math.radians(10.0))
+    for poly, r in zip(polys, piece_region):  # a handful of pieces
+        for ring in [poly.exterior, *poly.interiors]:
+            v = np.diff(np.asarray(ring.coords), axis=0)
+            lv = np.linalg.norm(v, axis=1)
+            u = v / np.maximum(lv[:, None], 1e-300)
+            along[r] += ((np.abs(u @ dirs.T) > cos10) * lv[:, None]).sum(axis=0)
+            total[r] += lv.sum()
+    return dirs, along, total
+
+
+def shade_drawing(
+    target: np.ndarray,
+    background=(1.0, 1.0, 1.0),
+    light=None,
+    ambient: float = 0.2,
+    ink: float = 0.5,
+    min_face_px: int = 6,
+    third_share: float = 0.15,
+) -> DrawingReading:
+    """Read a black-on-white line drawing of boxes as a flat-shaded picture.
+
+    Parameters
+    ----------
+    target : (N, N, 3) float in [0, 1]
+    background : (3,) float
+        The paper's colour.
+    light : (3,) float, optional
+        The light to paint with (camera frame); default: the one giving the three orientations
+        the Lambertian terms :data:`DRAWING_SHADES`.
+    ambient : float
+    ink : float
+        Grey under which a pixel is a line.
+    min_face_px : int
+        Regions of paper smaller than this are gaps between lines (given to the lines).
+    third_share : float
+        A face's edges along its own normal's direction stay under this share of its outline;
+        a region over it along all three directions is a hole.
+
+    Returns
+    -------
+    DrawingReading
+
+    Raises
+    ------
+    MescherError
+        No lines, lines along fewer than three directions, or no right-angled reading of them.
+    """
+    from scipy import ndimage
+
+    from .picture import frames_from_creases, region_polygons
+
+    t = np.asarray(target, dtype=np.float64)
+    if t.ndim != 3 or t.shape[2] != 3 or t.shape[0] != t.shape[1]:
+        raise MescherError(f"target: expected an (N, N, 3) image, found shape {t.shape}")
+    N = t.shape[0]
+    line = t.mean(axis=-1) < ink
+    if line.sum() < 16:
+        raise MescherError(
+            f"target: expected a drawing (dark lines), found {int(line.sum())} dark pixels"
+        )
+    lab, n = ndimage.label(~line)  # 4-connected regions of paper
+    border = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
+    sizes = np.bincount(lab.ravel(), minlength=n + 1)
+    regions = [
+        r for r in range(1, n + 1) if r not in set(border.tolist()) and sizes[r] >= min_face_px
+    ]
+    if not regions:
+        raise MescherError("target: expected closed regions between the lines, found none")
+    # every pixel of the figure: its region, line pixels the nearest region's (face or hole)
+    region_of = np.full(n + 1, -1, dtype=np.int64)
+    region_of[np.asarray(regions)] = np.arange(len(regions))
+    ground = np.isin(lab, border) & ~line
+    seeds = ((lab > 0) & ~line & (region_of[lab] >= 0)) | ground
+    _, (ii, jj) = ndimage.distance_transform_edt(~seeds, return_indices=True)
+    near = np.where(seeds, lab, lab[ii, jj])
+    reg = np.where(np.isin(near, border), -1, region_of[near])
+    polys, preg, lines = region_polygons(reg)
+    dirs, along, total = _line_directions(lines, polys, preg, len(regions))
+    share = along / np.maximum(total[:, None], 1e-300)
+    k_min = np.argmin(share, axis=1)
+    own = share[np.arange(len(regions)), k_min]
+    # a face: its edges follow the two other directions, hardly its own
+    face_like = (own < third_share) & (share.sum(axis=1) - own > 0.6)
+    orient = np.where(face_like, k_min, -1)
+    if np.unique(orient[orient >= 0]).size < 3:
+        raise MescherError(
+            "target: expected faces of three orientations between the lines, found "
+            f"{np.unique(orient[orient >= 0]).size}"
+        )
+    frames = frames_from_creases(dirs)
+    # of the two Necker readings, a person sees boxes from above: the most vertical normal up
+    k_up = int(np.argmax(np.abs(frames[0][:, 1])))
+    normals = frames[0] if frames[0][k_up, 1] > 0 else frames[1]
+    if light is None:
+        lvec = normals.T @ (DRAWING_SHADES / np.linalg.norm(DRAWING_SHADES))
+    else:
+        lvec = np.asarray(light, dtype=np.float64)
+    lvec = lvec / np.linalg.norm(lvec)
+    shade = ambient + (1.0 - ambient) * np.maximum(normals @ lvec, 0.0)
+    face = np.where(reg >= 0, orient[np.maximum(reg, 0)], -1)
+    picture = np.empty((N, N, 3))
+    picture[:] = np.asarray(background, dtype=np.float64)
+    on = face >= 0
+    picture[on] = shade[face[on]][:, None]
+    faces = np.where(on, reg, -1)
+    return DrawingReading(picture, faces, orient, normals, dirs, lvec)

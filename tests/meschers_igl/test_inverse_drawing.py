@@ -1,0 +1,112 @@
+"""Line drawings of impossible figures read as shaded pictures, then as meschers."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+from meschers_igl import MescherError
+from meschers_igl.inverse import drawing as drw
+from meschers_igl.inverse import models as mdl
+from meschers_igl.inverse.metrics import figure_period
+
+
+def _zbuffer(model, res):
+    pytest.importorskip("pyvista")
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    from meschers.inverse_cli import zbuffer_picture
+
+    return zbuffer_picture(model, res, light=(0.3, 0.4, 1.0), ambient=0.2)
+
+
+def line_drawing(model, res: int = 256, width: int = 2):
+    """A black-on-white drawing of a box model: its picture's edges (a change of grey or the
+    outline) as black lines ``width`` pixels wide, nothing else.  Returns it and the scale."""
+    from scipy import ndimage
+
+    image, scale = _zbuffer(model, res)
+    g = np.round(image.mean(axis=-1) * 255)
+    mask = np.abs(image - 1.0).max(axis=-1) > 0.02
+    e = np.zeros(mask.shape, dtype=bool)
+    e[:, 1:] |= (g[:, 1:] != g[:, :-1]) | (mask[:, 1:] != mask[:, :-1])
+    e[1:] |= (g[1:] != g[:-1]) | (mask[1:] != mask[:-1])
+    if width > 1:
+        e = ndimage.binary_dilation(e, iterations=width // 2)
+    return np.where(e[..., None], 0.0, 1.0) * np.ones(3), scale
+
+
+@pytest.fixture(scope="module")
+def tribar_drawing():
+    model = mdl.penrose_tribar()
+    d, scale = line_drawing(model)
+    return model, d, scale
+
+
+def test_drawings_are_told_from_pictures(tribar_drawing):
+    model, d, _ = tribar_drawing
+    assert drw.is_line_drawing(d)
+    picture, _ = _zbuffer(model, 128)
+    assert not drw.is_line_drawing(picture)
+    assert not drw.is_line_drawing(np.ones((32, 32, 3)))
+    # a dark silhouette with no paper inside is not a drawing either
+    blob = np.ones((40, 40, 3))
+    blob[8:32, 8:32] = 0.0
+    assert not drw.is_line_drawing(blob)
+
+
+@pytest.mark.parametrize("res", [128, 256, 384])
+def test_tribar_drawing_reads_as_the_tribar(res):
+    model = mdl.penrose_tribar()
+    d, scale = line_drawing(model, res, 1 if res == 128 else 2)
+    r = drw.shade_drawing(d)
+    # the Manhattan reading of the lines is the model's frame (seen from above)
+    axes = model.axes_in_camera()
+    err = np.degrees(np.arccos(np.clip(np.abs(r.normals @ axes.T).max(axis=1), -1, 1)))
+    assert err.max() < 2.0
+    assert np.all(r.normals[:, 2] > 0) and r.normals @ r.normals.T == pytest.approx(np.eye(3))
+    # three flat shades on the figure, ground elsewhere; the hole stays ground
+    shades = np.unique(np.round(r.picture[r.faces >= 0].mean(axis=-1), 6))
+    assert len(shades) == 3
+    assert np.all(r.picture[r.faces < 0] == 1.0)
+    from meschers_igl.inverse.picture import mescher_from_picture
+
+    m, _, _ = mescher_from_picture(r.picture, r.light, 0.2)
+    assert m.is_impossible()
+    # the period read from the loop is the model's depth gap
+    assert figure_period(m) == pytest.approx(model.gap * scale, rel=0.05)
+
+
+def test_drawing_with_two_line_directions_is_refused():
+    d = np.ones((64, 64, 3))
+    d[8:56:12, 8:56] = 0.0  # a grid of rectangles: lines along two directions
+    d[8:56, 8:57:12] = 0.0
+    with pytest.raises(MescherError, match="three"):
+        drw.shade_drawing(d)
+
+
+@pytest.mark.render
+def test_cli_takes_a_drawing_and_saves_the_mescher_with_its_order(tmp_path, tribar_drawing):
+    from PIL import Image
+
+    from meschers.inverse_cli import inverse_main
+    from meschers_igl import load
+
+    _, d, _ = tribar_drawing
+    path = tmp_path / "tribar_drawing.png"
+    Image.fromarray((d * 255).astype(np.uint8)).save(path)
+    out = tmp_path / "fit"
+    assert inverse_main([str(path), "--out", str(out), "--iters", "4", "--every", "2",
+                         "--no-progress"]) == 0  # fmt: skip
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["drawing"] is True and metrics["impossible"]
+    # four steps only: the fit of the shaded reading starts close
+    assert metrics["psnr_db"] > 28.0 and metrics["silhouette_iou"] > 0.98
+    assert (out / "drawing_shaded.png").stat().st_size > 0
+    m, order = load(out / "mescher.ply", return_order=True)
+    assert m.n_faces == metrics["faces"] and order.n_arcs == metrics["order_arcs"]
+    light = np.asarray(metrics["light"][0])
+    assert math.isclose(float(np.linalg.norm(light)), 1.0, rel_tol=1e-9)
