@@ -68,34 +68,40 @@ class Mescher:
     Every user-visible array is read-only; operations return new meschers.
     """
 
-    def __init__(self, F, xy, edges, zeta, project: bool = False, *, _trusted: bool = False):
-        if _trusted:  # internal constructors that already hold canonical, validated arrays
-            self._F, self._xy, self._edges, self._zeta = F, xy, edges, zeta
-            self._face_edges, self._signs = _trusted
+    def __init__(self, F, xy, edges, zeta, project: bool = False):
+        xy = as_points(xy, "xy", 2)
+        if xy.shape[0] == 0:
+            raise MescherError("xy: expected at least three vertices, found none")
+        F = as_faces(F, "F", xy.shape[0])
+        check_referenced(F, xy.shape[0], "xy")
+        edges_in = as_int_array(edges, "edges", 2, 2)
+        zeta = as_vector(zeta, "zeta", edges_in.shape[0])
+        cedges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
+        perm, flip = topo.orient_edges_like(edges_in, cedges, xy.shape[0])
+        # Keep the user's edge order and orientation: remap the incidence to it.
+        inv = np.empty_like(perm)
+        inv[perm] = np.arange(perm.size)
+        face_edges = inv[face_edges]
+        signs = signs * np.where(flip, -1.0, 1.0)[face_edges]
+        self._set_arrays(F, xy, edges_in, zeta, face_edges, signs)
+        if project:
+            self._zeta = _readonly(self._closed_projector(self._zeta))
         else:
-            xy = as_points(xy, "xy", 2)
-            if xy.shape[0] == 0:
-                raise MescherError("xy: expected at least three vertices, found none")
-            F = as_faces(F, "F", xy.shape[0])
-            check_referenced(F, xy.shape[0], "xy")
-            edges_in = as_int_array(edges, "edges", 2, 2)
-            zeta = as_vector(zeta, "zeta", edges_in.shape[0])
-            cedges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
-            perm, flip = topo.orient_edges_like(edges_in, cedges, xy.shape[0])
-            # Keep the user's edge order and orientation: remap the incidence to it.
-            inv = np.empty_like(perm)
-            inv[perm] = np.arange(perm.size)
-            face_edges = inv[face_edges]
-            signs = signs * np.where(flip, -1.0, 1.0)[face_edges]
-            self._F, self._xy, self._edges = F, xy, edges_in
-            self._face_edges, self._signs = face_edges, signs
-            self._zeta = zeta
-            if project:
-                self._zeta = self._closed_projector(self._zeta)
-            else:
-                self._check_integrable()
+            self._check_integrable()
+
+    def _set_arrays(self, F, xy, edges, zeta, face_edges, signs) -> None:
+        self._F, self._xy, self._edges, self._zeta = F, xy, edges, zeta
+        self._face_edges, self._signs = face_edges, signs
         for name in ("_F", "_xy", "_edges", "_zeta", "_face_edges", "_signs"):
             setattr(self, name, _readonly(getattr(self, name)))
+
+    @classmethod
+    def _trusted(cls, F, xy, edges, zeta, face_edges, signs) -> Mescher:
+        """A mescher from canonical arrays an internal constructor has already validated (its
+        own incidence ``face_edges, signs``): no checks, no copies beyond read-only views."""
+        m = cls.__new__(cls)
+        m._set_arrays(F, xy, edges, zeta, face_edges, signs)
+        return m
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -107,7 +113,7 @@ class Mescher:
         fe = face_edges.reshape(-1)
         vals = (h * signs).reshape(-1)
         zeta = np.bincount(fe, weights=vals, minlength=ne) / np.bincount(fe, minlength=ne)
-        m = cls(F, xy, edges, zeta, _trusted=(face_edges, signs))
+        m = cls._trusted(F, xy, edges, zeta, face_edges, signs)
         m._zeta = _readonly(m._closed_projector(np.array(m._zeta)))
         return m
 
@@ -117,12 +123,13 @@ class Mescher:
         The homology generators are carried over, so ``periods()`` of the result are in this
         mescher's basis (smooth, with_xy, with_zeta, with_periods).
         """
-        m = type(self)(
+        m = type(self)._trusted(
             self._F,
             self._xy if xy is None else xy,
             self._edges,
             self._zeta if zeta is None else zeta,
-            _trusted=(self._face_edges, self._signs),
+            self._face_edges,
+            self._signs,
         )
         if "_generators" in self.__dict__:  # else recomputed: the same tree-cotree, same F
             m.__dict__["_generators"] = self._generators
@@ -166,7 +173,7 @@ class Mescher:
         C = V @ ops.view_frame(view, up).T
         edges, face_edges, signs = topo.edge_topology(F, V.shape[0])
         zeta = C[edges[:, 1], 2] - C[edges[:, 0], 2]
-        return cls(F, np.ascontiguousarray(C[:, :2]), edges, zeta, _trusted=(face_edges, signs))
+        return cls._trusted(F, np.ascontiguousarray(C[:, :2]), edges, zeta, face_edges, signs)
 
     @classmethod
     def from_cut_mesh(
@@ -367,14 +374,18 @@ class Mescher:
         return _readonly(self._edge_lengths[self._face_edges])
 
     @cached_property
-    def _l_moll(self) -> np.ndarray:
-        lm, self._mollify_eps = ops.mollify(self._l_face)
-        return _readonly(lm)
+    def _mollified(self) -> tuple[np.ndarray, float]:
+        """The mollified lengths and the ``eps`` added to every edge (Sharp & Crane 2020)."""
+        lm, eps = ops.mollify(self._l_face)
+        return _readonly(lm), float(eps)
 
-    @cached_property
+    @property
+    def _l_moll(self) -> np.ndarray:
+        return self._mollified[0]
+
+    @property
     def _mollify_eps(self) -> float:
-        _ = self._l_moll  # sets the attribute as a side effect
-        return self.__dict__["_mollify_eps"]
+        return self._mollified[1]
 
     def mollification(self) -> float:
         """The length ``eps`` added to every edge by intrinsic mollification (0 for most meshes)."""
@@ -643,7 +654,7 @@ class Mescher:
             self._generators, levels, scheme, force=force,
         )  # fmt: skip
         for lvl in steps:
-            m = type(self)(lvl.F, lvl.xy, lvl.edges, lvl.zeta, _trusted=(lvl.face_edges, lvl.signs))
+            m = type(self)._trusted(lvl.F, lvl.xy, lvl.edges, lvl.zeta, lvl.face_edges, lvl.signs)
             m.__dict__["_generators"] = lvl.generators  # the parent's basis, refined
             if order is not None:
                 # Midpoint children lie inside their parents on screen, so the parents' arcs
