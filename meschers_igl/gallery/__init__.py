@@ -25,6 +25,7 @@ import numpy as np
 from ..errors import MescherError
 from ..operators import view_frame
 from . import bagel, frames, penrose
+from .cutmodel import CutModel
 
 
 @dataclass
@@ -161,18 +162,21 @@ def get_model(name: str, **params: Any) -> GalleryModel:
         raise MescherError(
             f"params: expected parameters of {name!r} ({allowed}), found {sorted(params)} ({exc})"
         ) from None
-    V, F, view, up, period, *rest = out
+    if not isinstance(out, CutModel):
+        raise MescherError(
+            f"name: the builder of {name!r} returned {type(out).__name__}, not a CutModel"
+        )
     return GalleryModel(
         name=name,
-        V=np.ascontiguousarray(V, dtype=np.float64),
-        F=np.ascontiguousarray(F, dtype=np.int64),
-        view=tuple(float(x) for x in view),
-        up=tuple(float(x) for x in up),
-        expected_period=float(period),
+        V=np.ascontiguousarray(out.V, dtype=np.float64),
+        F=np.ascontiguousarray(out.F, dtype=np.int64),
+        view=tuple(float(x) for x in out.view),
+        up=tuple(float(x) for x in out.up),
+        expected_period=float(out.period),
         description=description,
-        builder=rest[0] if rest else None,
-        front_back=rest[1] if len(rest) > 1 else None,
+        builder=out.build,
+        front_back=out.front_back,
     )
 
 
-__all__ = ["GalleryModel", "get_model", "list_models"]
+__all__ = ["CutModel", "GalleryModel", "get_model", "list_models"]

@@ -33,6 +33,7 @@ from ..errors import MescherError
 from ..operators import view_frame
 from ..shapes import torus
 from ..validate import as_count, as_positive
+from .cutmodel import CutModel
 
 
 def screen_winding(xy: np.ndarray, edges: np.ndarray, loop: tuple[np.ndarray, np.ndarray]) -> int:
@@ -127,4 +128,4 @@ def impossibagel(
         vmap = np.concatenate([np.arange(n_u * n_v), np.arange(n_v)])
         return m0.with_periods(values), vmap
 
-    return Vc, Fc, view, up, c, build, front_back
+    return CutModel(Vc, Fc, view, up, c, build, front_back)

@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import MescherError
 from ..operators import view_frame
 from ..validate import as_count, as_positive
+from .cutmodel import CutModel
 from .polycube import box_union_surface, slant_cut
 
 CUBE_VIEW = (1.0, 0.8, 0.4)
@@ -109,7 +110,7 @@ def impossible_cube(
     phi = np.where(z >= flat_start, a, a * (z - bottom) / (flat_start - bottom))
     phi = np.where(lower, np.clip(phi, 0.0, a), 0.0)
     v = view_frame(CUBE_VIEW, CUBE_UP)[2]
-    return V + phi[:, None] * v, F, CUBE_VIEW, CUBE_UP, a
+    return CutModel(V + phi[:, None] * v, F, CUBE_VIEW, CUBE_UP, a)
 
 
 def _rigid_back_bar(L: float, w: float, n: int, P: float, a: float):
@@ -138,7 +139,7 @@ def _rigid_back_bar(L: float, w: float, n: int, P: float, a: float):
         out[mask] = moved[mask]
     v = view_frame(CUBE_VIEW, CUBE_UP)[2]
     out[piece] += a * v  # rigid: the faces keep their normals
-    return out, F, CUBE_VIEW, CUBE_UP, 0.0
+    return CutModel(out, F, CUBE_VIEW, CUBE_UP, 0.0)
 
 
 def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, resolution: int = 12):
@@ -197,4 +198,4 @@ def window(width: float = 12.0, height: float = 8.0, bar_width: float = 1.0, res
 
         return Mescher.from_mesh(flat, F, view=WINDOW_VIEW, up=WINDOW_UP), np.arange(len(V))
 
-    return V + (g * s)[:, None] * v, F, WINDOW_VIEW, WINDOW_UP, 0.0, build
+    return CutModel(V + (g * s)[:, None] * v, F, WINDOW_VIEW, WINDOW_UP, 0.0, build)

@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import MescherError
 from ..operators import view_frame
 from ..validate import as_count, as_positive
+from .cutmodel import CutModel
 from .polycube import box_union_surface, slant_cut
 
 VIEW = (1.0, 1.0, 1.0)
@@ -60,7 +61,7 @@ def penrose_triangle(bar_length: float = 4.0, bar_width: float = 1.0, resolution
     fade = c - w / 2  # up to the corner cubes, which stay square
     V = slant_cut(V, 0, start[0], *cuts[0][2:], +1, fade, VIEW)
     V = slant_cut(V, 0, start[0] + L, *cuts[1][2:], -1, fade, VIEW)
-    return V, F, VIEW, UP, float(np.sqrt(3.0) * L)
+    return CutModel(V, F, VIEW, UP, float(np.sqrt(3.0) * L))
 
 
 def penrose_stairs(
@@ -129,7 +130,7 @@ def penrose_stairs(
     for (axis, value, lo, hi), side, i in ((first, +1, j + 1), (last, -1, j + N)):
         block = ((lo[0], z[i] - T), (hi[0], z[i]))  # the cut block's whole end face
         V = slant_cut(V, axis, value, lo, hi, side, p, VIEW, region=block)
-    return V, F, VIEW, UP, float(np.sqrt(3.0) * m * p)
+    return CutModel(V, F, VIEW, UP, float(np.sqrt(3.0) * m * p))
 
 
 def reutersvard_triangle(
@@ -187,4 +188,4 @@ def reutersvard_triangle(
     near_last = ((s_mid - s_last) ** 2).sum(1) < ((s_mid - s_second) ** 2).sum(1)
     front = np.flatnonzero((cube == 0) & near_last)
     back = np.flatnonzero(cube == len(centers) - 1)
-    return V, F, VIEW, UP, 0.0, None, (front, back)
+    return CutModel(V, F, VIEW, UP, 0.0, front_back=(front, back))
