@@ -12,8 +12,8 @@ one value per vertex.  So ``x'`` and ``y'`` are the least-squares (``star1``) po
 ``a`` and ``b`` -- a Poisson solve ``d01^T star1 d01 x' = d01^T star1 a`` -- which drops
 exactly ``R02 omega`` and ``R12 omega`` (harmonic forms are ``star1``-orthogonal to exact
 ones).  The new depth ``c`` is closed already (a combination of closed forms); it is
-projected onto the locally integrable forms to remove round-off.  The periods keep their
-meaning -- the depth gained around each loop of the same homology basis -- and become
+projected onto the locally integrable forms when round-off left more than a trace.  The
+periods keep their meaning -- the depth gained around each loop of the same homology basis -- and become
 ``R22 * periods``: the depth component of the turned jump ``R (0, 0, p)``; its screen
 component is what the projection cannot keep.
 
@@ -34,6 +34,8 @@ from scipy.spatial.transform import Rotation
 from .errors import MescherError
 from .validate import as_float_array, as_vector
 
+#: Integrability residual (times the model's size) above which the turned depths are projected.
+ROUND_OFF_RTOL = 1e-12
 #: Named rotation axes in the camera frame (x right, y up, z toward the viewer).
 AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}
 
@@ -174,7 +176,11 @@ def rotate(
         lost = turned[:, :2] - (xy_new[E[:, 1]] - xy_new[E[:, 0]])
         denom = float(np.sqrt(np.sum(s1[:, None] * turned[:, :2] ** 2)))
         residual = float(np.sqrt(np.sum(s1[:, None] * lost**2))) / denom if denom > 0 else 0.0
-    zeta_new = m._closed_projector(np.ascontiguousarray(turned[:, 2]))
+    # c = R20 d01 x + R21 d01 y + R22 zeta is closed; projected onto the closed forms only when
+    # round-off left more than a trace (the projection's factorization costs more than the turn)
+    zeta_new = np.ascontiguousarray(turned[:, 2])
+    if np.abs(m.d12 @ zeta_new).max(initial=0.0) > ROUND_OFF_RTOL * m.scale():
+        zeta_new = m._closed_projector(zeta_new)
     out = m.with_xy(xy_new).with_zeta(zeta_new)
     new_order = None if order is None else order.follow(out)
     return Turn(out, new_order, R, residual, lost)

@@ -199,3 +199,15 @@ def test_real_model_seen_from_its_view_turns_like_the_mesh(name):
     V, F, _ = load_artist_model(REAL / name)
     C = V @ view_frame(views[name]["view"], views[name]["up"]).T  # camera frame
     _check_equals_turned_mesh(C, F, 9.0, "x")
+
+
+def test_turned_depths_are_closed_and_projection_is_a_no_op(monkeypatch):
+    """c = R20 d01 x + R21 d01 y + R22 zeta is closed: projecting it changes nothing."""
+    import meschers_igl.rotation as rotation
+
+    m = get_model("penrose_stairs").mescher
+    plain = rotate(m, 12.0, "x").mescher
+    assert np.abs(plain.integrability_residual()).max() < 1e-12 * m.scale()
+    monkeypatch.setattr(rotation, "ROUND_OFF_RTOL", -1.0)  # always project
+    projected = rotate(m, 12.0, "x").mescher
+    np.testing.assert_allclose(projected.zeta, plain.zeta, rtol=0, atol=1e-12 * m.scale())
