@@ -27,7 +27,7 @@ import numpy as np
 import pyvista_views
 from meschers_igl.gallery import get_model
 from meschers_igl.lines import line_drawing
-from pyvista_views.draw import to_svg
+from pyvista_views.lineart import to_svg
 
 
 def models():

@@ -21,6 +21,7 @@ from .compare import compare  # noqa: E402
 from .envmap import EnvironmentMap  # noqa: E402
 from .interactive import MescherViewer, plot  # noqa: E402
 from .lights import DirectionalLight  # noqa: E402
+from .lineart import draw  # noqa: E402
 from .polydata import to_polydata  # noqa: E402
 from .render import render  # noqa: E402
 from .scene import Layer, MescherScene, add_embedding, add_mescher, relight  # noqa: E402
@@ -34,6 +35,7 @@ __all__ = [
     "add_embedding",
     "add_mescher",
     "compare",
+    "draw",
     "plot",
     "relight",
     "render",
