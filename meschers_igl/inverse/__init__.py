@@ -13,7 +13,8 @@ install it (``pip install 'meschers[inverse]'``).
   :mod:`~meschers_igl.inverse.metrics`: PSNR, silhouette IoU and period figures of merit.
 - :mod:`~meschers_igl.inverse.picture`: the start from the picture itself (segment, triangulate
   the silhouette with its holes, lift from shading); :mod:`~meschers_igl.inverse.models`: real
-  3D box models of impossible figures whose z-buffered pictures are the acceptance targets.
+  3D box models of impossible figures whose z-buffered pictures are the acceptance targets;
+  :mod:`~meschers_igl.inverse.drawing`: a black-on-white line drawing read as a shaded picture.
 - the command line ``meschers inverse`` lives in the application, :mod:`meschers.inverse_cli`.
 """
 
@@ -53,6 +54,11 @@ _LAZY = {
     "axis_aligned_share": "metrics",
     "mescher_from_picture": "picture",
     "fit_options": "picture",
+    "segment_picture": "picture",
+    "frames_from_creases": "picture",
+    "estimate_light": "picture",
+    "is_line_drawing": "drawing",
+    "shade_drawing": "drawing",
     "penrose_tribar": "models",
     "impossible_cube": "models",
     "penrose_stairs": "models",
