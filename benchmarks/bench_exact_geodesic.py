@@ -104,9 +104,15 @@ def bench(name: str, m: Mescher, n_queries: int, covering: bool) -> tuple:
     pos = np.isfinite(d[0]) & (d[0] > 0)
     err = float(np.mean(np.abs(h - d[0])[pos] / d[0][pos]))
     row = (
-        name, m.n_faces, E.n_windows / m.n_faces, t_q * 1e3, t_ex * 1e3, t_ex / t_q,
-        (t_set + t_ex) / (t_pre + t_q), err,
-    )  # fmt: skip
+        name,
+        m.n_faces,
+        E.n_windows / m.n_faces,
+        t_q * 1e3,
+        t_ex * 1e3,
+        t_ex / t_q,
+        (t_set + t_ex) / (t_pre + t_q),
+        err,
+    )
     print(
         f"{name:22s} {row[1]:7d} {row[2]:8.1f} {row[3]:9.1f} {row[4]:9.1f} {row[5]:8.1f}x "
         f"{row[6]:8.2f}x {err:9.4f}  {'yes' if row[5] <= TARGET else 'no'}",
@@ -127,9 +133,11 @@ def main(argv=None) -> None:
     ap.add_argument("--queries", type=int, default=2)
     ap.add_argument("--check-faces", type=int, default=5000)
     ap.add_argument(
-        "--meshes", nargs="+", default=[*GALLERY, "torus", "impossible_torus"],
+        "--meshes",
+        nargs="+",
+        default=[*GALLERY, "torus", "impossible_torus"],
         help="gallery names, 'torus' and 'impossible_torus'",
-    )  # fmt: skip
+    )
     ap.add_argument("--covering", action="store_true")
     args = ap.parse_args(argv)
     ExactGeodesicSolver(impossible_torus(200)).distance(0)  # warm-up: numba's compile/cache load

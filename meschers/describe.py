@@ -89,7 +89,7 @@ def format_info(info: dict, label: str) -> str:
             }.get(info.get("impossible_kind"), "yes")
             if info["impossible"]
             else "no"
-        ),  # fmt: skip
+        ),
         "  periods: "
         + (
             format_values(periods, 6, round_off_scale(periods, info.get("scale", 0.0)))

@@ -140,8 +140,15 @@ def map_models(
         futures, token = {}, uuid.uuid4().hex[:8]
         for i, item in enumerate(items):
             prio = 0 if priority is None else int(priority[i])
-            fut = client.submit(fn, item, *args, key=f"meschers-study-{token}-{i}", pure=False,
-                                priority=prio, retries=0)  # fmt: skip
+            fut = client.submit(
+                fn,
+                item,
+                *args,
+                key=f"meschers-study-{token}-{i}",
+                pure=False,
+                priority=prio,
+                retries=0,
+            )
             futures[fut] = i
         for fut in distributed.as_completed(list(futures)):
             i = futures[fut]

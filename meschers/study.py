@@ -386,10 +386,15 @@ def _run_parallel(specs, keys, st, jobs, scheduler, progress: bool) -> list[Mode
             advance(f"{keys[i]} done in {res.record.get('runtime_s', 0):.1f} s{fails}")
 
         return map_models(
-            _study_pair, list(zip(specs, keys)), args=(st,), jobs=jobs, scheduler=scheduler,
-            priority=[_cost(s, st) for s in specs], on_done=done,
+            _study_pair,
+            list(zip(specs, keys)),
+            args=(st,),
+            jobs=jobs,
+            scheduler=scheduler,
+            priority=[_cost(s, st) for s in specs],
+            on_done=done,
             on_error=lambda i, exc: failed_result(specs[i], keys[i], exc),
-        )  # fmt: skip
+        )
 
 
 def _study_pair(pair: tuple[ModelSpec, str], st: StudySettings) -> ModelResult:

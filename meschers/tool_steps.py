@@ -21,8 +21,14 @@ from .job import ModelJob
 from .metrics import distance_error, exact_distance, one_source_per_component
 from .settings import ENV_MAP, GEODESIC_CMAP, LIGHTS
 
-__all__ = ["convert", "convert_solid", "periods_and_geodesic", "relight", "run_solid_steps",
-           "run_tool_steps"]  # fmt: skip
+__all__ = [
+    "convert",
+    "convert_solid",
+    "periods_and_geodesic",
+    "relight",
+    "run_solid_steps",
+    "run_tool_steps",
+]
 
 
 def convert(job: ModelJob, spec: ModelSpec) -> tuple:
@@ -64,15 +70,26 @@ def run_solid_steps(job: ModelJob, spec: ModelSpec) -> None:
     m, order, Vcam, F = got
     job.step("relight", "relight", relight, job, spec.name, m, order, Vcam, F, "the model")
     job.step(
-        "periods_geodesic", "periods and geodesic", periods_and_geodesic, job, spec.name, m, order,
+        "periods_geodesic",
+        "periods and geodesic",
+        periods_and_geodesic,
+        job,
+        spec.name,
+        m,
+        order,
         "the model's depth gaps",
-    )  # fmt: skip
+    )
 
 
 def relight(
-    job: ModelJob, name: str, m: Any, order: Any, Vcam: np.ndarray, F: np.ndarray,
+    job: ModelJob,
+    name: str,
+    m: Any,
+    order: Any,
+    Vcam: np.ndarray,
+    F: np.ndarray,
     reference: str = "tool's cut",
-) -> None:  # fmt: skip
+) -> None:
     """The glued mescher and the tool's cut model under the four lights (and the env map)."""
     from pyvista_views.compare import image_agreement
 
@@ -94,11 +111,15 @@ def relight(
         else "the mescher of what the viewer sees (Mescher.from_model, from the model's view)"
     )
     bottom = "the cut model" if reference == "tool's cut" else "the 3D model"
-    job.figure(fig, f"tool_{name}_relight.png", "Render and relight",
+    job.figure(
+        fig,
+        f"tool_{name}_relight.png",
+        "Render and relight",
         f"Top: {top}, drawn in its depth order under four lights and an environment map. Bottom: "
         f"{bottom} itself, z-buffered with the same camera. Numbers: silhouette IoU and the correlation of "
         "the two luminances (0 = black to 1 = white) on pixels covered by both; a model read with "
-        "perceived right angles shades as perceived, not as built.")  # fmt: skip
+        "perceived right angles shades as perceived, not as built.",
+    )
 
 
 def periods_and_geodesic(
@@ -125,10 +146,11 @@ def periods_and_geodesic(
     from meschers_igl.geodesic import shortest_loops
 
     # closed geodesics around the loops with a period, drawn where they are visible
-    loops = [("path", loop, None, {"color": "#d62728", "width": 3,
-                                   "label": format_values([periods[k]])})
-             for k, loop in enumerate(shortest_loops(m))
-             if abs(periods[k]) > 1e-9 * m.scale()]  # fmt: skip
+    loops = [
+        ("path", loop, None, {"color": "#d62728", "width": 3, "label": format_values([periods[k]])})
+        for k, loop in enumerate(shortest_loops(m))
+        if abs(periods[k]) > 1e-9 * m.scale()
+    ]
     flat = job.renderer.shoot([("mescher", m, order, {"shading": "flat"}), *loops], bounds)
     fig = compose([[flat, img]], ["non-zero periods", "geodesic distance"])
     gaps = job.record.get("expected", {}).get("depth_gaps")
@@ -138,10 +160,14 @@ def periods_and_geodesic(
         if "heat_accurate_error" in rec
         else ""
     )
-    job.figure(fig, f"tool_{name}_periods.png", "Periods and geodesic distance",
+    job.figure(
+        fig,
+        f"tool_{name}_periods.png",
+        "Periods and geodesic distance",
         f"Left: homology loops with a non-zero period ({gaps_of}: {gaps_txt}); periods found "
         f"{format_values(periods, scale=round_off_scale(periods, m.scale()))}. Right: heat-method distance (accurate preset) from the white dots (one "
-        f"per connected component) after one midpoint subdivision, with {st.isolines} isolines.{err}")  # fmt: skip
+        f"per connected component) after one midpoint subdivision, with {st.isolines} isolines.{err}",
+    )
 
 
 def run_tool_steps(job: ModelJob, spec: ModelSpec) -> None:

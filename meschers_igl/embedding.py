@@ -180,8 +180,9 @@ def _level_set(m, s: np.ndarray, ef: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return crossed, t, comp_face, int(n)
 
 
-def _free_pieces(m, normal: np.ndarray, c: float, loops: tuple, P: np.ndarray, tol: float, ef,
-                 tiny: float) -> list:  # fmt: skip
+def _free_pieces(
+    m, normal: np.ndarray, c: float, loops: tuple, P: np.ndarray, tol: float, ef, tiny: float
+) -> list:
     """Pieces of the screen line ``normal . xy == c`` where one cut opens every period and
     nothing else of the figure is on screen.
 
@@ -277,15 +278,20 @@ def _split_along(m, s: np.ndarray, t: np.ndarray, on_line: np.ndarray, faces: np
     p_ab, z_ab = at(e_ab, a, za, zb)
     p_ac, z_ac = at(e_ac, a, za, zc)
     # the quad's shorter diagonal gives the better-shaped pair of triangles
-    short = (np.linalg.norm(xy2[p_ab] - xy2[c], axis=1)
-             <= np.linalg.norm(xy2[b] - xy2[p_ac], axis=1))[:, None]  # fmt: skip
+    short = (
+        np.linalg.norm(xy2[p_ab] - xy2[c], axis=1) <= np.linalg.norm(xy2[b] - xy2[p_ac], axis=1)
+    )[:, None]
     tris = [
         (np.stack([a, p_ab, p_ac], 1), np.stack([za, z_ab, z_ac], 1)),
-        (np.where(short, np.stack([p_ab, b, c], 1), np.stack([p_ab, b, p_ac], 1)),
-         np.where(short, np.stack([z_ab, zb, zc], 1), np.stack([z_ab, zb, z_ac], 1))),
-        (np.where(short, np.stack([p_ab, c, p_ac], 1), np.stack([b, c, p_ac], 1)),
-         np.where(short, np.stack([z_ab, zc, z_ac], 1), np.stack([zb, zc, z_ac], 1))),
-    ]  # fmt: skip
+        (
+            np.where(short, np.stack([p_ab, b, c], 1), np.stack([p_ab, b, p_ac], 1)),
+            np.where(short, np.stack([z_ab, zb, zc], 1), np.stack([z_ab, zb, z_ac], 1)),
+        ),
+        (
+            np.where(short, np.stack([p_ab, c, p_ac], 1), np.stack([b, c, p_ac], 1)),
+            np.where(short, np.stack([z_ab, zc, z_ac], 1), np.stack([zb, zc, z_ac], 1)),
+        ),
+    ]
     keep = np.ones(len(F), dtype=bool)
     keep[faces] = False
     Fn = np.concatenate([T for T, _ in tris])
@@ -369,8 +375,10 @@ def straight_cut(
     le = np.unique(Gamma.tocoo().col)  # the loops' edges: intersection numbers need only these
     loops = (le, Gamma[:, le].toarray())
     if not (P.size and np.abs(P).max() > tol):
-        raise MescherError("m: expected an impossible mescher (a non-zero period) to cut, found "
-                           "every period 0; cut_embedding(m) needs no seam")  # fmt: skip
+        raise MescherError(
+            "m: expected an impossible mescher (a non-zero period) to cut, found "
+            "every period 0; cut_embedding(m) needs no seam"
+        )
     xy = np.asarray(m.xy)
     ef = topo.edge_faces(np.asarray(m.face_edges), m.n_edges)
     tiny = 1e-9 * m.scale()
@@ -408,8 +416,10 @@ def straight_cut(
             runs = nxt
         runs_all += [_run(r, normal, square) for r in runs]
     if not runs_all:
-        raise MescherError("m: expected a bar that one straight cut can open alone on screen, "
-                           "found none; use cut_embedding(m) (a cut along mesh edges)")  # fmt: skip
+        raise MescherError(
+            "m: expected a bar that one straight cut can open alone on screen, "
+            "found none; use cut_embedding(m) (a cut along mesh edges)"
+        )
     runs_all.sort(key=lambda r: r[:3], reverse=True)
     if order is None:
         return _cut_at(m, *runs_all[0][3:5], loops, P, tol, ef, tiny)
@@ -418,8 +428,10 @@ def straight_cut(
     # (area-weighted) vertex normals least, then the longer run
     miss = np.round([cut_mismatch(cut, order) for cut in cuts], 4)
     n0 = np.asarray(m.vertex_normals())
-    turn = [np.round(1.0 - (np.asarray(c.mescher.vertex_normals())[: len(n0)] * n0).sum(1).min(), 3)
-            for c in cuts]  # fmt: skip
+    turn = [
+        np.round(1.0 - (np.asarray(c.mescher.vertex_normals())[: len(n0)] * n0).sum(1).min(), 3)
+        for c in cuts
+    ]
     return cuts[int(np.lexsort((np.arange(len(cuts)), turn, miss))[0])]
 
 
@@ -453,8 +465,11 @@ def _cut_at(m, normal, middle, loops, P, tol, ef, tiny) -> StraightCut:
     the middle third of the run."""
     xy = np.asarray(m.xy)
     c_mid, lo, hi, free = middle
-    pieces = [q for q in _free_pieces(m, normal, c_mid, loops, P, tol, ef, tiny)
-              if q[0] <= hi and q[1] >= lo]  # fmt: skip
+    pieces = [
+        q
+        for q in _free_pieces(m, normal, c_mid, loops, P, tol, ef, tiny)
+        if q[0] <= hi and q[1] >= lo
+    ]
     lo, hi, *_, piece, s, t, comp_face = min(pieces, key=lambda q: q[1] - q[0])
     # through vertices of the cut faces near the run's middle, the line that splits the fewest
     # edges where the surface folds (a bar's corners; every edge of a curved surface): a new
@@ -462,8 +477,9 @@ def _cut_at(m, normal, middle, loops, P, tol, ef, tiny) -> StraightCut:
     c = _through_vertices(
         m, normal, c_mid, free / 6, np.flatnonzero(comp_face == piece), lo, hi, tiny
     )
-    again = [q for q in _free_pieces(m, normal, c, loops, P, tol, ef, tiny)
-             if q[0] <= hi and q[1] >= lo]  # fmt: skip
+    again = [
+        q for q in _free_pieces(m, normal, c, loops, P, tol, ef, tiny) if q[0] <= hi and q[1] >= lo
+    ]
     if not again:  # that vertex's line meets something else: the run's middle
         c, again = c_mid, pieces
     lo, hi, jump, piece, s, t, comp_face = min(again, key=lambda q: q[1] - q[0])
@@ -492,8 +508,10 @@ def _through_vertices(m, normal, c_mid, reach, faces, lo, hi, tiny, k: int = 256
     along = xy @ np.array([-normal[1], normal[0]])
     # edges near the piece's segment (both ends within its span, padded by the longest edge)
     pad = float(np.abs(along[E[:, 0]] - along[E[:, 1]]).max())
-    near = np.flatnonzero((np.minimum(along[E[:, 0]], along[E[:, 1]]) <= hi + pad)
-                          & (np.maximum(along[E[:, 0]], along[E[:, 1]]) >= lo - pad))  # fmt: skip
+    near = np.flatnonzero(
+        (np.minimum(along[E[:, 0]], along[E[:, 1]]) <= hi + pad)
+        & (np.maximum(along[E[:, 0]], along[E[:, 1]]) >= lo - pad)
+    )
     s = (xy[E[near]] @ normal)[None, :, :] - cand[:, None, None]  # (k, #near, 2)
     strict = (np.abs(s) > tiny).all(axis=2) & ((s[..., 0] > 0) != (s[..., 1] > 0))
     key = np.stack([(strict & fold[near]).sum(1), strict.sum(1), np.abs(cand - c_mid)], axis=1)

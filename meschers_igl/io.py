@@ -100,10 +100,16 @@ def save(m: Mescher, path: str | os.PathLike, order=None, *, format: str | None 
     if fmt == "npz":
         with open(path, "wb") as fh:  # a file object: numpy adds no suffix to the name
             np.savez(
-                fh, version=np.int64(FORMAT_VERSION), F=m.F, xy=m.xy, edges=m.edges,
-                zeta=m.zeta, order_arcs=arcs, has_order=np.bool_(order is not None),
+                fh,
+                version=np.int64(FORMAT_VERSION),
+                F=m.F,
+                xy=m.xy,
+                edges=m.edges,
+                zeta=m.zeta,
+                order_arcs=arcs,
+                has_order=np.bool_(order is not None),
                 homology=gens,
-            )  # fmt: skip
+            )
     else:
         _write_ply(path, m, arcs, order is not None, gens)
     return path
@@ -177,8 +183,13 @@ _FACE = np.dtype([("n", "u1"), ("a", "<i4"), ("b", "<i4"), ("c", "<i4")])
 _EDGE = np.dtype([("vertex1", "<i4"), ("vertex2", "<i4"), ("zeta", "<f8")])
 _ARC = np.dtype([("back", "<i4"), ("front", "<i4")])
 _HOMOLOGY = np.dtype([("loop", "<i4"), ("edge", "<i4"), ("sign", "i1")])
-_ELEMENTS = {"vertex": _VERTEX, "face": _FACE, "edge": _EDGE, "depth_arc": _ARC,
-             "homology_edge": _HOMOLOGY}  # fmt: skip
+_ELEMENTS = {
+    "vertex": _VERTEX,
+    "face": _FACE,
+    "edge": _EDGE,
+    "depth_arc": _ARC,
+    "homology_edge": _HOMOLOGY,
+}
 
 
 def _write_ply(path: Path, m: Mescher, arcs: np.ndarray, has_order: bool, gens: np.ndarray) -> None:

@@ -177,9 +177,15 @@ class Mescher:
 
     @classmethod
     def from_cut_mesh(
-        cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), tol=None, merge=None,
+        cls,
+        V,
+        F,
+        view=(0.0, 0.0, 1.0),
+        up=(0.0, 1.0, 0.0),
+        tol=None,
+        merge=None,
         return_map=False,
-    ):  # fmt: skip
+    ):
         """The mescher of a cut 3D model seen from ``view`` (paper Sec. 3.5; :mod:`.cutmesh`).
 
         The model is projected orthographically (camera coordinates ``V @ R.T``, ``R`` from
@@ -223,9 +229,16 @@ class Mescher:
 
     @classmethod
     def from_model(
-        cls, V, F, view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0), perceive=None, *,
-        return_report=False, **kwargs,
-    ):  # fmt: skip
+        cls,
+        V,
+        F,
+        view=(0.0, 0.0, 1.0),
+        up=(0.0, 1.0, 0.0),
+        perceive=None,
+        *,
+        return_report=False,
+        **kwargs,
+    ):
         """Any 3D model -- cut models, closed solids, separate blocks, reliefs, soups -- as seen
         from ``view``, by :func:`meschers_igl.obtain.model_to_mescher` (which picks the route:
         a cut model open at a seam whose loops glue is glued there; anything else is seen).
@@ -424,9 +437,10 @@ class Mescher:
     def star0(self) -> sp.dia_matrix:
         """(#V, #V) barycentric vertex areas (one third of the incident face areas)."""
         a = np.bincount(
-            self._F.reshape(-1), weights=np.repeat(self.face_areas() / 3.0, 3),
+            self._F.reshape(-1),
+            weights=np.repeat(self.face_areas() / 3.0, 3),
             minlength=self.n_vertices,
-        )  # fmt: skip
+        )
         return sp.diags(a).tocsr()
 
     @cached_property
@@ -617,9 +631,14 @@ class Mescher:
 
     # ------------------------------------------------------------------ processing
     def subdivide(
-        self, levels: int = 1, scheme: str = "midpoint", order=None,
-        return_matrix: bool = False, return_face_parent: bool = False, force: bool = False,
-    ):  # fmt: skip
+        self,
+        levels: int = 1,
+        scheme: str = "midpoint",
+        order=None,
+        return_matrix: bool = False,
+        return_face_parent: bool = False,
+        force: bool = False,
+    ):
         """1-to-4 subdivision, ``levels`` times (paper Sec. 4.2; :mod:`.subdivision`).
 
         Parameters
@@ -650,9 +669,17 @@ class Mescher:
         S_total = sp.identity(self.n_vertices, format="csr")
         parent_total = np.arange(self.n_faces)
         steps = _sub.subdivide_levels(
-            self._F, self._xy, self._edges, self._face_edges, self._signs, self._zeta,
-            self._generators, levels, scheme, force=force,
-        )  # fmt: skip
+            self._F,
+            self._xy,
+            self._edges,
+            self._face_edges,
+            self._signs,
+            self._zeta,
+            self._generators,
+            levels,
+            scheme,
+            force=force,
+        )
         for lvl in steps:
             m = type(self)._trusted(lvl.F, lvl.xy, lvl.edges, lvl.zeta, lvl.face_edges, lvl.signs)
             m.__dict__["_generators"] = lvl.generators  # the parent's basis, refined

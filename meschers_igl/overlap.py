@@ -130,13 +130,21 @@ def intersection_centroid(
     """
     ox, oy = T[i, 0, 0], T[i, 0, 1]
     A = _ccw6(
-        T[i, 0, 0] - ox, T[i, 0, 1] - oy, T[i, 1, 0] - ox,
-        T[i, 1, 1] - oy, T[i, 2, 0] - ox, T[i, 2, 1] - oy,
-    )  # fmt: skip
+        T[i, 0, 0] - ox,
+        T[i, 0, 1] - oy,
+        T[i, 1, 0] - ox,
+        T[i, 1, 1] - oy,
+        T[i, 2, 0] - ox,
+        T[i, 2, 1] - oy,
+    )
     B = _ccw6(
-        T[j, 0, 0] - ox, T[j, 0, 1] - oy, T[j, 1, 0] - ox,
-        T[j, 1, 1] - oy, T[j, 2, 0] - ox, T[j, 2, 1] - oy,
-    )  # fmt: skip
+        T[j, 0, 0] - ox,
+        T[j, 0, 1] - oy,
+        T[j, 1, 0] - ox,
+        T[j, 1, 1] - oy,
+        T[j, 2, 0] - ox,
+        T[j, 2, 1] - oy,
+    )
     P, Q = buf[0], buf[1]
     for c in range(3):
         P[c, 0], P[c, 1] = A[2 * c], A[2 * c + 1]

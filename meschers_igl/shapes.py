@@ -25,9 +25,13 @@ def _grid_faces(n_u: int, n_v: int, wrap_u: bool, wrap_v: bool) -> np.ndarray:
 
 
 def torus(
-    n_u: int = 48, n_v: int = 16, R: float = 2.0, r: float = 1.0, seam: bool = False,
+    n_u: int = 48,
+    n_v: int = 16,
+    R: float = 2.0,
+    r: float = 1.0,
+    seam: bool = False,
     return_angles: bool = False,
-):  # fmt: skip
+):
     """Torus around the z axis: ``n_u`` segments around the hole, ``n_v`` around the tube.
 
     The project's one torus generator (the gallery's bagel and inverse rendering use it).
@@ -94,17 +98,19 @@ def icosphere(level: int = 2, radius: float = 1.0):
     """Sphere by ``level`` midpoint subdivisions (``igl.upsample``) of an icosahedron."""
     level = as_count(level, "level", 0, 9)  # level 9: 5.2M faces
     t = (1 + 5**0.5) / 2
+    # the icosahedron: vertices (+-1, +-t, 0) and their cyclic shifts, 20 faces (data, not code)
     V = np.array(
-        [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-         [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]],
+        [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t]]
+        + [[0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]],
         dtype=float,
-    )  # fmt: skip
+    )
     F = np.array(
-        [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-         [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-         [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]],
+        (
+            "0 11 5  0 5 1  0 1 7  0 7 10  0 10 11  1 5 9  5 11 4  11 10 2  10 7 6  7 1 8  "
+            "3 9 4  3 4 2  3 2 6  3 6 8  3 8 9  4 9 5  2 4 11  6 2 10  8 6 7  9 8 1"
+        ).split(),
         dtype=np.int64,
-    )  # fmt: skip
+    ).reshape(-1, 3)
     if level > 0:
         V, F = igl.upsample(V, F, level)
     V = radius * V / np.linalg.norm(V, axis=1, keepdims=True)

@@ -81,9 +81,13 @@ def spanning_forest(A: sp.spmatrix, roots: np.ndarray | None = None) -> np.ndarr
         _, label = csgraph.connected_components(A, directed=False)
         roots = np.unique(label, return_index=True)[1]
     _, pred, _ = csgraph.dijkstra(
-        A, directed=False, indices=np.asarray(roots), unweighted=True, min_only=True,
+        A,
+        directed=False,
+        indices=np.asarray(roots),
+        unweighted=True,
+        min_only=True,
         return_predecessors=True,
-    )  # fmt: skip
+    )
     return np.asarray(pred, dtype=np.int64)
 
 

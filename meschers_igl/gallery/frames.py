@@ -122,8 +122,11 @@ def _rigid_back_bar(L: float, w: float, n: int, P: float, a: float):
     in_bar = (np.abs(V[:, 0]) <= w / 2 + 1e-12) & (np.abs(V[:, 1]) <= w / 2 + 1e-12)
     z, eps = V[:, 2], 1e-12
     # the piece: below the upper cut (its lower copy) and above the lower cut (its upper copy)
-    piece = in_bar & (((z > Pb + eps) & (z < P - eps)) | ((np.abs(z - P) <= eps) & (side == 0))
-                      | ((np.abs(z - Pb) <= eps) & (side == 2)))  # fmt: skip
+    piece = in_bar & (
+        ((z > Pb + eps) & (z < P - eps))
+        | ((np.abs(z - P) <= eps) & (side == 0))
+        | ((np.abs(z - Pb) <= eps) & (side == 2))
+    )
     above = in_bar & ((z > P + eps) | (side == 1))
     below = in_bar & ((z < Pb - eps) | ((np.abs(z - Pb) <= eps) & (side == 0)))
     # every cut in a plane containing the view (seen edge-on): each side tilts its own copy,

@@ -45,9 +45,10 @@ def test_cotangents_and_angles_by_hand():
     np.testing.assert_allclose(intrinsic.cotangents(L345)[0], [4 / 3, 3 / 4, 0.0], atol=1e-15)
     np.testing.assert_allclose(intrinsic.half_cotangents(L345)[0], [2 / 3, 3 / 8, 0.0], atol=1e-15)
     np.testing.assert_allclose(
-        intrinsic.corner_angles(L345)[0], [np.arctan(3 / 4), np.arctan(4 / 3), np.pi / 2],
+        intrinsic.corner_angles(L345)[0],
+        [np.arctan(3 / 4), np.arctan(4 / 3), np.pi / 2],
         rtol=1e-15,
-    )  # fmt: skip
+    )
     np.testing.assert_allclose(intrinsic.corner_angles([[1.0, 1.0, 1.0]]), np.pi / 3, rtol=1e-15)
     l, V, F = _random_lengths()
     np.testing.assert_allclose(intrinsic.half_cotangents(l), igl.cotmatrix_entries(l), atol=1e-10)
