@@ -9,6 +9,7 @@ models) and writes an HTML report; the other subcommands each wrap one library c
     meschers convert paradox:penrose_triangle penrose.ply   # a shipped model, written out
     meschers convert model.obj model.ply --view 1,1,1 --up 0,0,1
     meschers render model.ply -o model.png --light 1,1,1 --light -1,0,1
+    meschers draw penrose_triangle -o penrose.svg --hidden dashed   # line art
     meschers geodesic model.ply --source 0 --target 10 -o distance.png
     meschers smooth model.ply -o smooth.ply --t-xy 0.01 --t-zeta 0.01
     meschers subdivide model.ply -o fine.ply --levels 2
@@ -546,6 +547,10 @@ def build_parser() -> argparse.ArgumentParser:
     _add(p, "--size", type=_size, default=(800, 800), metavar="W,H", help=size_help)
     _force(p)
     p.set_defaults(func=_cmd_render)
+
+    from .draw_cli import add_draw_parser  # line art: meschers/draw_cli.py
+
+    add_draw_parser(sub)
 
     p = sub.add_parser("geodesic", help="geodesic distance (heat method or exact) and a shortest path", formatter_class=raw,
                        description="Geodesic distance from source vertices (heat method, or exact), optionally a shortest "
