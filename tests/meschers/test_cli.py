@@ -35,7 +35,17 @@ def _paradox_dir() -> Path | None:
 
 
 DATA = _paradox_dir()
-SUBCOMMANDS = ("study", "info", "convert", "render", "geodesic", "smooth", "subdivide", "view")
+SUBCOMMANDS = (
+    "study",
+    "info",
+    "convert",
+    "render",
+    "geodesic",
+    "smooth",
+    "subdivide",
+    "view",
+    "studio",
+)
 
 
 def _gl() -> bool:
