@@ -40,6 +40,7 @@ SUBCOMMANDS = (
     "info",
     "convert",
     "render",
+    "draw",
     "geodesic",
     "smooth",
     "subdivide",
