@@ -713,7 +713,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"{PROG}: error: {msg}", file=sys.stderr)
         return 2
     except ImportError as exc:  # an optional dependency (torch, a display backend) is missing
-        print(f"{PROG}: error: {str(exc).splitlines()[0] if str(exc) else exc!r}", file=sys.stderr)
+        msg = str(exc).splitlines()[0] if str(exc) else repr(exc)
+        print(f"{PROG}: error: {msg}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # 'meschers info x | head': the reader left, nothing to report
         import os

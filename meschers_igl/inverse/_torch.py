@@ -9,7 +9,10 @@ from __future__ import annotations
 from types import ModuleType
 
 #: how to get PyTorch; the CPU wheel is enough for everything in this package
-INSTALL_HINT = "pip install 'meschers[inverse]' (CPU: pip install torch==2.13.0)"
+INSTALL_HINT = (
+    "pip install torch==2.13.0 (the CPU build, first, so that nothing asks for a CUDA build), "
+    "then pip install 'meschers[inverse]'"
+)
 
 
 def require_torch() -> ModuleType:

@@ -527,3 +527,22 @@ def test_info_says_a_figure_is_impossible_through_its_order(name, capsys):
 def test_info_says_a_figure_is_impossible_through_its_periods(capsys):
     assert main(["info", "penrose_triangle"]) == 0
     assert "impossible: yes (periods" in capsys.readouterr().out
+
+
+def test_the_no_torch_message_is_plain_and_names_torch_first(capsys, monkeypatch):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_torch(name, *args, **kwargs):
+        if name == "torch" or name.startswith("torch."):
+            raise ModuleNotFoundError("No module named 'torch'", name="torch")
+        return real_import(name, *args, **kwargs)
+
+    for mod in [m for m in sys.modules if m.startswith("meschers_igl.inverse.")]:
+        monkeypatch.delitem(sys.modules, mod)
+    monkeypatch.setattr(builtins, "__import__", no_torch)
+    assert main(["inverse", "target.png", "--light", "0,0,1", "--out", "fit"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("meschers: error: meschers_igl.inverse needs PyTorch")  # no quotes
+    assert err.index("pip install torch==2.13.0") < err.index("meschers[inverse]")
