@@ -384,14 +384,7 @@ def straight_cut(
     tiny = 1e-9 * m.scale()
     # line normals along the figure's main screen edge directions (a bar is cut square to
     # its edges), then evenly spaced ones
-    ev = xy[m.edges[:, 1]] - xy[m.edges[:, 0]]
-    ang = np.mod(np.arctan2(ev[:, 1], ev[:, 0]), np.pi)
-    length = np.linalg.norm(ev, axis=1)
-    bins = np.round(np.degrees(ang)).astype(np.int64) % 180
-    hist = np.bincount(bins, weights=length, minlength=180)
-    main = np.argsort(hist)[::-1][:6]
-    main = main[hist[main] >= 0.05 * hist.sum()]
-    thetas = [float(np.average(ang[bins == b], weights=length[bins == b])) for b in main]
+    thetas = _main_directions(xy, np.asarray(m.edges))
     n_main = len(thetas)
     thetas += list(np.pi * np.arange(directions) / directions)
     runs_all = []  # see _run
@@ -433,6 +426,19 @@ def straight_cut(
         for c in cuts
     ]
     return cuts[int(np.lexsort((np.arange(len(cuts)), turn, miss))[0])]
+
+
+def _main_directions(xy: np.ndarray, edges: np.ndarray) -> list[float]:
+    """The figure's main screen edge directions (angles in ``[0, pi)``): the 1-degree bins
+    holding at least 5% of the total edge length, at most six, longest first."""
+    ev = xy[edges[:, 1]] - xy[edges[:, 0]]
+    ang = np.mod(np.arctan2(ev[:, 1], ev[:, 0]), np.pi)
+    length = np.linalg.norm(ev, axis=1)
+    bins = np.round(np.degrees(ang)).astype(np.int64) % 180
+    hist = np.bincount(bins, weights=length, minlength=180)
+    main = np.argsort(hist)[::-1][:6]
+    main = main[hist[main] >= 0.05 * hist.sum()]
+    return [float(np.average(ang[bins == b], weights=length[bins == b])) for b in main]
 
 
 def _run(r: list, normal: np.ndarray, square: bool) -> tuple:

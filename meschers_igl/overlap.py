@@ -281,22 +281,7 @@ def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndar
 
 
 @njit(cache=True)
-def grid_overlaps(
-    T: np.ndarray,
-    ok: np.ndarray,
-    lo: np.ndarray,
-    hi: np.ndarray,
-    origin: np.ndarray,
-    h: float,
-    c0: np.ndarray,
-    c1: np.ndarray,
-    ny: int,
-    ncell: int,
-    tol: float,
-    narrow: bool,
-    centroids: bool,
-    group: np.ndarray,
-):
+def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, centroids, group):
     """All pairs of triangles whose boxes (and, with ``narrow``, whose triangles) overlap.
 
     Parameters
