@@ -170,3 +170,14 @@ def test_licence_citation_and_typing_markers():
     for pkg in ("meschers_igl", "pyvista_views", "meshlab_filters", "meschers"):
         assert (ROOT / pkg / "py.typed").is_file(), pkg
         assert "py.typed" in package_data[pkg], pkg
+
+
+def test_the_docs_index_caption_names_every_row_of_its_gallery_figure():
+    from meschers_igl.gallery import list_models
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "index.rst").read_text()
+    caption = text[text.index("images/gallery.png") :].split("\n\n", 2)[1]
+    words = " ".join(caption.split()).lower()
+    for name in list_models():
+        first = name.replace("_", " ").split()[0]
+        assert first.lower() in words.replace("ä", "a"), f"{name} missing from the caption"
