@@ -63,38 +63,36 @@ class DrawingReading:
 
 
 def is_line_drawing(
-    target: np.ndarray, background=(1.0, 1.0, 1.0), ink: float = 0.5, mid: float = 0.03
+    target: np.ndarray, background=(1.0, 1.0, 1.0), black: float = 0.1, thin_px: int = 2
 ) -> bool:
-    """Whether a picture is dark lines on a light ground rather than shaded faces.
+    """Whether a picture is black lines on a light ground rather than shaded faces.
 
-    True when the pixels unlike the ground are mostly dark (grey under ``ink``), at most
-    ``mid`` of them in the middle greys ``(0.3, 0.75)`` (anti-aliased line edges), the ground
-    is light, and the lines leave some paper inside their outline (they are lines, not a
-    dark silhouette).
+    True when the ground is light, most of the pixels unlike it (60%) are near black (grey
+    under ``black``; a face in shadow keeps the ambient light), they are thin (an erosion by
+    ``thin_px`` pixels leaves under 15% of them: lines, not faces), and the lines enclose
+    paper inside the figure's outline.
 
     Parameters
     ----------
     target : (H, W, 3) float in [0, 1]
     background : (3,) float
-    ink : float
-    mid : float
+    black : float
+    thin_px : int
     """
+    from scipy import ndimage
+
     t = np.asarray(target, dtype=np.float64)
-    if float(np.mean(background)) < 0.75:
+    if t.ndim != 3 or float(np.mean(background)) < 0.75:
         return False
     mask = target_mask(t, background)
     if mask.sum() < 16:
         return False
-    grey = t.mean(axis=-1)[mask]
-    dark = grey < ink
-    midtone = (grey > 0.3) & (grey < 0.75)
-    if dark.mean() < 0.8 or midtone.mean() > mid:
+    if (t.mean(axis=-1)[mask] < black).mean() < 0.6:
         return False
-    # lines enclose paper: the figure's filled outline holds light pixels that are not ground
-    from scipy import ndimage
-
+    if ndimage.binary_erosion(mask, iterations=thin_px).sum() > 0.15 * mask.sum():
+        return False
     filled = ndimage.binary_fill_holes(mask)
-    return bool((filled & ~mask).sum() > mask.sum() * 0.5)
+    return bool((filled & ~mask).sum() > 0.5 * mask.sum())
 
 
 def _line_directions(lines, polys, piece_region, n_regions: int, min_sep_deg: float = 20.0):

@@ -56,6 +56,14 @@ def test_drawings_are_told_from_pictures(tribar_drawing):
     blob = np.ones((40, 40, 3))
     blob[8:32, 8:32] = 0.0
     assert not drw.is_line_drawing(blob)
+    # a frame of bars in shadow: dark faces around a hole, but wide, or not black
+    frame = np.ones((64, 64, 3))
+    frame[8:56, 8:56] = 0.05
+    frame[20:44, 20:44] = 1.0
+    assert not drw.is_line_drawing(frame)
+    frame[frame < 0.5] = 0.2
+    frame[8:56:3, 8:56] = np.where(frame[8:56:3, 8:56] < 0.5, 0.2, 1.0)
+    assert not drw.is_line_drawing(frame)
 
 
 @pytest.mark.parametrize("res", [128, 256, 384])
