@@ -212,7 +212,8 @@ def _cmd_convert(args: argparse.Namespace) -> int:
         up = args.up or model.up or (0.0, 1.0, 0.0)
         m, order, report = model_to_mescher(model.path, view=view, up=up, perceive=args.perceive,
                                             merge_tol=args.merge_tol, tol=args.tol,
-                                            route="seen" if args.visible else "auto")  # fmt: skip
+                                            route="seen" if args.visible else "auto",
+                                            view_start=args.view_start)  # fmt: skip
         print(report)
     io.save(m, out, order=order)
     _print_info(describe(m, order), f"wrote {out}")
@@ -515,6 +516,9 @@ def build_parser() -> argparse.ArgumentParser:
          ".json's, else 0,0,1); 'auto': the view where the model's junctions line up")  # fmt: skip
     _add(p, "--up", type=lambda s: _vector(s, "--up"), default=None, metavar="X,Y,Z",
          help="screen up (default: the sidecar .json's, else 0,1,0)")  # fmt: skip
+    _add(p, "--view-start", type=lambda s: _vector(s, "--view-start"), default=None,
+         metavar="X,Y,Z", help="with --view auto: a view near the intended one (searched within "
+         "10 degrees of it)")  # fmt: skip
     _add(p, "--tol", type=float, default=None, metavar="T",
          help="gluing tolerance relative to the model's size (default: automatic)")  # fmt: skip
     _add(p, "--visible", action="store_true",

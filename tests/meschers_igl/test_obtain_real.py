@@ -159,3 +159,24 @@ def test_the_relief_suggests_and_takes_perceived_right_angles():
     assert not m.is_impossible() and any("perceive='manhattan'" in w for w in report.warnings)
     m, _, report = _quiet(V, F, view=d["view"], up=d["up"], perceive="manhattan")
     assert m.is_impossible() and report.snapped is not None
+
+
+@needs_real
+def test_cli_convert_takes_the_door_and_a_view_start(tmp_path, capsys):
+    """``meschers convert FILE --view X`` on a closed solid is seen from the view (not refused
+    as a cut model, not silently possible); ``--view auto --view-start`` finds the junction
+    near a rough guess; ``--view-start`` without auto is one error line."""
+    pytest.importorskip("pymeshlab")
+    from meschers.cli import main
+
+    _, _, d = _real("PenroseTriangle.obj")
+    src, out = str(REAL / "PenroseTriangle.obj"), str(tmp_path / "pt.npz")
+    view = ",".join(f"{x:.6f}" for x in d["view"])
+    assert main(["convert", src, out, f"--view={view}", "--up=0,1,0"]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("route: visible (no open seam") and "impossible: yes" in text
+    assert main(["convert", src, out, "--view", "auto", "--view-start=0.55,-0.6,0.58"]) == 0
+    assert "depth gap 13.8564" in capsys.readouterr().out
+    assert main(["convert", src, out, "--view-start=0.55,-0.6,0.58"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("meschers: error: view_start:") and "\n" not in err
