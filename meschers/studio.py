@@ -263,8 +263,9 @@ class StudioModel:
         from pyvista_views import render
 
         m, order = self.current()
-        img = render(m, order, lights=[self.light], window_size=(self.size, self.size),
-                     bounds=self.bounds)  # fmt: skip
+        img = render(
+            m, order, lights=[self.light], window_size=(self.size, self.size), bounds=self.bounds
+        )
         F = np.asarray(m.F)
         strokes = []  # (overlay keyword, items, faces the drawing lies on)
         if self.n_loops and self.loop < self.n_loops:
@@ -323,14 +324,16 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
     """Lay out the studio page for ``model``; returns ``(server, layout)``."""
     _require_trame()
     from trame.app import get_server
-    from trame.ui.vuetify3 import SinglePageWithDrawerLayout
-    from trame.widgets import html
-    from trame.widgets import vuetify3 as v3
 
     if server is None:
         server = get_server(f"meschers-studio-{id(model)}", client_type="vue3")
+    _bind(model, server)
+    return server, _layout(model, server)
+
+
+def _bind(model: StudioModel, server: Any) -> None:
+    """The page's state and what each control does to ``model``."""
     state, ctrl = server.state, server.controller
-    span = float(np.max(np.abs(model.base_periods), initial=0.0)) or 0.5 * model.base.scale()
 
     def refresh(message: str | None = None, error: bool = False) -> None:
         state.image = model.image_url()
@@ -351,6 +354,7 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
         state.loops = [f"loop {i + 1}" for i in range(model.n_loops)]
         state.loop = model.loop
         state.period = float(model.periods[model.loop]) if model.n_loops else 0.0
+        span = float(np.max(np.abs(model.base_periods), initial=0.0)) or 0.5 * model.base.scale()
         state.period_span = float(max(3 * span, 1e-9))
         state.t_xy = state.t_zeta = 0.0
         state.title = f"meschers studio - {model.label}"
@@ -413,6 +417,14 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
         guarded(reset)()
 
     refresh()
+
+
+def _layout(model: StudioModel, server: Any) -> Any:
+    """The page: controls in a drawer, the picture and two lines of text beside it."""
+    from trame.ui.vuetify3 import SinglePageWithDrawerLayout
+    from trame.widgets import html
+    from trame.widgets import vuetify3 as v3
+
     with SinglePageWithDrawerLayout(server, full_height=True) as layout:
         layout.title.set_text(model.label)
         layout.title.children = ["{{ title }}"]
@@ -420,38 +432,41 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
             drawer.width = 330
             with v3.VContainer(classes="pa-3"):
                 html.Div("Drag on the figure to", classes="text-subtitle-2")
-                with v3.VBtnToggle(v_model=("mode",), mandatory=True, density="compact",
-                                   color="primary", id="mode"):  # fmt: skip
+                with v3.VBtnToggle(
+                    v_model=("mode",), mandatory=True, density="compact", color="primary", id="mode"
+                ):
                     v3.VBtn("light", value="light", id="mode-light")
                     v3.VBtn("turn", value="turn", id="mode-turn")
                     v3.VBtn("path", value="path", id="mode-path")
-                v3.VBtn("turn back to 0 deg", click="trigger('reset_turn')", size="small",
-                        variant="text", id="reset-turn")  # fmt: skip
+                v3.VBtn(
+                    "turn back to 0 deg",
+                    click="trigger('reset_turn')",
+                    size="small",
+                    variant="text",
+                    id="reset-turn",
+                )
                 html.Div("Smooth (time x size^2)", classes="text-subtitle-2 mt-3")
-                v3.VSlider(v_model=("t_xy",), min=0, max=0.01, step=0.0005, label="xy",
-                           thumb_label=True, hide_details=True, id="smooth-xy")  # fmt: skip
-                v3.VSlider(v_model=("t_zeta",), min=0, max=0.05, step=0.0025, label="depth",
-                           thumb_label=True, hide_details=True, id="smooth-zeta")  # fmt: skip
-                html.Div("Paint a period", classes="text-subtitle-2 mt-3")
-                v3.VSelect(v_model=("loop",), items=("loops.map((t, i) => ({title: t, value: i}))",),
-                           density="compact", hide_details=True, id="loop",
-                           disabled=("loops.length == 0",))  # fmt: skip
-                v3.VSlider(v_model=("period",), min=("-period_span",), max=("period_span",),
-                           step=("period_span / 200",), hide_details=True, id="period-slider",
-                           disabled=("loops.length == 0",))  # fmt: skip
-                v3.VTextField(v_model_number=("period",), type="number", label="period",
-                              density="compact", hide_details=True, id="period",
-                              disabled=("loops.length == 0",))  # fmt: skip
-                html.Div("Files", classes="text-subtitle-2 mt-3")
-                v3.VTextField(v_model=("save_path",), label="save as (.ply / .npz)",
-                              density="compact", hide_details=True, id="save-path")  # fmt: skip
-                v3.VBtn("Save", click="trigger('save')", color="primary", size="small",
-                        classes="mt-1", id="save")  # fmt: skip
-                v3.VTextField(v_model=("load_path",), label="load (file or gallery name)",
-                              density="compact", hide_details=True, classes="mt-2",
-                              id="load-path")  # fmt: skip
-                v3.VBtn("Load", click="trigger('load')", size="small", classes="mt-1",
-                        id="load")  # fmt: skip
+                v3.VSlider(
+                    v_model=("t_xy",),
+                    min=0,
+                    max=0.01,
+                    step=0.0005,
+                    label="xy",
+                    thumb_label=True,
+                    hide_details=True,
+                    id="smooth-xy",
+                )
+                v3.VSlider(
+                    v_model=("t_zeta",),
+                    min=0,
+                    max=0.05,
+                    step=0.0025,
+                    label="depth",
+                    thumb_label=True,
+                    hide_details=True,
+                    id="smooth-zeta",
+                )
+                _period_and_file_controls()
         with layout.content:
             with v3.VContainer(fluid=True, classes="pa-2"):
                 html.Img(
@@ -465,9 +480,72 @@ def build_page(model: StudioModel, server: Any = None) -> tuple[Any, Any]:
                     "[$event.target.clientWidth, $event.target.clientHeight]])",
                 )
                 html.Div("{{ summary }}", id="summary", classes="text-body-2 mt-1")
-                html.Div("{{ status }}", id="status", classes="text-body-2",
-                         style=("status_error ? 'color: #c00' : 'color: #333'",))  # fmt: skip
-    return server, layout
+                html.Div(
+                    "{{ status }}",
+                    id="status",
+                    classes="text-body-2",
+                    style=("status_error ? 'color: #c00' : 'color: #333'",),
+                )
+    return layout
+
+
+def _period_and_file_controls() -> None:
+    """Drawer controls: the loop and its period, then Save and Load (inside a container)."""
+    from trame.widgets import html
+    from trame.widgets import vuetify3 as v3
+
+    html.Div("Paint a period", classes="text-subtitle-2 mt-3")
+    v3.VSelect(
+        v_model=("loop",),
+        items=("loops.map((t, i) => ({title: t, value: i}))",),
+        density="compact",
+        hide_details=True,
+        id="loop",
+        disabled=("loops.length == 0",),
+    )
+    v3.VSlider(
+        v_model=("period",),
+        min=("-period_span",),
+        max=("period_span",),
+        step=("period_span / 200",),
+        hide_details=True,
+        id="period-slider",
+        disabled=("loops.length == 0",),
+    )
+    v3.VTextField(
+        v_model_number=("period",),
+        type="number",
+        label="period",
+        density="compact",
+        hide_details=True,
+        id="period",
+        disabled=("loops.length == 0",),
+    )
+    html.Div("Files", classes="text-subtitle-2 mt-3")
+    v3.VTextField(
+        v_model=("save_path",),
+        label="save as (.ply / .npz)",
+        density="compact",
+        hide_details=True,
+        id="save-path",
+    )
+    v3.VBtn(
+        "Save",
+        click="trigger('save')",
+        color="primary",
+        size="small",
+        classes="mt-1",
+        id="save",
+    )
+    v3.VTextField(
+        v_model=("load_path",),
+        label="load (file or gallery name)",
+        density="compact",
+        hide_details=True,
+        classes="mt-2",
+        id="load-path",
+    )
+    v3.VBtn("Load", click="trigger('load')", size="small", classes="mt-1", id="load")
 
 
 def check_port(host: str, port: int) -> int:
@@ -482,12 +560,18 @@ def check_port(host: str, port: int) -> int:
                 f"--port: expected a free port on {host}, found {port} in use (another studio "
                 "or server?); choose another with --port, or --port 0 for any free port"
             ) from None
-        raise MescherError(f"--host: expected an address of this machine, found {host!r} "
-                           f"({exc.strerror})") from None  # fmt: skip
+        raise MescherError(
+            f"--host: expected an address of this machine, found {host!r} ({exc.strerror})"
+        ) from None
 
 
-def serve(spec: str | None = None, host: str = "127.0.0.1", port: int = 8080,
-          open_browser: bool = False, size: int = IMAGE_SIZE) -> int:  # fmt: skip
+def serve(
+    spec: str | None = None,
+    host: str = "127.0.0.1",
+    port: int = 8080,
+    open_browser: bool = False,
+    size: int = IMAGE_SIZE,
+) -> int:
     """Serve the studio for model ``spec`` until Ctrl-C; returns 0.
 
     The port is checked first (a clear :class:`MescherError` when it is taken); nothing is
@@ -500,8 +584,14 @@ def serve(spec: str | None = None, host: str = "127.0.0.1", port: int = 8080,
     server, _ = build_page(model)
     print(f"meschers studio: {label} at http://{host}:{port}/ (Ctrl-C to stop)", flush=True)
     try:
-        server.start(port=port, host=host, open_browser=open_browser, show_connection_info=False,
-                     disable_logging=True, timeout=0)  # fmt: skip
+        server.start(
+            port=port,
+            host=host,
+            open_browser=open_browser,
+            show_connection_info=False,
+            disable_logging=True,
+            timeout=0,
+        )
     except KeyboardInterrupt:
         pass
     print("meschers studio: stopped", flush=True)
@@ -518,8 +608,9 @@ def notebook(spec: str | None = None, size: int = IMAGE_SIZE) -> Any:
 
 def main_studio(args: Any) -> int:
     """``meschers studio`` (see :func:`add_parser`)."""
-    return serve(args.model, host=args.host, port=args.port, open_browser=args.open,
-                 size=args.image_size)  # fmt: skip
+    return serve(
+        args.model, host=args.host, port=args.port, open_browser=args.open, size=args.image_size
+    )
 
 
 def add_parser(sub: Any, **kwargs: Any) -> Any:
@@ -532,14 +623,23 @@ def add_parser(sub: Any, **kwargs: Any) -> Any:
         "of a model that embeds. Nothing is written except by the page's Save button.",
         **kwargs,
     )
-    p.add_argument("model", nargs="?", default=None, metavar="MODEL",
-                   help="gallery name, paradox:NAME, .ply/.npz mescher or mesh with a sidecar "
-                        f"view (default: a {DEFAULT_MODEL} that embeds)")  # fmt: skip
+    p.add_argument(
+        "model",
+        nargs="?",
+        default=None,
+        metavar="MODEL",
+        help="gallery name, paradox:NAME, .ply/.npz mescher or mesh with a sidecar "
+        f"view (default: a {DEFAULT_MODEL} that embeds)",
+    )
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default %(default)s)")
     p.add_argument("--port", type=int, default=8080, help="port (default %(default)s; 0: any free)")
     p.add_argument("--open", action="store_true", help="open a browser on the page")
-    p.add_argument("--image-size", type=int, default=IMAGE_SIZE,
-                   help="pixels of the rendered picture (default %(default)s)")  # fmt: skip
+    p.add_argument(
+        "--image-size",
+        type=int,
+        default=IMAGE_SIZE,
+        help="pixels of the rendered picture (default %(default)s)",
+    )
     p.set_defaults(func=main_studio)
     return p
 
