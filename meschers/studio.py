@@ -96,6 +96,12 @@ def light_from_pointer(u: float, v: float) -> np.ndarray:
     return np.array([p[0], p[1], np.sqrt(max(0.0, 1.0 - p @ p))])
 
 
+def _periods_text(m: Any) -> str:
+    """Periods to 4 digits, those at round-off of the model's size as 0."""
+    tol = IMPOSSIBLE_RTOL * m.scale()
+    return ", ".join(f"{x:.4g}" if abs(x) > tol else "0" for x in m.periods())
+
+
 class StudioModel:
     """The studio's state and operations (everything but the web page).
 
@@ -250,7 +256,7 @@ class StudioModel:
             raise MescherError(f"save path: expected an existing folder, found {str(p.parent)!r}")
         m, order = self.current()
         save(m, p, order=order)
-        return f"saved {p} ({m.n_faces} faces, periods {np.round(m.periods(), 4).tolist()})"
+        return f"saved {p} ({m.n_faces} faces, periods ({_periods_text(m)}))"
 
     def load(self, spec: str) -> str:
         m, order, label = load_model(str(spec).strip())
@@ -313,8 +319,7 @@ class StudioModel:
 
     def summary(self) -> str:
         m, _ = self.current()
-        tol = IMPOSSIBLE_RTOL * m.scale()
-        p = ", ".join(f"{x:.4g}" if abs(x) > tol else "0" for x in m.periods()) or "none"
+        p = _periods_text(m) or "none"
         word = "impossible" if m.is_impossible() else "possible"
         return f"{self.label}: {m.n_faces} faces, periods ({p}), {word}"
 
