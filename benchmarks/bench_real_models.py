@@ -9,7 +9,7 @@ model from the same view (``pyvista_views.compare.image_agreement``), and the ti
 conversion (``meshlab_filters.model_to_mescher``: loading and clean-up included).  As a
 yardstick measured in the same run, the z-buffer render of the model itself.
 
-    python benchmarks/bench_real_models.py [FOLDER] [--size 160] [--save DIR]
+    python benchmarks/bench_real_models.py FOLDER [--size 160] [--save DIR]
 """
 
 from __future__ import annotations
@@ -98,7 +98,9 @@ def _row(path, given, gaps, auto, size, save_dir, perceive=None):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("folder", nargs="?", default="../shared/real_models")
+    ap.add_argument("folder", nargs="?", default=os.environ.get("MESCHERS_REAL_MODELS", "."),
+                    help="a folder of model files with their views.json (default: "
+                    "$MESCHERS_REAL_MODELS, else the current folder)")  # fmt: skip
     ap.add_argument("--size", type=int, default=160, help="render size in pixels")
     ap.add_argument("--save", default=None, help="folder for z-buffer | mescher pictures")
     a = ap.parse_args(argv)

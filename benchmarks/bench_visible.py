@@ -1,4 +1,4 @@
-"""Speed of converting a closed 3D model seen from its view (issue 18: <= 10 s at 100k faces).
+"""Speed of converting a closed 3D model seen from its view (the bar: <= 10 s at 100k faces).
 
 The model is the gallery's Penrose tribar cut model at high resolution, capped at its two open
 ends (a closed U-shaped solid whose ends line up on screen).  Prints the conversion time
@@ -67,7 +67,7 @@ def main(argv=None):
         print(f"  model_to_mescher, {what}:")
         print(f"    {t_conv:8.3f} s = {t_conv / t_cot:6.1f} x cotmatrix -> {m.n_faces} faces, "
               f"period {p.max():.6f} (built with {gap:.6f}), {order.n_arcs} arcs")  # fmt: skip
-    print(f"  bar (issue 18)   : <= 10 s at 100k faces on 2 cores -> "
+    print(f"  bar              : <= 10 s at 100k faces on 2 cores -> "
           f"{'OK' if worst <= 10.0 else 'TOO SLOW'}")  # fmt: skip
 
 

@@ -1,4 +1,4 @@
-"""Two ways a mescher is impossible, and which one holds (issue 18 item 7).
+"""Two ways a mescher is impossible, and which one holds.
 
 1. **Through zeta**: ``zeta`` does not integrate around some loop (a period is non-zero,
    ``omega != 0``); no height function exists at all (the Penrose triangle).

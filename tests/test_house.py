@@ -34,7 +34,6 @@ HISTORY = re.compile(
 PENDING: dict[str, set[str]] = {
     "history": {
         "meschers/inverse_cli.py",
-        "meschers_igl/impossibility.py",
         "meschers_igl/inverse/picture.py",
         "meschers_igl/inverse/rasterizer.py",
         "meshlab_filters/meshset.py",

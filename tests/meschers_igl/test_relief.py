@@ -1,4 +1,4 @@
-"""A Reutersvärd relief (issue 18 items 2 and 6): possible in 3D, impossible as a person reads it.
+"""A Reutersvärd relief: possible in 3D, impossible as a person reads it.
 
 The relief is built in ``relief_models`` (cubes sheared along the view and compressed in depth,
 welded into a real closed torus), never by the code under test.  Its perceived climb per turn,

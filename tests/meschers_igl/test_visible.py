@@ -1,4 +1,4 @@
-"""Models as artists make them, seen from their view (issue 18): closed solids, separate blocks,
+"""Models as artists make them, seen from their view: closed solids, separate blocks,
 hidden gaps, welded quads and unwelded STL soups.
 
 The models are built here (``visible_models``: convex blocks from half-spaces, written as OBJ
@@ -268,7 +268,7 @@ def test_auto_view_lines_up_a_hidden_gap(name):
     """The pieces of a bar broken behind an occluder line up only for views in the plane of the
     bar and the pieces' offset (one circle); along it the artist centred the crossing bar on
     the gap.  From the model alone and from views 3 degrees off, the view comes back to
-    round-off (the issue's bar: 0.1 degree) and the period is the gap."""
+    round-off (the bar: 0.1 degree) and the period is the gap."""
     V, P, gap = MODELS[name]()
     F = triangulate(P)
     starts = [None] + [_tilted(ISO_VIEW, 3.0, seed) for seed in range(3)]
@@ -320,7 +320,7 @@ def test_auto_view_recovers_the_shipped_paradox_views():
             warnings.simplefilter("ignore", MescherWarning)
             report = see_model(V, F, view="auto").report
         worst = max(worst, np.degrees(np.arccos(np.clip(report.view @ ref, -1, 1))))
-    assert worst < 0.1  # the issue's bar; measured: ~6e-6 degrees (float32 files)
+    assert worst < 0.1  # the bar; measured: ~6e-6 degrees (float32 files)
 
 
 def test_bad_input_names_what_was_found():
@@ -439,7 +439,7 @@ def test_bad_files_are_repaired_and_reported_or_refused(tmp_path):
 
 def test_shipped_cut_models_seen_from_their_view():
     """All 18 shipped ParadoxToolkit cut models through from_model give the cut-model path's
-    surface and periods (issue 18): the hidden side is kept and the cut loops are glued
+    surface and periods: the hidden side is kept and the cut loops are glued
     crosswise, so the impossible cubes (whose loop passes behind a corner, invisible on the
     visible surface) and the block figures (12 separate boxes, impossible through their order
     only) come out as the tool meant.  Regression: a bridge polygon that was not simple raised

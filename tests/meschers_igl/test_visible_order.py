@@ -1,4 +1,4 @@
-"""Impossible through the depth order (issue 18 item 7): m.is_impossible(order=...)."""
+"""Impossible through the depth order m.is_impossible(order=...)."""
 
 from __future__ import annotations
 

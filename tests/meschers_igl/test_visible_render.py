@@ -1,4 +1,4 @@
-"""Models seen from their view render like their z-buffered 3D model (issue 18 item 6).
+"""Models seen from their view render like their z-buffered 3D model.
 
 The oracle is PyVista's z-buffer of the real 3D model in camera coordinates
 (``pyvista_views.render((V_camera, F))``: same camera, same lights); the mescher is drawn by

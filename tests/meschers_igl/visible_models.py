@@ -299,7 +299,7 @@ def box_block(lo, hi):
 
 def hidden_gap_cube(L=6.0, t=1.0, hole=0.6, split=0.5):
     """The impossible cube as a real closed frame whose impossible bar is broken behind a
-    crossing bar (issue 18's "closed genus-3 frame"), seen along (1, 1, 1).
+    crossing bar (a "closed genus-3 frame"), seen along (1, 1, 1).
 
     A box frame has 12 square bars over the corners {0, L}^3; seen along the diagonal its near
     corner N = (L, L, L) and far corner O = 0 coincide on screen.  The impossible cube replaces

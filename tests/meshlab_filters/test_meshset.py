@@ -171,7 +171,7 @@ def test_meshset_errors():
 
 
 def test_meshset_round_trip_in_a_fresh_interpreter(tmp_path):
-    """Issue 9: a MeshSet round trip keeps the mescher exactly, with nothing imported by hand."""
+    """A MeshSet round trip keeps the mescher exactly, with nothing imported by hand."""
     import subprocess
     import sys
 
