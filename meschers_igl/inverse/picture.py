@@ -152,7 +152,8 @@ def segment_picture(
         raise MescherError(
             "target: expected three face orientations of distinct shades (a figure of boxes "
             f"under one light), found {found} distinct shade(s) (two orientations of one shade, e.g. both turned "
-            "away from the light, cannot be told apart; try a picture lit from another side)"
+            "away from the light, cannot be told apart, nor a face as light as the ground; try "
+            "a picture lit from another side or on another ground)"
         )
     labels = np.full(H * W, -1, dtype=np.int64)
     labels[mask.ravel()] = grp[cinv]
