@@ -9,12 +9,11 @@ propagation against ``igl.exact_geodesic`` (and its time ratio to it).  Then, on
 
 * exact: ``ExactGeodesicSolver(m)`` once (set-up) and ``.distance(s)`` per query
   (:mod:`meschers_igl.geodesic.exact`: window propagation on the intrinsic mesh, numba; the
-  compile is excluded by a warm-up call on a small mesh); with ``--covering`` also the old route,
-  MMP (``igl.exact_geodesic``) on a covering (slow: minutes at 100k);
+  compile is excluded by a warm-up call on a small mesh); with ``--covering`` also
+  ``method="covering"``, MMP (``igl.exact_geodesic``) on a covering (slow: minutes at 100k);
 * heat: ``HeatGeodesicSolver(m)`` once (precompute) and ``.distance(s)`` (per query);
 
-and prints the ratios exact / heat per query (the target of issue 13 item 5: <= 10 at 100k
-faces) and exact / (heat precompute + one query), the one-off ``m.geodesic_distance(s)``.
+and prints the ratios exact / heat per query (the target: <= 10 at 100k faces) and exact / (heat precompute + one query), the one-off ``m.geodesic_distance(s)``.
 
 The meshes: the gallery's impossible meschers, midpoint-subdivided to about ``--faces`` faces
 (the meschers people make: flat faces meeting at creases and corners), and two smooth tori,

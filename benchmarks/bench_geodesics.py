@@ -9,7 +9,7 @@ On one ordinary torus per size (``_meshes.torus_with_faces``), the same run time
 * libigl: ``igl.heat_geodesics_precompute(V, F, data)`` / ``igl.heat_geodesics_solve``;
 * potpourri3d: ``MeshHeatMethodDistanceSolver(V, F)`` / ``.compute_distance(s)``;
 
-and prints the ratios (ours / peer; < 1 is faster).  Targets (issue 3 item 8): per query
+and prints the ratios (ours / peer; < 1 is faster).  Targets: per query
 <= 1.0x potpourri3d, precompute <= 1.5x libigl.  The machine is shared: run once or twice.
 
 Ours is the default, ``method="auto"`` (``meschers_igl.geodesic.heat.choose_method``): above

@@ -1,4 +1,4 @@
-"""Exact geodesic distance by window propagation (meschers_igl.geodesic.exact), issue 13 item 5.
+"""Exact geodesic distance by window propagation (meschers_igl.geodesic.exact).
 
 Oracles: Euclidean distance on flat sheets (also around a reflex corner of an L-shaped sheet,
 where the geodesic bends at the corner), ``igl.exact_geodesic`` (Kirsanov's MMP) on ordinary

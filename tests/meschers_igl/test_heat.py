@@ -331,7 +331,7 @@ def test_regression_tiny_heat_does_not_underflow_the_normalization():
 
 
 # ----------------------------------------------------------------------------------------------
-# robust by default (issue 13 item 6)
+# robust by default
 # ----------------------------------------------------------------------------------------------
 def _mean_error(dist, V, F, srcs):
     return float(np.mean([mean_rel(dist(s), exact(V, F, s)) for s in srcs]))

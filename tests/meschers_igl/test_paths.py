@@ -4,7 +4,7 @@ Oracles: ``igl.exact_geodesic`` (MMP) on ordinary meshes -- a torus, an obtuse s
 boxes tessellated with 0.003-degree slivers, a bumpy "cow-like" sphere -- and on real 3D
 coverings of impossible meschers (``meschers_igl.covering``).  A path on the surface is never
 shorter than the exact distance; a geodesic found by the shortening is within 0.1% of it
-(issue 13 item 4; before, a path on the sliver box came back +26% long, +186% on a CAD part).
+(a geodesic shortened from a traced field alone can be another, longer one: see the CAD parts).
 """
 
 from __future__ import annotations
@@ -178,7 +178,7 @@ def test_shortest_path_trivial_and_errors():
 
 
 # ----------------------------------------------------------------------------------------------
-# exact distances (issue 13 item 5)
+# exact distances
 # ----------------------------------------------------------------------------------------------
 def test_exact_distance_equals_libigl_on_ordinary_meshes():
     for V, F in (ordinary_torus(24, 8), obtuse_sheet(20, 20), sliver_box()):
