@@ -11,24 +11,38 @@ in parallel processes (one core each), so the workers only load the cache.
 from __future__ import annotations
 
 import os
+import pkgutil
+import subprocess
+import sys
+import tempfile
 import time
 from collections.abc import Callable, Iterable
-from concurrent.futures import ProcessPoolExecutor
-from multiprocessing import get_context
+from typing import Any
 
 from meschers_igl import compiled
 
 __all__ = ["COMPILE_SECONDS", "cold_groups", "ensure_compiled", "warm_group"]
 
-RENDER_MODULES = ("pyvista_views.polydata",)
+RENDER_PACKAGE = "pyvista_views"
 
 # CPU seconds to compile each group from an empty cache on one core of a 2-core machine
 # (benchmarks/bench_study.py --fresh measures them); only for the estimate printed beforehand.
 COMPILE_SECONDS = {"order": 14.0, "geodesic": 16.0, "render": 3.0}
 
 
+_WARM = "from meschers.warmup import warm_group; warm_group({group!r})"
+
+
 def _modules(group: str) -> tuple[str, ...]:
-    return RENDER_MODULES if group == "render" else compiled.GROUPS[group]
+    if group != "render":
+        return compiled.GROUPS[group]
+    # every module of the rendering package (the kernels it compiles may live in any of them)
+    import importlib
+
+    pkg = importlib.import_module(RENDER_PACKAGE)
+    return tuple(
+        f"{RENDER_PACKAGE}.{m.name}" for m in pkgutil.iter_modules(pkg.__path__) if not m.ispkg
+    )
 
 
 def cold_groups(groups: Iterable[str] = (*compiled.GROUPS, "render")) -> list[str]:
@@ -84,14 +98,29 @@ def ensure_compiled(
     if say is not None:
         say(f"compiling kernels (first run only, about {estimate:.0f} s): {', '.join(cold)}")
     t = time.perf_counter()
-    if n == 1:
-        for g in cold:
-            warm_group(g)
-    else:
-        # spawned, not forked: the parent may already hold a GL context or Dask threads
-        with ProcessPoolExecutor(n, mp_context=get_context("spawn")) as pool:
-            list(pool.map(warm_group, sorted(cold, key=lambda g: -COMPILE_SECONDS.get(g, 10.0))))
+    # fresh interpreters (not multiprocessing): they import nothing of the caller's script, which
+    # may have no ``if __name__ == "__main__"`` guard, and hold no GL context or Dask thread;
+    # the longest groups first, a new one started as soon as one ends
+    pending = sorted(cold, key=lambda g: COMPILE_SECONDS.get(g, 10.0))
+    running: list[tuple[str, subprocess.Popen, Any]] = []
+    failed = []
+    while pending or running:
+        while pending and len(running) < n:
+            g = pending.pop()
+            log = tempfile.TemporaryFile(mode="w+")
+            cmd = [sys.executable, "-c", _WARM.format(group=g)]
+            running.append((g, subprocess.Popen(cmd, stdout=log, stderr=log, text=True), log))
+        time.sleep(0.05)
+        for item in [r for r in running if r[1].poll() is not None]:
+            g, proc, log = item
+            running.remove(item)
+            if proc.returncode != 0:
+                log.seek(0)
+                failed.append(f"{g}: {(log.read().strip().splitlines() or ['?'])[-1]}")
+            log.close()
     took = time.perf_counter() - t
     if say is not None:
         say(f"kernels compiled in {took:.0f} s (cached for every later run)")
+        for line in failed:  # the work then compiles what it needs as it goes
+            say(f"compiling kernels failed for {line}")
     return took

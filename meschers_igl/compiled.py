@@ -54,7 +54,10 @@ def kernels(modules: Iterable[str]) -> list:
 
     out = []
     for name in modules:
-        mod = importlib.import_module(name)
+        try:
+            mod = importlib.import_module(name)
+        except ImportError:  # a module of an optional extra: its kernels are not used here
+            continue
         for value in vars(mod).values():
             if isinstance(value, CPUDispatcher) and value.py_func.__module__ == name:
                 out.append(value)

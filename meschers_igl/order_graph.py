@@ -83,7 +83,9 @@ def canonical_arcs(arcs: Any, n: int, name: str = "arcs") -> np.ndarray:
             f"{name}: expected arcs between two different faces (a face cannot be behind "
             f"itself), found {int(loops.sum())} self-loop(s), first arc {r} = {a[r].tolist()}"
         )
-    return unique_sorted_pairs(np.ascontiguousarray(a), int(n))  # compiled counting sort
+    # compiled counting sort; a writable C array always (a read-only one is another type to
+    # numba: a second compilation)
+    return unique_sorted_pairs(np.require(a, np.int64, ["C", "W"]), int(n))
 
 
 def adjacency(n: int, arcs: np.ndarray) -> sp.csr_matrix:
