@@ -33,6 +33,7 @@ from pyvista_views.render import hide_back_faces
 from .describe import describe, impossibility_kind
 from .figures import Colorbar, compose, format_value, format_values, round_off_scale
 from .job import ModelJob
+from .lineart_step import line_art
 from .metrics import (
     distance_error,
     exact_distance,
@@ -538,6 +539,7 @@ def straight_cut_or_none(m: Any, order: Any = None) -> Any:
 STEPS = (
     ("hodge", "Hodge decomposition", hodge),
     ("render", "render and relight", render),
+    ("line_art", "line art", line_art),  # meschers/lineart_step.py
     ("loop_subdivision", "Loop subdivision", loop_subdivision),
     ("heat", "heat diffusion", heat),
     ("geodesic", "geodesic distance", geodesic),

@@ -65,6 +65,7 @@ __all__ = [
     "LineDrawing",
     "crease_edges",
     "interpolated_contours",
+    "line_agreement",
     "line_drawing",
     "visible_face_edges",
 ]
@@ -914,3 +915,51 @@ def _walk_to(f, g, P, Q, F, xy, fe, ef, smooth, area2, max_steps) -> np.ndarray:
         idx, fc, e = idx[cross_ok], fc[cross_ok], e[cross_ok]
         cur[idx] = np.where(ef[e, 0] == fc, ef[e, 1], ef[e, 0])
     return result
+
+
+def line_agreement(
+    lines: LineDrawing,
+    m: Any,
+    order: Any = None,
+    *,
+    size: int = 512,
+    bounds: Any = None,
+    tol: float = 1.5,
+    crease_angle: float = 30.0,
+) -> tuple[float, float]:
+    """Recall and precision of a line drawing against the painter's picture, in pixels.
+
+    The picture is :func:`meschers_igl.painter.visible_faces` at ``size``; its line pixels are
+    :func:`visible_face_edges`; the drawing's pixels are those its visible polylines pass
+    through (sampled every 0.2 pixel).  Recall: the share of line pixels within ``tol`` pixels
+    of a drawn pixel; precision: the share of drawn pixels within ``tol`` of a line pixel.
+
+    Returns
+    -------
+    (recall, precision) : (float, float)
+        1.0 where there is nothing to find.
+    """
+    from scipy import ndimage
+
+    from .painter import pixel_grid, visible_faces
+
+    faces = visible_faces(m, order, size=size, bounds=bounds)
+    _, b, (H, W) = pixel_grid(np.asarray(m.xy), size, bounds)
+    gt = visible_face_edges(faces, m, b, crease_angle=crease_angle)
+    S = lines.segments()
+    drawn = np.zeros((H, W), dtype=bool)
+    if len(S):
+        px = (b[1] - b[0]) / W
+        n = np.maximum(np.ceil(np.linalg.norm(S[:, 1] - S[:, 0], axis=1) / (0.2 * px)), 1)
+        n = n.astype(np.int64)
+        t = (_ranges(n + 1) / np.repeat(n, n + 1))[:, None]
+        s = np.repeat(np.arange(len(S)), n + 1)
+        P = S[s, 0] + t * (S[s, 1] - S[s, 0])
+        col = np.clip(((P[:, 0] - b[0]) / px).astype(np.int64), 0, W - 1)
+        row = np.clip(((b[3] - P[:, 1]) / ((b[3] - b[2]) / H)).astype(np.int64), 0, H - 1)
+        drawn[row, col] = True
+    recall = float(np.mean(ndimage.distance_transform_edt(~drawn)[gt] <= tol)) if gt.any() else 1.0
+    precision = (
+        float(np.mean(ndimage.distance_transform_edt(~gt)[drawn] <= tol)) if drawn.any() else 1.0
+    )
+    return recall, precision

@@ -33,7 +33,7 @@ from meschers_igl.validate import as_choice, as_positive
 
 from .camera import as_bounds, as_window_size, default_bounds
 
-__all__ = ["DEFAULT_WIDTHS", "HIDDEN_MODES", "draw", "overlay", "rasterize", "to_svg"]
+__all__ = ["DEFAULT_WIDTHS", "HIDDEN_MODES", "draw", "overlay", "picture", "rasterize", "to_svg"]
 
 #: Stroke widths (pixels of the picture) per kind.
 DEFAULT_WIDTHS = {"outline": 2.5, "occlusion": 1.8, "crease": 1.1, "hidden": 0.9}
@@ -310,3 +310,44 @@ def overlay(
     alpha = rgba[..., 3:4] / 255.0
     out = image[..., :3].astype(np.float64) * (1.0 - alpha) + rgba[..., :3] * alpha
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+
+
+def picture(
+    lines: LineDrawing,
+    window_size: tuple[int, int] = (800, 800),
+    *,
+    bounds: Any = None,
+    widths: Any = None,
+    color: str = "black",
+    hidden: str = "omit",
+) -> np.ndarray:
+    """The line drawing as pixels on white: (H, W, 3) uint8.
+
+    The SVG of :func:`to_svg` rasterized by cairosvg; without cairosvg (or the system's
+    cairo), the same polylines drawn by PIL at 4x and downsampled (round joins, no dashes).
+    """
+    window_size = as_window_size(window_size)
+    try:
+        svg = to_svg(
+            lines, window_size=window_size, bounds=bounds, widths=widths, color=color,
+            hidden=hidden,
+        )  # fmt: skip
+        return rasterize(svg, window_size)[..., :3]
+    except (ImportError, OSError):
+        pass
+    from PIL import Image, ImageDraw
+
+    (W, H), (x0, x1, y0, y1) = _frame(lines, window_size, bounds)
+    w, k = _widths(widths), 4
+    img = Image.new("RGB", (W * k, H * k), "white")
+    pen = ImageDraw.Draw(img)
+    P = np.c_[
+        (lines.points[:, 0] - x0) * (W * k / (x1 - x0)),
+        (y1 - lines.points[:, 1]) * (H * k / (y1 - y0)),
+    ]
+    for code in (2, 1, 0):
+        width = max(1, round(w[KINDS[code]] * k))
+        for i in np.flatnonzero(lines.visible & (lines.kind == code)).tolist():
+            pts = [tuple(p) for p in P[lines.offsets[i] : lines.offsets[i + 1]].tolist()]
+            pen.line(pts, fill=color, width=width, joint="curve")
+    return np.asarray(img.resize((W, H), Image.LANCZOS))
