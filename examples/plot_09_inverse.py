@@ -63,6 +63,36 @@ else:
     fig.tight_layout()
     plt.show()
 
+    # %%
+    # From a line drawing. The black lines of a drawing enclose the faces; the three directions
+    # the lines run in are read as three right angles (the frame follows from their screen
+    # angles alone), each face takes the orientation whose direction its edges avoid, and the
+    # drawing becomes a shaded picture, lifted to a mescher whose period comes from the loop.
+    # ``meschers inverse drawing.png --out fit`` does this when it is given a drawing.
+    from scipy import ndimage
+
+    from meschers_igl.inverse import mescher_from_picture, render_mescher, shade_drawing
+
+    picture = penrose_target(192, lights=lights)
+    grey = np.round(picture.mean(axis=-1) * 255)
+    edge = np.zeros(grey.shape, dtype=bool)  # a drawing: black where the shade changes
+    edge[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 2
+    edge[1:] |= np.abs(np.diff(grey, axis=0)) > 2
+    drawing = np.where(ndimage.binary_dilation(edge)[..., None], 0.0, 1.0) * np.ones(3)
+    reading = shade_drawing(drawing)  # faces, their orientations, a light, the shaded picture
+    m, _, _ = mescher_from_picture(reading.picture, reading.light)
+    lifted = render_mescher(m, None, lights=[reading.light], resolution=192, sigma=1e-6)
+    print("from the drawing: impossible", m.is_impossible(), "period", np.round(m.periods(), 3))
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4))
+    for ax, img, title in zip(
+        axes, (drawing, reading.picture, lifted), ("drawing", "its reading", "mescher")
+    ):
+        ax.imshow(np.clip(img, 0, 1))
+        ax.set_title(title)
+        ax.axis("off")
+    fig.tight_layout()
+    plt.show()
+
 # %%
 # The full fit, ``meschers inverse penrose --out fit`` (1200 steps at 128 x 128), ends with a
 # Penrose triangle: target, torus initialization and recovered mescher.
