@@ -289,3 +289,21 @@ def test_loop_subdivided_lines_match_the_picture(name):
     m, order = g.mescher.subdivide(1, scheme="loop", order=g.order)
     recall, precision = pixel_scores(m, order)
     assert recall >= 0.98 and precision >= 0.98, (recall, precision)
+
+
+def test_line_agreement_finds_a_wrong_drawing():
+    from meschers_igl.gallery import get_model
+    from meschers_igl.lines import line_agreement
+
+    g = get_model("impossible_cube")
+    right = line_drawing(g.mescher, g.order)
+    assert min(line_agreement(right, g.mescher, g.order, size=256)) >= 0.98
+    # the same figure drawn in the reversed order: its back bar's lines no longer match
+    wrong = line_drawing(g.mescher, DepthOrder(g.mescher.n_faces, g.order.arcs[:, ::-1]))
+    recall, precision = line_agreement(wrong, g.mescher, g.order, size=256)
+    assert min(recall, precision) < 0.95
+    # every line, hidden ones included, drawn as if seen: precision drops
+    every = line_drawing(g.mescher, g.order, hidden=True)
+    every = type(every)(every.points, every.offsets, every.kind, np.ones_like(every.visible),
+                        every.closed, every.box)  # fmt: skip
+    assert line_agreement(every, g.mescher, g.order, size=256)[1] < 0.9

@@ -203,3 +203,22 @@ def test_overlay_lines_sit_on_the_render_edges():
     # the lines change the picture only next to them
     changed = np.any(np.abs(lined.astype(int) - plain.astype(int)) > 40, axis=2)
     assert np.mean(ndimage.distance_transform_edt(~red)[changed] <= 1.5) >= 0.99
+
+
+def test_picture_without_cairosvg_draws_the_same_lines(monkeypatch):
+    import pyvista_views.lineart as la
+
+    g = get_model("penrose_triangle")
+    lines = line_drawing(g.mescher, g.order)
+    with_cairo = la.picture(lines, (240, 200)).min(axis=2) < 128
+
+    def no_cairo(*args, **kwargs):
+        raise ImportError("no cairosvg")
+
+    monkeypatch.setattr(la, "rasterize", no_cairo)
+    with_pil = la.picture(lines, (240, 200)).min(axis=2) < 128
+    assert with_pil.shape == (200, 240) and with_pil.mean() > 0.01
+    d = ndimage.distance_transform_edt(~with_cairo)
+    assert np.mean(d[with_pil] <= 1.5) >= 0.98
+    d = ndimage.distance_transform_edt(~with_pil)
+    assert np.mean(d[with_cairo] <= 1.5) >= 0.98
