@@ -14,9 +14,12 @@ we read it as the update above, which is what its figures show.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import scipy.sparse as sp
 
+from .errors import MescherError, MescherWarning
 from .progress import track
 from .solvers import factorize_spd
 from .validate import as_count, as_positive
@@ -31,6 +34,32 @@ def heat_operator(m, t: float):
         return solve(M @ u)
 
     return apply
+
+
+#: smoothed screen extent / original below which the shape is gone (a point, up to round-off)
+COLLAPSED = 1e-6
+#: ... and below which a warning says how much it shrank
+SHRUNK = 0.05
+
+
+def _kept_shape(xy: np.ndarray, new: np.ndarray, t: float) -> np.ndarray:
+    """``new``, refused when smoothing for time ``t`` shrank the figure to a point and warned
+    about when it shrank below ``SHRUNK`` of its size (backward Euler divides each mode by
+    ``1 + lambda t``: a time far above ``size^2`` leaves only the mean)."""
+    size = float(np.ptp(xy, axis=0).max())
+    ratio = float(np.ptp(new, axis=0).max()) / size if size > 0 else 1.0
+    if not np.all(np.isfinite(new)) or ratio < COLLAPSED:
+        raise MescherError(
+            f"t_xy: expected a smoothing time that keeps the figure (about size^2 = {size**2:.3g} "
+            f"or less), found {t:g}: every vertex moved to one point"
+        )
+    if ratio < SHRUNK:
+        warnings.warn(
+            f"t_xy = {t:g} shrank the figure to {ratio:.2%} of its size (size^2 = {size**2:.3g})",
+            MescherWarning,
+            stacklevel=3,
+        )
+    return new
 
 
 def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
@@ -60,7 +89,7 @@ def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
         xy, zeta = np.asarray(m.xy), np.asarray(m.zeta)
         ops = {t: heat_operator(m, t) for t in {t_xy, t_zeta} if t > 0}
         if t_xy > 0:
-            xy = ops[t_xy](xy)
+            xy = _kept_shape(xy, ops[t_xy](xy), t_xy)
         if t_zeta > 0:
             h = m.hodge()
             zeta = h.omega + m.d01 @ ops[t_zeta](np.asarray(h.z))

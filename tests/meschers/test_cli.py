@@ -546,3 +546,10 @@ def test_the_no_torch_message_is_plain_and_names_torch_first(capsys, monkeypatch
     err = capsys.readouterr().err.strip()
     assert err.startswith("meschers: error: meschers_igl.inverse needs PyTorch")  # no quotes
     assert err.index("pip install torch==2.13.0") < err.index("meschers[inverse]")
+
+
+def test_cli_smooth_refuses_a_collapsing_time_and_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "s.ply"
+    assert main(["smooth", "penrose_triangle", "-o", str(out), "--t-xy", "1e300"]) == 2
+    assert "every vertex moved to one point" in capsys.readouterr().err
+    assert not out.exists()

@@ -156,3 +156,22 @@ def test_cut_embedding_of_impossible_ring_with_boundary():
         assert np.isclose(d.max() - d.min(), 0.5)
     m2 = Mescher.from_corner_depths(m.F, m.xy, Vc[Fc][:, :, 2])
     assert np.allclose(m2.zeta, m.zeta, atol=1e-12)
+
+
+def test_smoothing_that_collapses_the_figure_is_refused_and_shrinking_is_warned_about():
+    import warnings as _w
+
+    from meschers_igl import MescherWarning, gallery
+
+    m = gallery.get_model("penrose_triangle").mescher
+    size = float(np.ptp(m.xy, axis=0).max())
+    with pytest.raises(MescherError, match=r"t_xy: expected a smoothing time .* found 1e\+300"):
+        m.smooth(t_xy=1e300)
+    # backward Euler divides each mode by 1 + lambda t: at t = 1000 size^2 / 24 little is left
+    with pytest.warns(MescherWarning, match=r"shrank the figure to \d\.\d\d% of its size"):
+        ms = m.smooth(t_xy=1000.0)
+    assert float(np.ptp(ms.xy, axis=0).max()) < 0.05 * size
+    with _w.catch_warnings():
+        _w.simplefilter("error")  # an ordinary time keeps the figure, silently
+        ms = m.smooth(t_xy=1e-3)
+    assert float(np.ptp(ms.xy, axis=0).max()) > 0.99 * size
