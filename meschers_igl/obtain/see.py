@@ -46,6 +46,7 @@ def see_model(
     bridge: bool = True,
     hidden: bool | str = "auto",
     view_start: Any = None,
+    snap: bool = True,
 ) -> VisibleModel:
     """The visible surface of a 3D model from an orthographic view, false edges glued.
 
@@ -72,6 +73,10 @@ def see_model(
         Bridge hidden gaps (amodal completion).
     view_start : (3,) array_like, optional
         With ``view="auto"``: a view near the intended one (searched within 10 degrees).
+    snap : bool, default: True
+        A given view is a person's, approximate: when no junction is seen from it, the view
+        within :data:`SNAP_ANGLE` from which one lines up is taken (reported in
+        ``report.reason`` and ``report.repairs``).
     hidden : {"auto", True, False}, default: "auto"
         Keep the hidden side: the whole model, opened at its junctions and glued crosswise by
         the cut-model path (:func:`close_junctions`, :func:`meschers_igl.cutmesh.glue_cut_mesh`),
@@ -108,6 +113,7 @@ def see_model(
 
     V, F, part = _clean(V, F, tol_abs, report)
     _check_options(view, view_start, hidden, perceive)
+    snap = snap and not isinstance(view, str)  # a found view is exact already
     if isinstance(view, str):
         judge = lambda v, u: _false_edge_seen(V, F, v, u, tol_abs)  # noqa: E731
         view, up = find_model_view(V, F, tol_abs, start=view_start, judge=judge)
@@ -138,8 +144,49 @@ def see_model(
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
     first[Fm.reshape(-1)] = corner_vertex
     report.arcs = arcs
+    if snap and perceive is None and hidden is not False and not _has_junction(report, tol_abs):
+        snapped = _snap_view(V, F, R, tol_abs, rel, bridge, hidden)
+        if snapped is not None:
+            return snapped
     _expectation_warning(report, V, F, C, front)
     return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
+
+
+def _has_junction(report, tol: float) -> bool:
+    return any(j.depth_gap > tol for j in report.junctions if j.kind != "occluded continuation")
+
+
+#: A given view is a person's: when no junction lines up from it, the view within this angle
+#: (radians) from which one does is taken (and reported).
+SNAP_ANGLE = np.radians(3.0)
+
+
+def _snap_view(V, F, R, tol_abs, rel, bridge, hidden):
+    """The model seen from the view within :data:`SNAP_ANGLE` of ``R``'s from which a junction
+    lines up (:func:`find_model_view` started at it), with the snap reported; None if none."""
+
+    def judge(v, u):
+        return _false_edge_seen(V, F, v, u, tol_abs)
+
+    try:
+        v, _ = find_model_view(V, F, tol_abs, start=R[2], judge=judge, within=SNAP_ANGLE)
+    except MescherError:
+        return None
+    angle = float(np.degrees(np.arctan2(np.linalg.norm(np.cross(v, R[2])), v @ R[2])))
+    if angle <= 1e-4:
+        return None  # the given view itself, to round-off: nothing lines up better
+    up = R[1] - (R[1] @ v) * v  # the person's up, kept on the new screen
+    vm = see_model(V, F, v, up, tol=rel, bridge=bridge, hidden=hidden, snap=False)
+    if not _has_junction(vm.report, tol_abs):
+        return None
+    vm.report.reason = (
+        f"view snapped by {angle:.3g} degrees to the view from which the junctions line up; "
+        + vm.report.reason
+    )
+    vm.report.repairs.append(
+        f"view snapped by {angle:.3g} degrees (a person's view is approximate)"
+    )
+    return vm
 
 
 def _clean(V, F, tol_abs, report):

@@ -207,7 +207,10 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
     return None if found is None or found[0] != "hidden gap" else v
 
 
-def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None, judge: Any = None):
+def find_model_view(
+    V: Any, F: Any, tol: float | None = None, start: Any = None, judge: Any = None,
+    within: float = START_ANGLE,
+):  # fmt: skip
     """``view="auto"`` for any model: the view from which its junctions line up.
 
     1. Coincidences (:func:`meschers_igl.autoview.find_view`, a vote over vertex pairs that
@@ -231,6 +234,8 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None,
         Absolute tolerance (default 1e-5 of the bounding-box diagonal).
     start : (3,) array_like, optional
         A view near the intended one (e.g. off by a few degrees).
+    within : float, default: :data:`START_ANGLE`
+        With ``start``: how far (radians) from it the view may be.
     judge : callable, optional
         ``judge(view, up) -> bool``: is a junction seen from the vote's view (besides paired
         caps)?  :func:`meschers_igl.obtain.see_model` passes one that glues the visible surface
@@ -275,9 +280,9 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None,
         v, err = None, e
     # a cut model's junctions are its open loops, which the vote pairs (as autoview does)
     if v is not None and bool(boundary_loops(F)):
-        if start is None or v @ start >= np.cos(START_ANGLE):
+        if start is None or v @ start >= np.cos(within):
             return v, up
-    near = v is not None and (start is None or v @ start >= np.cos(START_ANGLE))
+    near = v is not None and (start is None or v @ start >= np.cos(within))
     # the best-supported direction, when a junction is seen from it (caps that pair up, or a
     # false edge on the visible surface closing a loop that gains depth); a weaker direction
     # lines up pairs by accident (a staircase seen from below, a frame along its diagonal)
@@ -287,12 +292,12 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None,
     cand = [be for be in pairs
             if be.d is not None and np.linalg.norm(np.cross(be.d, be.T)) > tol]  # fmt: skip
     cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
-    vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start)
+    vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start, within)
     if vb is not None:
         return vb, up_for_view(vb)
     if start is not None:
         raise MescherError(
-            f"view: expected a view within {np.degrees(START_ANGLE):.0f} degrees of "
+            f"view: expected a view within {np.degrees(within):.3g} degrees of "
             f"{np.round(start, 6).tolist()} from which junctions line up, found none"
         )
     if err is not None:
@@ -304,7 +309,7 @@ def find_model_view(V: Any, F: Any, tol: float | None = None, start: Any = None,
     )
 
 
-def _hidden_gap_view(V, F, TT, part, cand, tol, start):
+def _hidden_gap_view(V, F, TT, part, cand, tol, start, within=START_ANGLE):
     """The view hiding a bar's gap, searched on each candidate's circle of views (from
     ``start`` when given, else in 2-degree steps), nearest ``start``; None when none."""
     best = None
@@ -314,10 +319,11 @@ def _hidden_gap_view(V, F, TT, part, cand, tol, start):
         e1 = be.d
         e2 = np.cross(w, e1)
         if start is not None:
-            if abs(start @ w) > np.sin(START_ANGLE):
+            if abs(start @ w) > np.sin(within):
                 continue
             th0 = np.arctan2(start @ e2, start @ e1)
-            k = np.repeat(np.arange(1.0, 11.0), 2) * np.tile([-1.0, 1.0], 10)
+            n = int(np.ceil(np.degrees(within)))
+            k = np.repeat(np.arange(1.0, n + 1.0), 2) * np.tile([-1.0, 1.0], n)
             steps = th0 + np.radians(np.r_[0.0, k])  # the start first, then 1 degree apart
         else:
             steps = np.radians(np.arange(0.0, 360.0, 2.0))
@@ -332,7 +338,7 @@ def _hidden_gap_view(V, F, TT, part, cand, tol, start):
             vb = _occluder_centred_view(V, F, TT, part, be, tol, v0)
             if vb is not None:
                 break
-        if vb is None:
+        if vb is None or (start is not None and vb @ start < np.cos(within)):
             continue
         score = 0.0 if start is None else -float(vb @ start)
         if best is None or score < best[0]:

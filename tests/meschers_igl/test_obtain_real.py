@@ -69,6 +69,28 @@ def test_the_door_says_its_route():
         _quiet(V, F, view=ISO, up=(0, 0, 1), route="cut")
 
 
+@pytest.mark.parametrize("name", ["u_tribar", "hidden_gap_frame", "hidden_gap_cube"])
+@pytest.mark.parametrize("degrees", [0.5, 2.0])
+def test_an_approximate_view_snaps_to_the_junction(name, degrees):
+    """A person's view is a few degrees off: nothing lines up from it, so the view within
+    3 degrees from which the junction (a false edge, or a gap hidden behind a bar) lines up is
+    taken and reported; the period is the built gap, as from the exact view."""
+    import visible_models as vm
+    from test_visible import _tilted
+
+    V, P, gap = getattr(vm, name)()
+    F = vm.triangulate(P)
+    m, _, report = _quiet(V, F, view=_tilted(vm.ISO_VIEW, degrees, 1), up=vm.ISO_UP)
+    p = np.abs(np.asarray(m.periods()))
+    p = p[p > PERIOD_RTOL * m.scale()]
+    assert p.size >= 1 and np.allclose(p, gap, rtol=1e-9)
+    assert "view snapped by" in report.reason
+    assert np.linalg.norm(np.cross(report.view, vm.ISO_VIEW)) <= 1e-6
+    # 6 degrees off is farther than a person's error: no snap, the model as seen (possible)
+    m, _, report = _quiet(V, F, view=_tilted(vm.ISO_VIEW, 6.0, 1), up=vm.ISO_UP)
+    assert "view snapped" not in report.reason and not m.is_impossible()
+
+
 def _real(name):
     from meshlab_filters.load import read_meshset
 
