@@ -146,7 +146,10 @@ def segment_picture(
                        for k in range(3)])  # fmt: skip
     grp = np.argmin(np.abs(cshade[:, None] - np.nan_to_num(centre, nan=9.0)[None]), axis=1)
     share = np.bincount(grp, weights=size, minlength=3) / mask.sum()
-    sep = np.diff(centre).min() if len(v) >= 3 else 0.0
+    # groups are distinct where a jump of more than line_step parts them: shades running on
+    # in small steps across a split are one orientation (a relief's faces)
+    cut = np.diff(groups) > 0
+    sep = float((v[1:] - v[:-1])[cut].min()) if len(v) >= 3 else 0.0
     if len(v) < 3 or not sep > line_step or share.min() < min_share:
         found = 1 + int(np.sum(np.diff(v) > line_step))
         raise MescherError(
