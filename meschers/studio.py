@@ -134,6 +134,7 @@ class StudioModel:
         self.base_periods = np.where(np.abs(p) > IMPOSSIBLE_RTOL * m.scale(), p, 0.0)
         self.periods = self.base_periods.copy()
         self.turn = [0.0, 0.0]  # degrees about screen x, screen y
+        self.turn_base = [0.0, 0.0]  # the turn a drag starts from
         self.light = np.array([0.4, 0.6, 0.7]) / np.linalg.norm([0.4, 0.6, 0.7])
         self.t_xy = self.t_zeta = 0.0
         # the longest loop first: on a torus, the one around the hole (an impossibagel's)
@@ -177,9 +178,14 @@ class StudioModel:
         self._current = None
 
     # ------------------------------------------------------------------ actions
-    def drag(self, mode: str, start, end, extent) -> str:
+    def drag(self, mode: str, start, end, extent, final: bool = True) -> str:
         """A drag on the picture from ``start`` to ``end`` (pixels of a picture ``extent``
-        (width, height) on the page).  Returns a line for the status bar."""
+        (width, height) on the page).  Returns a line for the status bar.
+
+        While the button is held the page sends previews (``final=False``): the light and the
+        turn follow the pointer, measured from where the drag began; the release commits.
+        A pick happens on release only.
+        """
         if mode not in MODES:
             raise MescherError(f"mode: expected one of {', '.join(MODES)}, found {mode!r}")
         (x0, y0), (x1, y1), (w, h) = np.asarray(start, float), np.asarray(end, float), extent
@@ -188,13 +194,21 @@ class StudioModel:
             return "light toward ({:.2f}, {:.2f}, {:.2f})".format(*self.light)
         if mode == "turn":
             k = TURN_PER_PIXEL * self.size / max(w, 1)
-            self.turn = [
-                float(np.clip(self.turn[0] + k * (y1 - y0), -MAX_TURN, MAX_TURN)),
-                float(np.clip(self.turn[1] + k * (x1 - x0), -MAX_TURN, MAX_TURN)),
+            turn = [
+                float(np.clip(self.turn_base[0] + k * (y1 - y0), -MAX_TURN, MAX_TURN)),
+                float(np.clip(self.turn_base[1] + k * (x1 - x0), -MAX_TURN, MAX_TURN)),
             ]
-            self._changed()
+            self.set_turn(turn, final)
             return f"turned {self.turn[0]:.1f} deg about x, {self.turn[1]:.1f} deg about y"
-        return self.pick(x1 / w, y1 / h)
+        return self.pick(x1 / w, y1 / h) if final else ""
+
+    def set_turn(self, turn, final: bool = True) -> None:
+        """Degrees about screen x and y; ``final`` makes it where the next drag starts."""
+        if list(turn) != self.turn:
+            self.turn = [float(turn[0]), float(turn[1])]
+            self._changed()
+        if final:
+            self.turn_base = list(self.turn)
 
     def pick(self, fx: float, fy: float) -> str:
         """Pick the vertex under the point at ``(fx, fy)`` of the picture (0-1, from its
@@ -366,6 +380,7 @@ def _bind(model: StudioModel, server: Any) -> None:
 
     state.mode = "light"
     state.drag0 = [0, 0]
+    state.busy = False
     state.status, state.status_error = "drag on the figure", False
     state.save_path = f"{model.label.replace('/', '_').replace(':', '_')}_studio.ply"
     state.load_path = ""
@@ -374,6 +389,13 @@ def _bind(model: StudioModel, server: Any) -> None:
     @ctrl.trigger("drag_end")
     def drag_end(start, end, extent):
         guarded(model.drag)(state.mode, start, end, extent)
+        _ready_for_more(state)
+
+    @ctrl.trigger("drag_move")
+    def drag_move(start, end, extent):
+        if state.mode != "path":
+            guarded(model.drag)(state.mode, start, end, extent, final=False)
+        _ready_for_more(state)
 
     @state.change("t_xy", "t_zeta")
     def smooth(t_xy, t_zeta, **_):
@@ -415,13 +437,19 @@ def _bind(model: StudioModel, server: Any) -> None:
     @ctrl.trigger("reset_turn")
     def reset_turn():
         def reset():
-            model.turn = [0.0, 0.0]
-            model._changed()
+            model.set_turn([0.0, 0.0])
             return "turn reset to 0 deg"
 
         guarded(reset)()
 
     refresh()
+
+
+def _ready_for_more(state: Any) -> None:
+    """Let the page send its next drag preview (it sets ``busy`` itself, so the server may
+    already hold False: pushed regardless)."""
+    state.busy = False
+    state.dirty("busy")
 
 
 def _layout(model: StudioModel, server: Any) -> Any:
@@ -481,6 +509,9 @@ def _layout(model: StudioModel, server: Any) -> Any:
                     style=f"width: {model.size}px; height: {model.size}px; cursor: crosshair;"
                     " user-select: none; border: 1px solid #ddd",
                     mousedown="drag0 = [$event.offsetX, $event.offsetY]; $event.preventDefault()",
+                    mousemove="if ($event.buttons === 1 && !busy && mode !== 'path') { busy = true;"
+                    " trigger('drag_move', [drag0, [$event.offsetX, $event.offsetY],"
+                    " [$event.target.clientWidth, $event.target.clientHeight]]) }",
                     mouseup="trigger('drag_end', [drag0, [$event.offsetX, $event.offsetY], "
                     "[$event.target.clientWidth, $event.target.clientHeight]])",
                 )

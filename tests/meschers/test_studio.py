@@ -78,9 +78,22 @@ def test_turning_is_the_rotation_and_turns_back_exactly(studio, torus):
     np.testing.assert_allclose(turned.face_normals(), m.face_normals() @ R.T, atol=1e-9)
     studio.drag("turn", (0, 0), (10_000, 0), (200, 200))
     assert studio.turn[1] == 45.0  # turns stay within a few tens of degrees
-    studio.turn = [0.0, 0.0]
-    studio._changed()
+    studio.set_turn([0.0, 0.0])
     assert studio.current()[0] is m
+
+
+def test_drag_previews_follow_the_pointer_and_release_commits(studio):
+    """While the button is held each preview is measured from where the drag began."""
+    for x in (110, 130, 150):
+        studio.drag("turn", (100, 100), (x, 100), (200, 200), final=False)
+    k = 0.15 * studio.size / 200
+    assert np.isclose(studio.turn[1], 50 * k) and studio.turn_base == [0.0, 0.0]
+    studio.drag("turn", (100, 100), (150, 100), (200, 200))  # release: committed
+    assert studio.turn_base == studio.turn
+    studio.drag("turn", (0, 0), (20, 0), (200, 200), final=False)  # the next drag adds to it
+    assert np.isclose(studio.turn[1], 70 * k)
+    assert studio.drag("path", (0, 0), (100, 100), (200, 200), final=False) == ""
+    assert studio.picks == []  # a pick happens on release only
 
 
 def test_paint_a_period_on_a_possible_torus(studio, torus):
@@ -284,9 +297,14 @@ def test_page_in_headless_chromium(tmp_path):
             page.screenshot(path=str(shots / "1_relit.png"))
 
             page.click("#mode-turn")
-            drag(80, 40)
-            assert "about y" in wait_status("turned")
-            page.screenshot(path=str(shots / "2_turned.png"))
+            page.mouse.move(cx, cy)
+            page.mouse.down()
+            page.mouse.move(cx + 80, cy + 40, steps=6)
+            assert "about y" in wait_status("turned")  # the figure turns while the button is held
+            page.screenshot(path=str(shots / "2_turning.png"))
+            page.mouse.up()
+            page.wait_for_timeout(500)
+            assert "about y" in status.text_content()
             page.click("#reset-turn")
             wait_status("turn reset")
 
