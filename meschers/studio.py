@@ -4,8 +4,8 @@ The page is served by trame (the web framework PyVista's Jupyter backend uses) a
 picture is rendered on the server with :func:`pyvista_views.render` (VTK off screen, so the
 studio runs on a machine without a display) and sent to the page as an image.  On the page:
 
-* drag on the picture -- in *light* mode the light follows the pointer (the point released
-  is the light's direction on a virtual hemisphere facing the viewer); in *turn* mode the
+* drag on the picture -- in *light* mode the light follows the pointer (the point under it
+  gives the light's direction on a virtual hemisphere facing the viewer); in *turn* mode the
   figure turns a few degrees (:meth:`~meschers_igl.Mescher.rotated`, about screen y for a
   horizontal drag and screen x for a vertical one); in *path* mode two clicks pick two points
   and the geodesic between them is drawn (only where its faces are seen);
