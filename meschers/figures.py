@@ -32,6 +32,9 @@ __all__ = [
 
 #: A value below this fraction of its scale is round-off and printed as 0.
 ZERO_FRACTION = 1e-9
+#: A colour-bar tick closer to 0 than this fraction of the bar's span is labelled 0 (a bar
+#: cannot show a difference that small: the middle of (-0.593, 0.5929) is 0, not -3.21e-05).
+TICK_ZERO_FRACTION = 1e-3
 
 
 def round_off_scale(values: Sequence[float], size: float) -> float:
@@ -147,6 +150,8 @@ class Colorbar:
             f = k / (self.ticks - 1)
             y = top + (1 - f) * (n - 1)
             value = self.vmin + f * span
+            if abs(value) < TICK_ZERO_FRACTION * abs(span):  # 0 to the bar's resolution
+                value = 0.0
             draw.line([(x1, y), (x1 + 3, y)], fill="black")
             label = format_value(value, scale=max(abs(self.vmin), abs(self.vmax)), digits=3)
             draw.text((x1 + 5, y - 6), label, fill="black", font=fnt)

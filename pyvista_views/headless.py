@@ -22,6 +22,8 @@ import sys
 
 import pyvista as pv
 
+from meschers_igl.errors import MescherError
+
 #: The environment variable VTK reads to choose its OpenGL window class.
 WINDOW_VARIABLE = "VTK_DEFAULT_OPENGL_WINDOW"
 #: Display-free window classes in order of preference, with the library each one needs.
@@ -103,13 +105,15 @@ def new_plotter(
     window_size: tuple[int, int] = (800, 800),
     off_screen: bool | None = None,
     background: object = "white",
-    anti_aliasing: bool = False,
+    anti_aliasing: bool | str = False,
     **kwargs: object,
 ) -> pv.Plotter:
     """A plotter with no light kit and no headlight (lights are added by :mod:`.lights`).
 
-    Anti-aliasing is off by default so that ``bounds`` maps to whole pixels exactly and
-    silhouettes compare pixel for pixel; pass ``anti_aliasing=True`` for figures.
+    ``anti_aliasing``: ``False`` (off: ``bounds`` maps to whole pixels exactly and
+    silhouettes compare pixel for pixel), ``"fxaa"`` (VTK's FXAA post-pass: edges smoothed
+    cheaply), ``"ssaa"`` or ``True`` (supersampling: the best edges, several times the pixels)
+    or ``"msaa"``.
     """
     plotter = pv.Plotter(
         off_screen=is_offscreen(off_screen),
@@ -117,12 +121,38 @@ def new_plotter(
         lighting="none",
         **kwargs,
     )
-    if anti_aliasing:
-        plotter.enable_anti_aliasing("ssaa")
-    else:
+    mode = as_anti_aliasing(anti_aliasing)
+    if mode is None:
         plotter.disable_anti_aliasing()
+    elif mode == "fxaa":
+        # VTK's FXAA pass directly: PyVista swaps it for SSAA on EGL builds, several times
+        # the cost, though the pass draws right there (checked against SSAA by the tests)
+        plotter.disable_anti_aliasing()
+        plotter.renderer.SetUseFXAA(True)
+    else:
+        plotter.enable_anti_aliasing(mode)
     plotter.set_background(background)
     return plotter
+
+
+AA_MODES = ("fxaa", "ssaa", "msaa")
+#: Anti-aliasing of :func:`~pyvista_views.render` and :class:`~pyvista_views.MescherScene`
+#: unless told otherwise: FXAA, a post-pass that smooths edges for about a tenth of a second
+#: at 1024^2 on a software rasterizer (SSAA costs 2-2.5x a frame there).
+DEFAULT_ANTI_ALIASING: bool | str = "fxaa"
+
+
+def as_anti_aliasing(anti_aliasing: object) -> str | None:
+    """``None`` (off) or one of :data:`AA_MODES`; ``True`` means ``"ssaa"``."""
+    if anti_aliasing is None or anti_aliasing is False:
+        return None
+    if anti_aliasing is True:
+        return "ssaa"
+    if isinstance(anti_aliasing, str) and anti_aliasing in AA_MODES:
+        return anti_aliasing
+    raise MescherError(
+        f"anti_aliasing: expected False, True or one of {AA_MODES}, found {anti_aliasing!r}"
+    )
 
 
 @functools.lru_cache(maxsize=1)

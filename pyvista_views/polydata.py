@@ -519,7 +519,7 @@ def to_polydata(
     if shading == "smooth":
         groups, group_vertex, group_normals = corner_groups(
             F, np.asarray(m.face_normals()), np.asarray(m.face_areas()),
-            as_feature_angle(feature_angle),
+            as_feature_angle(feature_angle), vertex_normals=np.asarray(m.vertex_normals()),
         )  # fmt: skip
     if layout != "soup":
         points = np.zeros((xy.shape[0], 3))
@@ -609,8 +609,9 @@ def embedding_polydata(
         return soup(V[F], F, draw, face_normals=normals, scalars=fields)
     face_normals = igl.per_face_normals(V, F, np.array([0.0, 0.0, 1.0]))
     groups, group_vertex, normals = corner_groups(
-        F, face_normals, igl.doublearea(V, F), as_feature_angle(feature_angle)
-    )
+        F, face_normals, igl.doublearea(V, F), as_feature_angle(feature_angle),
+        vertex_normals=igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA),
+    )  # fmt: skip
     if layout != "soup":
         split = {
             k: ((v[group_vertex], loc) if loc == "vertex" else (v, loc))

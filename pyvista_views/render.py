@@ -119,7 +119,10 @@ def render(
         :meth:`MescherScene.add_path`), ``points`` (vertex ids, or a dict with ``vertices``,
         ``color``, ``radius``, ``labels``: discs on the visible surface, clipped to the
         figure, :meth:`MescherScene.add_points`), ``isolines``, ``isoline_color``, ``isoline_width`` (2), ``ambient`` (0.2),
-        ``diffuse`` (0.8), ``anti_aliasing`` (False), ``scalar_bar`` (with ``scalars``, a colour
+        ``diffuse`` (0.8), ``anti_aliasing`` (default ``"fxaa"``, a cheap post-pass; ``"ssaa"``
+        or True supersamples, ``False`` keeps pixel-exact silhouettes),
+        ``feature_angle`` (30: smooth shading keeps edges sharper than this crisp, ``None``
+        blends every edge), ``scalar_bar`` (with ``scalars``, a colour
         bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default bounds
         then frame the figure in the rest of the window.  Default: on unless ``bounds`` is
         given; with explicit bounds, leave the strip free with
@@ -222,7 +225,7 @@ def render_scene(
     representation = as_choice(
         kwargs.pop("representation", "mescher"), "representation", REPRESENTATIONS
     )
-    anti_aliasing = bool(kwargs.pop("anti_aliasing", False))
+    anti_aliasing = kwargs.pop("anti_aliasing", None)  # None: the scene's default
     paths = kwargs.pop("paths", None)
     points = kwargs.pop("points", None)
     scalar_bar = kwargs.pop("scalar_bar", None)

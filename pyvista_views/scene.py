@@ -650,8 +650,10 @@ class MescherScene:
     background : color
         Of a new plotter.
     off_screen : bool, optional
-    anti_aliasing : bool
-        Off by default so that image extents and silhouettes are exact.
+    anti_aliasing : bool or {"fxaa", "ssaa", "msaa"}, optional
+        Default :data:`~pyvista_views.headless.DEFAULT_ANTI_ALIASING` (FXAA);
+        ``False`` keeps silhouettes pixel-exact (image measures)
+        (:func:`~pyvista_views.headless.new_plotter`).
     early_z : bool, default: True
         :func:`add_mescher`'s drawing mode for every mescher added.
 
@@ -671,11 +673,13 @@ class MescherScene:
         window_size: tuple[int, int] | None = None,
         background: object = "white",
         off_screen: bool | None = None,
-        anti_aliasing: bool = False,
+        anti_aliasing: bool | str | None = None,
         early_z: bool = True,
     ) -> None:
         if plotter is None:
             self.window_size = as_window_size((800, 800) if window_size is None else window_size)
+            if anti_aliasing is None:
+                anti_aliasing = headless.DEFAULT_ANTI_ALIASING
             plotter = headless.new_plotter(self.window_size, off_screen, background, anti_aliasing)
             # This scene is the new plotter's component (what ``plotter.mescher`` would build).
             plotter.__dict__["mescher"] = self
@@ -1172,7 +1176,7 @@ def embedding_of(m: Any, kind: str, scalars: object = None) -> tuple:
 
 
 def _exact_zero_labels(actor: Any, scalar_range: Sequence[float], n_labels: int) -> None:
-    """Label the bar at evenly spaced values, with round-off below 1e-9 of the range shown as 0.
+    """Label the bar at evenly spaced values, those within 1/1000 of the range of 0 shown as 0.
 
     VTK labels the bar at ``lo + k (hi - lo) / (n - 1)``; for a symmetric range the middle
     value is round-off (``1.74e-13``), printed as such. Custom labels carry the same values
@@ -1184,7 +1188,9 @@ def _exact_zero_labels(actor: Any, scalar_range: Sequence[float], n_labels: int)
 
     lo, hi = (float(v) for v in scalar_range)
     values = np.linspace(lo, hi, n_labels)
-    values[np.abs(values) <= 1e-9 * max(abs(hi - lo), abs(lo), abs(hi))] = 0.0
+    # a bar cannot show a value closer to 0 than 1/1000 of its span: the middle of
+    # (-0.593, 0.5929) is labelled 0, not -3.21e-05
+    values[np.abs(values) <= 1e-3 * abs(hi - lo)] = 0.0
     labels = vtkDoubleArray()
     for v in values:
         labels.InsertNextValue(v)

@@ -151,3 +151,22 @@ def test_compose_leaves_no_empty_band_between_rows():
         white_run = 0 if row else white_run + 1
         longest = max(longest, white_run)
     assert longest <= 2 * 6 + 18  # the padding of two panels and a notes line at most
+
+
+def test_colour_bar_middle_of_a_nearly_symmetric_range_is_labelled_0():
+    """(-0.593, 0.5929): the middle tick is -5e-05, 1/20000 of the span: a 0, not '-5e-05'."""
+    from PIL import ImageDraw
+
+    labels = []
+    original = ImageDraw.ImageDraw.text
+
+    def spy(self, xy, text, *a, **k):
+        labels.append(text)
+        return original(self, xy, text, *a, **k)
+
+    ImageDraw.ImageDraw.text = spy
+    try:
+        Colorbar("coolwarm", -0.593, 0.5929, "z").draw(200)
+    finally:
+        ImageDraw.ImageDraw.text = original
+    assert "0" in labels and not any("e-05" in t for t in labels)

@@ -18,9 +18,22 @@ pv.OFF_SCREEN = True
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """pytest-pyvista's reference images live here (its ``--image_cache_dir`` unless given)."""
+    """pytest-pyvista's reference images live here (its ``--image_cache_dir`` unless given);
+    the ``antialiased`` marker is declared."""
+    config.addinivalue_line("markers", "antialiased: render with the default anti-aliasing")
     if getattr(config.option, "image_cache_dir", "absent") is None:
         config.option.image_cache_dir = str(Path(__file__).parent / "image_cache")
+
+
+@pytest.fixture(autouse=True)
+def _pixel_exact(request, monkeypatch):
+    """Image measures compare silhouettes and shades pixel for pixel, so pictures are drawn
+    without anti-aliasing unless a test is marked ``antialiased`` (the default a user gets)."""
+    import pyvista_views.headless as headless
+
+    if request.node.get_closest_marker("antialiased") is None:
+        monkeypatch.setattr(headless, "DEFAULT_ANTI_ALIASING", False)
+    yield
 
 
 @pytest.fixture(autouse=True)

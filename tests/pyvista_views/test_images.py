@@ -75,3 +75,26 @@ def test_penrose_geodesic_isolines_colour_bar(penrose, verify_image_cache):
     d = m2.geodesic_distance([int(np.argmin(m2.xy[:, 1]))])
     kw = dict(order=order2, shading="smooth", scalars={"geodesic distance": d}, isolines=8)
     check(verify_image_cache, 150.0, m2, **kw)  # 7 isolines: 504, no colour bar: 4258
+
+
+def test_penrose_paths_and_loops_on_the_visible_surface(penrose, verify_image_cache):
+    """A shortest path (red), the closed geodesics around the loops and two dots, drawn only
+    where visible.  Drawing the hidden pieces dashed gives an image error of 68 (a light
+    moved 6 degrees: 127)."""
+    from meschers_igl.geodesic import shortest_loops
+
+    m, order = penrose
+    m, order = m.subdivide(1, order=order)
+    d = m.geodesic_distance(0)
+    target = int(np.nanargmax(np.where(np.isfinite(d), d, -1)))
+    paths = [{"path": m.shortest_path(0, target), "color": "red"}]
+    paths += [{"path": loop} for loop in shortest_loops(m)]
+    check(verify_image_cache, 30.0, m, order=order, paths=paths, points=[0, target])
+
+
+def test_reutersvard_loop_subdivision_keeps_the_cubes(verify_image_cache):
+    """Loop x2 with creases, smooth shading: nine cubes.  Plain Loop's blobs: error 1622
+    (a light moved 6 degrees: 112)."""
+    g = get_model("reutersvard_triangle")
+    m, order = g.mescher.subdivide(2, "loop", order=g.order)
+    check(verify_image_cache, 60.0, m, order=order, shading="smooth")

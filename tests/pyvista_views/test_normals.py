@@ -25,7 +25,7 @@ def test_at_180_degrees_the_groups_are_the_vertices_and_their_normals():
     m = Mescher.from_mesh(np.asarray(s.points, float), s.regular_faces.astype(np.int64))
     F = np.asarray(m.F)
     groups, gv, gn = corner_groups(F, m.face_normals(), m.face_areas(), 180.0)
-    assert gv.shape[0] == m.n_vertices
+    assert np.unique(groups).shape[0] == m.n_vertices
     np.testing.assert_array_equal(gv[groups], F)
     np.testing.assert_allclose(gn[groups], np.asarray(m.vertex_normals())[F], atol=1e-12)
 
@@ -37,15 +37,15 @@ def test_a_box_keeps_its_face_normals_at_every_corner():
     groups, gv, gn = corner_groups(F, N, m.face_areas(), 30.0)
     np.testing.assert_allclose(gn[groups], np.repeat(N[:, None], 3, axis=1), atol=1e-12)
     # a box corner vertex belongs to three groups (one per side)
-    counts = np.bincount(gv, minlength=m.n_vertices)
+    counts = np.bincount(gv[np.unique(groups)], minlength=m.n_vertices)
     assert counts.max() == 3 and counts.min() == 1
 
 
 def test_a_fine_sphere_is_not_split():
     s = pv.Sphere(theta_resolution=48, phi_resolution=48)
     m = Mescher.from_mesh(np.asarray(s.points, float), s.regular_faces.astype(np.int64))
-    _, gv, _ = corner_groups(np.asarray(m.F), m.face_normals(), m.face_areas(), 30.0)
-    assert gv.shape[0] == m.n_vertices
+    groups, _, _ = corner_groups(np.asarray(m.F), m.face_normals(), m.face_areas(), 30.0)
+    assert np.unique(groups).shape[0] == m.n_vertices
 
 
 @pytest.mark.parametrize("bad", [-1, 181, "x"])

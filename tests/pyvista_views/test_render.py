@@ -315,3 +315,21 @@ def test_real_depth_order_from_the_embedding_gives_the_meshs_picture(ball):
     both = mask(a) & mask(b)
     assert iou(mask(a), mask(b)) >= 0.98
     assert np.corrcoef(luminance(a)[both], luminance(b)[both])[0, 1] >= 0.95
+
+
+@pytest.mark.antialiased
+def test_edges_are_anti_aliased_by_default(ball):
+    """By default the outline blends into the background: the default picture differs from
+    the pixel-exact one (``anti_aliasing=False``) along the outline; inside, only face edges
+    are softened (a small mean change)."""
+    from scipy.ndimage import binary_dilation, binary_erosion
+
+    V, F, m, order = ball
+    smooth = render(m, order, lights=[(0, 0, 1)], window_size=SIZE)
+    hard = render(m, order, lights=[(0, 0, 1)], window_size=SIZE, anti_aliasing=False)
+    figure = mask(hard)
+    outline = binary_dilation(figure, iterations=2) & ~binary_erosion(figure, iterations=2)
+    changed = np.abs(luminance(smooth) - luminance(hard)) > 8
+    assert changed.sum() > 0.5 * 4 * np.sqrt(figure.sum())  # about the outline's length
+    assert changed[outline].mean() > 5 * changed[~outline].mean()
+    assert np.abs(luminance(smooth) - luminance(hard))[~outline].mean() < 2
