@@ -385,7 +385,7 @@ def _hidden_intervals(
         on = (np.abs(alpha) * h <= tol) & (np.abs(alpha + beta) * h <= tol)
         with np.errstate(divide="ignore", invalid="ignore"):
             r = -alpha / beta  # alpha + beta t > 0: strictly inside, exact crossing
-            rc = (-_INSIDE - alpha) / beta  # alpha + beta t >= -_INSIDE: closed, widened
+            rc = r  # closed: the edge of g is covered up to its ends, exactly
         t0 = np.where(up & ~on, np.maximum(t0, r), t0)
         t1 = np.where(down & ~on, np.minimum(t1, r), t1)
         t1 = np.where(on | (~(up | down) & (alpha <= 0)), -1.0, t1)
@@ -615,6 +615,70 @@ def _join(P0, P1, group, scale):
 
 
 # ------------------------------------------------------------------------------ front door
+def _seam_partners(m: Any, ef: np.ndarray, area2: np.ndarray, crease_angle: float) -> np.ndarray:
+    """(#E,) the face that continues the surface across faces seen edge-on, or -1.
+
+    A cut in a plane containing the view leaves a strip of faces of zero screen area between
+    two faces that continue each other on screen (the seam of an impossible figure).  For an
+    edge ``e`` between a face ``f`` and a face of such a strip, the partner is a face ``g``
+    attached to the same strip (faces seen edge-on joined through their edges) on the other
+    side of ``e``'s screen line, along an overlapping stretch of it, facing the same way as
+    ``f`` and within ``crease_angle`` of its normal: in the picture ``f`` and ``g`` are one
+    smooth sheet, and ``e`` is no line.
+    """
+    partner = np.full(len(ef), -1, dtype=np.int64)
+    flat = area2 == 0
+    if not flat.any():
+        return partner
+    nF = len(area2)
+    inner = ef[:, 1] >= 0
+    f0, f1 = ef[:, 0], np.maximum(ef[:, 1], 0)
+    both = inner & flat[f0] & flat[f1]
+    adj = sp.coo_matrix((np.ones(int(both.sum())), (f0[both], f1[both])), shape=(nF, nF))
+    _, comp = csgraph.connected_components(adj, directed=False)
+    one = inner & (flat[f0] != flat[f1])
+    e_att = np.flatnonzero(one)
+    h = np.where(flat[f0[e_att]], f0[e_att], f1[e_att])
+    f = np.where(flat[f0[e_att]], f1[e_att], f0[e_att])
+    c = comp[h]
+    o = np.argsort(c, kind="stable")
+    e_att, f, c = e_att[o], f[o], c[o]
+    # every ordered pair of attachments to one strip
+    start = np.searchsorted(c, c, "left")
+    k = np.searchsorted(c, c, "right") - start
+    i = np.repeat(np.arange(len(c)), k)
+    j = np.repeat(start, k) + _ranges(k)
+    keep = i != j
+    i, j = i[keep], j[keep]
+    xy = np.asarray(m.xy)
+    E = np.asarray(m.edges)
+    F = np.asarray(m.F)
+    N = np.asarray(m.face_normals())
+    a0, a1 = xy[E[e_att[i], 0]], xy[E[e_att[i], 1]]
+    d = a1 - a0
+    length = np.linalg.norm(d, axis=1)
+    ok = length > 0
+    u = d / np.where(ok, length, 1.0)[:, None]
+
+    def side(P):
+        q = P - a0
+        return u[:, 0] * q[:, 1] - u[:, 1] * q[:, 0]
+
+    fi, fj = f[i], f[j]
+    ok &= side(xy[F[fi]].mean(axis=1)) * side(xy[F[fj]].mean(axis=1)) < 0
+    ok &= (area2[fi] > 0) == (area2[fj] > 0)
+    ok &= np.einsum("ij,ij->i", N[fi], N[fj]) >= np.cos(np.radians(crease_angle))
+    # the partner's edge lies on the same screen line and overlaps this one along it
+    b0, b1 = xy[E[e_att[j], 0]], xy[E[e_att[j], 1]]
+    tol = 1e-9 * np.maximum(length, 1e-300)
+    ok &= (np.abs(side(b0)) <= tol) & (np.abs(side(b1)) <= tol)
+    tb0 = np.einsum("ij,ij->i", b0 - a0, u)
+    tb1 = np.einsum("ij,ij->i", b1 - a0, u)
+    ok &= (np.maximum(tb0, tb1) > tol) & (np.minimum(tb0, tb1) < length - tol)
+    partner[e_att[i[ok]]] = fj[ok]
+    return partner
+
+
 def line_drawing(
     m: Any,
     order: Any = None,
@@ -682,6 +746,8 @@ def line_drawing(
     if contours == "auto":
         contours = "interpolated" if not crease.any() else "mesh"
     src = boundary | crease | (contour_edge if contours == "mesh" else False)
+    # an edge onto a face seen edge-on, across which the surface goes on smoothly, is a seam
+    src &= _seam_partners(m, ef, area2, crease_angle) < 0
     # an edge whose faces all cover nothing on screen (seen edge-on) is never drawn
     shows = (area2[f1] != 0) | (~boundary & (area2[np.maximum(f2, 0)] != 0))
     src &= shows
@@ -851,6 +917,8 @@ def visible_face_edges(
     inner = ef[:, 1] >= 0
     smooth = inner & ~crease
     smooth[inner] &= front[ef[inner, 0]] == front[ef[inner, 1]]
+    partner = _seam_partners(m, ef, area2, crease_angle)
+    smooth |= partner >= 0  # a seam across a face seen edge-on: the walk goes on to the partner
     H, W = faces.shape
     x0, x1, y0, y1 = (float(b) for b in bounds)
     dx, dy = (x1 - x0) / W, (y1 - y0) / H
@@ -864,14 +932,16 @@ def visible_face_edges(
         if len(r):
             P = np.stack([x0 + (c + 0.5) * dx, y1 - (r + 0.5) * dy], axis=1)
             Q = P + np.array([dj * dx, -di * dy])
-            same = _walk_to(f[r, c], g[r, c], P, Q, F, xy, fe, ef, smooth, area2, max_steps)
+            same = _walk_to(
+                f[r, c], g[r, c], P, Q, F, xy, fe, ef, smooth, partner, area2, max_steps
+            )
             line[r, c] = ~same
         out[: H - di, : W - dj] |= line
         out[di:, dj:] |= line
     return out
 
 
-def _walk_to(f, g, P, Q, F, xy, fe, ef, smooth, area2, max_steps) -> np.ndarray:
+def _walk_to(f, g, P, Q, F, xy, fe, ef, smooth, partner, area2, max_steps) -> np.ndarray:
     """For each pair, does the walk from face ``f`` at ``P`` toward ``Q`` across smooth edges
     end in face ``g``?"""
     n = len(f)
@@ -913,7 +983,8 @@ def _walk_to(f, g, P, Q, F, xy, fe, ef, smooth, area2, max_steps) -> np.ndarray:
         cross_ok = smooth[e]
         active[idx[~cross_ok]] = False
         idx, fc, e = idx[cross_ok], fc[cross_ok], e[cross_ok]
-        cur[idx] = np.where(ef[e, 0] == fc, ef[e, 1], ef[e, 0])
+        nxt = np.where(ef[e, 0] == fc, ef[e, 1], ef[e, 0])
+        cur[idx] = np.where((area2[nxt] == 0) & (partner[e] >= 0), partner[e], nxt)
     return result
 
 

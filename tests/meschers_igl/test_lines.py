@@ -307,3 +307,28 @@ def test_line_agreement_finds_a_wrong_drawing():
     every = type(every)(every.points, every.offsets, every.kind, np.ones_like(every.visible),
                         every.closed, every.box)  # fmt: skip
     assert line_agreement(every, g.mescher, g.order, size=256)[1] < 0.9
+
+
+def test_seam_across_a_strip_seen_edge_on_is_no_line():
+    # two unit plates facing the viewer, the second one lower, joined by a vertical strip in
+    # the plane x = 1 (seen edge-on): on screen one 2 x 1 rectangle, as the Penrose stairs'
+    # junction, whose only line is its outline
+    V = np.array(
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],  # upper plate
+         [1, 0, -1], [1, 1, -1], [2, 0, -1], [2, 1, -1]],  # lower plate
+        dtype=float,
+    )  # fmt: skip
+    F = np.array([[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2], [4, 6, 7], [4, 7, 5]])
+    m = Mescher.from_mesh(V, F)
+    order = DepthOrder.from_embedding(m, V[F][:, :, 2])
+    angle, crease = crease_edges(m)
+    assert crease.sum() == 2  # the strip meets each plate at 90 degrees
+    ld = line_drawing(m, order)
+    assert ld.length("outline") == pytest.approx(6.0, abs=1e-12)
+    assert ld.length() == pytest.approx(6.0, abs=1e-12)
+    assert ld.n_lines == 1 and ld.closed[0] and len(ld.polylines()[0]) == 5
+    bounds = (-0.5, 2.5, -1.0, 2.0)
+    faces = visible_faces(m, order, size=48, bounds=bounds)
+    gt = visible_face_edges(faces, m, bounds)
+    inner = ndimage.binary_erosion(faces >= 0, iterations=2)
+    assert gt.any() and not gt[inner].any()
