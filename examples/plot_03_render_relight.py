@@ -9,6 +9,7 @@ and environment maps are allowed: a mescher has no absolute 3D positions for a p
 """
 
 import matplotlib.pyplot as plt
+import numpy as np
 
 from meschers_igl import gallery
 from pyvista_views import render
@@ -30,7 +31,7 @@ settings = {
     "light (0, -1, 0.4)": {"lights": [(0, -1, 0.4)]},
     "two lights, smooth": {"lights": [(1, 1, 1), (-1, 0, 1)], "shading": "smooth"},
     'env_map="studio"': {"lights": [], "env_map": "studio"},
-    "no depth order": {"lights": [(1, 1, 1)], "order": None},
+    "face-index order": {"lights": [(1, 1, 1)], "order": np.arange(m.n_faces)},
 }
 fig, axes = plt.subplots(2, 3, figsize=(12, 8))
 for ax, (title, kw) in zip(axes.flat, settings.items()):
@@ -43,7 +44,28 @@ plt.show()
 
 # %%
 # The last panel draws the faces in index order instead of the depth order: bars that should
-# pass behind now cover the ones in front. The order is a DAG over faces
+# pass behind now cover the ones in front.  (``order=None`` never does this: ``render`` then
+# builds an order from the mescher's relative depths, or uses the z-buffer for a possible one.) The order is a DAG over faces
 # (``order.graph``, a :class:`networkx.DiGraph`); ``order.linear_extension()`` is the
 # back-to-front sequence the renderer uses.
 print(order.graph.number_of_nodes(), "faces,", order.graph.number_of_edges(), "arcs")
+
+# %%
+# Marks on the visible surface: a shortest path, the closed geodesics around the figure's loops
+# and two dots are drawn only where the surface they lie on is the one the viewer sees (hidden
+# pieces left out, or dashed with ``hidden="dashed"``); dots are clipped to the outline and
+# labels placed without overlap.
+from meschers_igl.geodesic import shortest_loops  # noqa: E402
+
+pt = gallery.get_model("penrose_triangle")
+mp, op = pt.mescher.subdivide(1, order=pt.order)
+path = mp.shortest_path(0, 200)
+marks = [{"path": path, "color": "red", "label": "path"}]
+marks += [{"path": loop, "hidden": "dashed", "label": f"loop {k}"}
+          for k, loop in enumerate(shortest_loops(mp))]  # fmt: skip
+img = render(mp, order=op, paths=marks, points={"vertices": [0, 200], "labels": ["s", "t"]},
+             window_size=(480, 480))  # fmt: skip
+plt.figure(figsize=(6, 6))
+plt.imshow(img)
+plt.axis("off")
+plt.show()
