@@ -646,8 +646,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 _VECTOR_OPTIONS = ("--view", "--up", "--light")
 
-#: The compiled kernel groups (:mod:`meschers.warmup`) each command uses; compiled up front, with
-#: a notice, when missing from the cache.
+#: The compiled kernel groups (:mod:`meschers.warmup`) each command uses: compiled as the command
+#: reaches them, with a notice the first time (the study compiles them up front, in parallel).
 _KERNELS = {
     "render": ("order", "render"),
     "geodesic": ("order", "geodesic", "render"),
@@ -660,9 +660,9 @@ _KERNELS = {
 def _compile_first(args: argparse.Namespace) -> None:
     groups = _KERNELS.get(getattr(args, "command", None) or "", ())
     if groups:
-        from .warmup import ensure_compiled
+        from .warmup import announce_compilation
 
-        ensure_compiled(lambda line: print(line, file=sys.stderr), groups)
+        announce_compilation(lambda line: print(line, file=sys.stderr), groups)
 
 
 def _join_negative_vectors(argv: list[str]) -> list[str]:

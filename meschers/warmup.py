@@ -21,7 +21,13 @@ from typing import Any
 
 from meschers_igl import compiled
 
-__all__ = ["COMPILE_SECONDS", "cold_groups", "ensure_compiled", "warm_group"]
+__all__ = [
+    "COMPILE_SECONDS",
+    "announce_compilation",
+    "cold_groups",
+    "ensure_compiled",
+    "warm_group",
+]
 
 RENDER_PACKAGE = "pyvista_views"
 
@@ -124,3 +130,47 @@ def ensure_compiled(
         for line in failed:  # the work then compiles what it needs as it goes
             say(f"compiling kernels failed for {line}")
     return took
+
+
+_announced: list[object] = []
+
+
+def announce_compilation(say: Callable[[str], None], groups: Iterable[str]) -> None:
+    """Say ``compiling kernels (first run only, about N s)`` when this process first compiles one
+    of the project's kernels (a numba cache miss), once; nothing when everything is cached.
+
+    For one command: its kernels compile as it reaches them, after its arguments were checked
+    (a bad argument fails at once, in one line), and only the kernels it uses.
+
+    Parameters
+    ----------
+    say : callable(str)
+    groups : iterable of str
+        The groups the command may use, for the estimate.
+    """
+    from numba.core import event
+
+    groups = tuple(groups)
+
+    class _Notice(event.Listener):
+        def on_start(self, ev: Any) -> None:
+            if self.done:
+                return
+            f = getattr(ev.data.get("dispatcher"), "py_func", None)
+            if f is None or not f.__module__.startswith(("meschers_igl", "pyvista_views")):
+                return
+            self.done = True
+            cold = cold_groups(groups) or [""]
+            estimate = max(sum(COMPILE_SECONDS.get(g, 10.0) for g in cold), 1.0)
+            say(f"compiling kernels (first run only, about {estimate:.0f} s)")
+
+        def on_end(self, ev: Any) -> None:
+            pass
+
+    for old in _announced:  # one notice per process: the last caller's
+        event.unregister("numba:compile", old)
+    _announced.clear()
+    listener = _Notice()
+    listener.done = False
+    event.register("numba:compile", listener)
+    _announced.append(listener)

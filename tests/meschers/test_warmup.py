@@ -84,3 +84,31 @@ def test_warm_refuses_an_unknown_group():
 
     with pytest.raises(MescherError, match="group: expected one of"):
         compiled.warm("everything")
+
+
+@pytest.mark.slow
+def test_a_command_announces_compilation_once_and_only_when_it_compiles(tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    cmd = [sys.executable, "-m", "meschers", "subdivide", "penrose_triangle", "-o"]
+
+    def run(out: str) -> subprocess.CompletedProcess:
+        return subprocess.run(
+            [*cmd, str(tmp_path / out)], env=env, capture_output=True, text=True, timeout=600
+        )
+
+    first, second = run("a.ply"), run("b.ply")
+    assert first.returncode == 0 and second.returncode == 0, first.stderr + second.stderr
+    notices = [ln for ln in first.stderr.splitlines() if ln.startswith("compiling kernels")]
+    assert len(notices) == 1 and "(first run only, about " in notices[0]
+    assert "compiling kernels" not in second.stderr  # cached: nothing compiles, nothing said
+    # a bad argument fails before any kernel is reached: one line, no notice
+    bad = subprocess.run(
+        [sys.executable, "-m", "meschers", "render", "penrose_triangle", "-o", "x.jpg"],
+        env={**env, "NUMBA_CACHE_DIR": str(tmp_path / "empty")},
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert bad.returncode == 2 and bad.stderr.strip().splitlines() == [
+        ln for ln in bad.stderr.strip().splitlines() if ln.startswith("meschers: error: -o")
+    ]
