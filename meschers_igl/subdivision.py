@@ -164,11 +164,15 @@ def crease_edges(
     The dihedral angle is the angle between the two faces' normals in their local frames
     (``zeta`` integrated in each face), well defined on any mescher.
     """
-    from . import operators as ops
-
     ne = edges.shape[0]
-    P = ops.local_corners(xy, F, ops.corner_depths(zeta, face_edges, signs))
-    N = ops.face_normals(P)
+    # each face's corners in its local frame (zeta summed from corner 0: edge 0->1 is the one
+    # opposite corner 2, 1->2 the one opposite corner 0), normals by libigl on that soup
+    h = signs * zeta[face_edges]
+    P = np.empty((F.shape[0], 3, 3))
+    P[:, :, :2] = xy[F]
+    P[:, :, 2] = np.column_stack([np.zeros(F.shape[0]), h[:, 2], h[:, 2] + h[:, 0]])
+    soup = np.arange(3 * F.shape[0], dtype=np.int64).reshape(-1, 3)
+    N = igl.per_face_normals(P.reshape(-1, 3), soup, np.array([0.0, 0.0, 1.0]))
     ef = topo.edge_faces(face_edges, ne)  # (#E, 2), -1 on the boundary
     interior = ef[:, 1] >= 0
     cos = np.ones(ne)
