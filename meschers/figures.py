@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from pyvista_views.compare import trim_rows
 from pyvista_views.overlays import place_labels
 
 __all__ = [
@@ -221,35 +222,6 @@ def compose(
     if colorbar is not None:
         canvas.paste(colorbar.draw(h), (left + n_cols * w, top))
     return canvas
-
-
-def trim_rows(
-    cells: Sequence[Sequence[np.ndarray]], pad: int = 6, min_height: int = 0
-) -> list[list[np.ndarray]]:
-    """The panels with the image rows that are white in every panel cut away (the same rows
-    from each, so the panels keep one size and one camera), ``pad`` pixels kept either side
-    and at least ``min_height`` rows (room for a colour bar).
-
-    A wide figure in a square panel leaves white bands above and below it; stacked in a grid
-    they become empty bands across the figure.
-    """
-    arrays = [[np.asarray(c) for c in row] for row in cells]
-    h = arrays[0][0].shape[0]
-    used = np.zeros(h, dtype=bool)
-    for row in arrays:
-        for a in row:
-            if a.shape[0] == h:
-                used |= np.any(a < 250, axis=(1, 2))
-    if not used.any():
-        return arrays
-    rows = np.flatnonzero(used)
-    lo, hi = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, h)
-    short = min(min_height, h) - (hi - lo)
-    if short > 0:  # widen around the middle, inside the image
-        lo = max(lo - (short + 1) // 2, 0)
-        hi = min(lo + max(hi - lo, min(min_height, h)), h)
-        lo = hi - max(hi - lo, min(min_height, h))
-    return [[a[lo:hi] if a.shape[0] == h else a for a in row] for row in arrays]
 
 
 def fit_text(draw: Any, text: str, font: Any, width: int) -> str:

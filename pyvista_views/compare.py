@@ -40,6 +40,7 @@ from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_index_array, as_positive
 
 from .camera import default_bounds, xy_box
+from .render import hide_back_faces
 from .scene import MescherScene
 
 __all__ = [
@@ -50,6 +51,7 @@ __all__ = [
     "image_agreement",
     "image_difference",
     "luminance",
+    "trim_rows",
 ]
 
 ROWS = ("mescher", "cut", "bent")
@@ -319,8 +321,10 @@ def compare(
                     s = smoothed_rows[row]
                     if row == "mescher":
                         # smoothing moved xy: overlaps appear and vanish, so the order follows
+                        # (and back faces go behind where the surface turns edge-on)
                         follow = getattr(order, "follow", None)
-                        scene.add(s, order=order if follow is None else follow(s), **kwargs)
+                        moved = order if follow is None else hide_back_faces(s, follow(s))
+                        scene.add(s, order=moved, **kwargs)
                     else:
                         scene.add_embedding(*s.bent_embedding(), **kwargs)
                 elif row == "mescher":
@@ -359,28 +363,64 @@ def _save_figure(result: Comparison, path: Path) -> Path:
 
 
 def _figure(result: Comparison):
-    from PIL import Image, ImageDraw
+    from PIL import Image, ImageDraw, ImageFont
 
-    first = result.images[ROWS[0]][COLUMNS[0]]
+    trimmed = trim_rows([[result.images[r][c] for c in COLUMNS] for r in ROWS])
+    images = {r: dict(zip(COLUMNS, row)) for r, row in zip(ROWS, trimmed)}
+    first = images[ROWS[0]][COLUMNS[0]]
     h, w = first.shape[:2]
-    left, top, caption, foot = 70, 22, 16, 18
+    try:  # labels readable at page width (13 px)
+        fnt = ImageFont.load_default(size=13)
+    except TypeError:  # Pillow < 10.1
+        fnt = ImageFont.load_default()
+    left, top, caption, foot = 76, 22, 18, 20
     width = left + w * len(COLUMNS)
     canvas = Image.new("RGB", (width, top + (h + caption) * len(ROWS) + foot), "white")
     draw = ImageDraw.Draw(canvas)
     for j, column in enumerate(COLUMNS):
-        draw.text((left + j * w + 4, 4), column, fill="black")
+        draw.text((left + j * w + 4, 4), column, fill="black", font=fnt)
     draw.text(
         (4, top + (h + caption) * len(ROWS) + 3),
         "dL: mean |luminance difference| (0 black .. 1 white) to the cut model (render, relit) "
         "or to the smoothed mescher; rel. dist.: mean |d - d_mescher| / max d_mescher",
         fill="#444444",
+        font=fnt,
     )
     for i, row in enumerate(ROWS):
         y = top + i * (h + caption)
-        draw.text((4, y + h // 2), row, fill="black")
+        draw.text((4, y + h // 2), row, fill="black", font=fnt)
         for j, column in enumerate(COLUMNS):
-            canvas.paste(Image.fromarray(result.images[row][column]), (left + j * w, y))
+            canvas.paste(Image.fromarray(images[row][column]), (left + j * w, y))
             unit = "rel. dist." if column == "geodesic" else "dL"
             value = result.numbers[row][column]
-            draw.text((left + j * w + 4, y + h + 2), f"{unit} {value:.3f}", fill="black")
+            draw.text((left + j * w + 4, y + h + 2), f"{unit} {value:.3f}", fill="black", font=fnt)
     return canvas
+
+
+def trim_rows(
+    cells: Sequence[Sequence[np.ndarray]], pad: int = 6, min_height: int = 0
+) -> list[list[np.ndarray]]:
+    """The panels with the image rows that are white in every panel cut away (the same rows
+    from each, so the panels keep one size and one camera), ``pad`` pixels kept either side
+    and at least ``min_height`` rows (room for a colour bar).
+
+    A wide figure in a square panel leaves white bands above and below it; stacked in a grid
+    they become empty bands across the figure.
+    """
+    arrays = [[np.asarray(c) for c in row] for row in cells]
+    h = arrays[0][0].shape[0]
+    used = np.zeros(h, dtype=bool)
+    for row in arrays:
+        for a in row:
+            if a.shape[0] == h:
+                used |= np.any(a < 250, axis=(1, 2))
+    if not used.any():
+        return arrays
+    rows = np.flatnonzero(used)
+    lo, hi = max(int(rows[0]) - pad, 0), min(int(rows[-1]) + pad + 1, h)
+    short = min(min_height, h) - (hi - lo)
+    if short > 0:  # widen around the middle, inside the image
+        lo = max(lo - (short + 1) // 2, 0)
+        hi = min(lo + max(hi - lo, min(min_height, h)), h)
+        lo = hi - max(hi - lo, min(min_height, h))
+    return [[a[lo:hi] if a.shape[0] == h else a for a in row] for row in arrays]
