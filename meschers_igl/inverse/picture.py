@@ -317,7 +317,8 @@ def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: floa
 
     if not polygons:
         raise MescherError("polygons: expected at least one non-empty region, found none")
-    chains = [np.asarray(g.coords) for g in lines]
+    union = shapely.union_all(polygons)
+    chains = _split_near_outline([np.asarray(g.coords) for g in lines], union.boundary, pixel)
     pts = np.concatenate(chains)
     key = np.round(pts * 1e9).astype(np.int64)
     _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
@@ -330,7 +331,6 @@ def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: floa
     segs = np.concatenate(segs)
     segs = np.unique(np.sort(segs, axis=1), axis=0)
     segs = segs[segs[:, 0] != segs[:, 1]]
-    union = shapely.union_all(polygons)
     holes = []
     for p in getattr(union, "geoms", [union]):
         for r in p.interiors:
@@ -345,9 +345,14 @@ def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: floa
     for opts in (f"pq{min_angle:g}{area}", f"pq10{area}", f"p{area}", "p"):
         try:
             tri = triangle.triangulate(spec, opts)
-            break
         except RuntimeError:
             continue
+        # out of precision, Triangle may also return overlapping triangles: an edge of three
+        T = np.sort(np.asarray(tri["triangles"], dtype=np.int64), axis=1)
+        e = np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [0, 2]]])
+        if np.unique(e, axis=0, return_counts=True)[1].max(initial=0) <= 2:
+            break
+        tri = None
     if tri is None:
         raise MescherError(
             "polygons: expected region boundaries Triangle can triangulate, found boundaries it "
@@ -367,6 +372,37 @@ def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: floa
     remap = np.full(len(xy), -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
     return xy[used], remap[F], face_region
+
+
+def _split_near_outline(chains, outline, pixel: float, at_px: float = 1.5):
+    """Boundary chains with a vertex ``at_px`` pixels from each end on the figure's outline.
+
+    A cut along an occlusion stops one edge short of the outline (:func:`_off_outline`); the
+    triangulation keeps a long straight constraint as one edge, so without this vertex a cut
+    could stop tens of pixels short and the surface would stay whole across the hidden step.
+    Chains on the outline itself are left alone.
+    """
+    import shapely
+
+    out = []
+    d = at_px * pixel
+    for c in chains:  # a few dozen chains
+        if len(c) < 2 or shapely.LineString(c).hausdorff_distance(outline) < 1e-9:
+            out.append(c)
+            continue
+        if len(c) >= 2 and shapely.distance(shapely.LineString(c), outline) > 1e-9:
+            out.append(c)
+            continue
+        pts = [c]
+        for end, nxt in ((0, 1), (-1, -2)):
+            seg = c[nxt] - c[end]
+            L = float(np.linalg.norm(seg))
+            if L > 2.0 * d and shapely.distance(shapely.Point(c[end]), outline) < 1e-9:
+                q = c[end] + seg * (d / L)
+                pts = [np.vstack([pts[0][:1], q, pts[0][1:]])] if end == 0 else [
+                    np.vstack([pts[0][:-1], q, pts[0][-1:]])]  # fmt: skip
+        out.append(pts[0])
+    return out
 
 
 def normals_from_shading(

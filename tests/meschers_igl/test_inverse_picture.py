@@ -178,3 +178,17 @@ def test_real_tribar_picture_is_read_with_the_models_face_directions(light):
     mirror = light * np.array([-1.0, -1.0, 1.0])
     best = max(est["light"] @ light, est["light"] @ mirror)
     assert math.degrees(math.acos(min(best, 1.0))) < 2.0
+
+
+@pytest.mark.parametrize("res", [128, 256, 512])
+def test_tribar_period_at_any_resolution(res):
+    # an occlusion cut stops a pixel and a half short of the outline at every resolution (a
+    # long straight constraint kept as one edge stopped it 16 pixels short at 256^2: period
+    # 0.775 of the gap, the hole's step instead of the outline's)
+    from meschers_igl.inverse.metrics import figure_period
+
+    model = mdl.penrose_tribar()
+    light = np.array([0.19, -0.2, 0.96])
+    image, scale = _zbuffer(model, light, res)
+    m, _, _ = pic.mescher_from_picture(image, light, 0.2)
+    assert figure_period(m) == pytest.approx(model.gap * scale, rel=0.02)
