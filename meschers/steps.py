@@ -291,6 +291,7 @@ def heat(job: ModelJob, s: Subject) -> None:
         drift.append(abs(float(mass @ u) - float(mass @ u0)) / float(mass @ u0))
         # log scale per panel: each panel normalised to its maximum, then log10
         v = np.log10(np.maximum(u / u.max(), 10.0**HEAT_LOG_MIN))
+        v[u <= 0] = np.inf  # parts the heat cannot reach (other components): "unreached"
         spans.append(float(u.min() / u.max()))
         kw = {"shading": "smooth", "scalars": v, "cmap": HEAT_CMAP, "clim": (HEAT_LOG_MIN, 0.0)}
         images.append(job.renderer.shoot([_mescher(s, **kw)], bounds))
@@ -307,7 +308,7 @@ def heat(job: ModelJob, s: Subject) -> None:
         f"Backward Euler heat diffusion (M - tL) u = M u0 (paper Eq. 5) from vertex {s.source}, for "
         "three times t (s: diagonal of the xy box), each panel normalised to its maximum and drawn on a log "
         f"scale, log10(u / max u) from {HEAT_LOG_MIN:g} (dark blue) to 0 (yellow): the heat spreads over "
-        "the surface as perceived, across the impossible loop. Total heat 1^T M u is kept to "
+        "the surface as perceived, across the impossible loop (grey: parts it cannot reach). Total heat 1^T M u is kept to "
         f"{max(drift):.1e}.")  # fmt: skip
 
 
