@@ -373,7 +373,7 @@ def _figure(result: Comparison):
         fnt = ImageFont.load_default(size=13)
     except TypeError:  # Pillow < 10.1
         fnt = ImageFont.load_default()
-    left, top, caption, foot = 76, 22, 18, 20
+    left, top, caption, foot = 76, 22, 18, 38
     width = left + w * len(COLUMNS)
     canvas = Image.new("RGB", (width, top + (h + caption) * len(ROWS) + foot), "white")
     draw = ImageDraw.Draw(canvas)
@@ -381,7 +381,7 @@ def _figure(result: Comparison):
         draw.text((left + j * w + 4, 4), column, fill="black", font=fnt)
     draw.text(
         (4, top + (h + caption) * len(ROWS) + 3),
-        "dL: mean |luminance difference| (0 black .. 1 white) to the cut model (render, relit) "
+        "dL: mean |luminance difference| (0 black .. 1 white) to the cut model (render, relit)\n"
         "or to the smoothed mescher; rel. dist.: mean |d - d_mescher| / max d_mescher",
         fill="#444444",
         font=fnt,
