@@ -73,8 +73,14 @@ def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndar
     ia, ib = np.flatnonzero(F[n] == a)[0], np.flatnonzero(F[n] == b)[0]
     iw = 3 - ia - ib
     Pn[ia], Pn[ib] = Pg[(k + 1) % 3], Pg[(k + 2) % 3]
-    side = -np.sign(_cross(Pn[ib] - Pn[ia], Pg[k] - Pn[ia]))  # away from the face before
-    Pn[iw] = intrinsic.place_apex(Pn[ia], Pn[ib], l[n, ib], l[n, ia], side)
+    # faces are laid out counter-clockwise (consistent orientation), so w is left of a -> b
+    # when a, b, w run in the face's order; the offsets use the edge's own length, not the
+    # unfolded one (a face without area would turn a round-off there into a sqrt(eps) height)
+    side = 1.0 if (ib - ia) % 3 == 1 else -1.0
+    e = Pn[ib] - Pn[ia]
+    e = e / max(float(np.hypot(*e)), 1e-300)
+    x, y = intrinsic.apex_offsets(l[n, iw], l[n, ib], l[n, ia])
+    Pn[iw] = Pn[ia] + float(x) * e + side * float(y) * np.array([-e[1], e[0]])
     return n, Pn
 
 
@@ -140,27 +146,28 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
             else:
                 kc = c
         a, b, cc = F[g, ka], F[g, kb], F[g, kc]
-        pa0 = pa1 = pb0 = pb1 = pp0 = pp1 = 0.0
+        pa0 = pa1 = pb0 = pb1 = 0.0
         for q in range(3):
             if cv[q] == a:
                 pa0, pa1 = cp[q, 0], cp[q, 1]
             elif cv[q] == b:
                 pb0, pb1 = cp[q, 0], cp[q, 1]
-            else:
-                pp0, pp1 = cp[q, 0], cp[q, 1]
         la = l[g, kb]  # |c a| is opposite b
         lb = l[g, ka]  # |c b| is opposite a
         e0, e1 = pb0 - pa0, pb1 - pa1
-        cross = e0 * (pp1 - pa1) - e1 * (pp0 - pa0)
-        side = -1.0 if cross >= 0 else 1.0  # the apex on the far side of the portal
+        # faces are laid out counter-clockwise (consistent orientation): the apex is left of
+        # a -> b when a, b, apex run in the face's order (ka < kb here), and the previous
+        # face's apex on the other side; the offsets use the portal's own length (a face
+        # without area would turn a round-off in the unfolded one into a sqrt(eps) height)
+        side = 1.0 if kb - ka == 1 else -1.0
         LL = np.sqrt(e0 * e0 + e1 * e1)
-        x, y = _apex_offset(LL, la, lb)
+        x, y = _apex_offset(l[g, kc], la, lb)
         if LL > 0:  # in units of the portal
             x /= LL
             y /= LL
         pc0 = pa0 + x * e0 - side * y * e1
         pc1 = pa1 + x * e1 + side * y * e0
-        if cross > 0:
+        if side < 0:
             il[k], ir[k] = b, a
             pl[k, 0], pl[k, 1], pr[k, 0], pr[k, 1] = pb0, pb1, pa0, pa1
         else:

@@ -589,8 +589,9 @@ def propagate(mesh, arr, ctr, max_pops, targets):  # pragma: no cover - compiled
                     bpos[ib] = _ring_pos(cpos, csgn, cb, cang[cb] + np.arctan2(-sy, L - sx))
                     upd[nu] = ib
                     nu += 1
-            # where the ray from s through the apex C crosses AB
-            tc = sx + (cx - sx) * (-sy) / (cy - sy)
+            # where the ray from s through the apex C crosses AB (a face without area, C on
+            # the line AB, and s on that line too: the rays run along AB, C is at its place)
+            tc = sx + (cx - sx) * (-sy) / (cy - sy) if cy > sy else cx
             if b0 - tol <= tc <= b1 + tol:
                 dv = sig + np.hypot(cx - sx, cy - sy)
                 if dv < dist[ic]:
@@ -650,6 +651,10 @@ def propagate(mesh, arr, ctr, max_pops, targets):  # pragma: no cover - compiled
                     uu = min(max(uu, 0.0), Lk)
                     lo = min(lo, uu)
                     hi = max(hi, uu)
+                if sy >= -tol and b0 - tol <= sx <= b1 + tol:
+                    # the source on the edge itself (sent across a face without area): it
+                    # sees the whole far edges, which the rays through the interval miss
+                    lo, hi = 0.0, Lk
                 if hi <= lo:
                     continue
                 if rev[hc]:

@@ -344,3 +344,20 @@ def test_bad_input():
         ExactGeodesicSolver(F=F, l=np.ones((len(F), 2)))
     with pytest.raises(MescherError, match="m"):
         ExactGeodesicSolver()
+
+
+def test_faces_without_area_are_crossed_exactly():
+    """A T-junction closed by a face of zero area (its apex on its base, as in exported CAD
+    and artist models): distances from every vertex equal MMP's, and the shortest path's
+    length the exact distance, with no division by zero."""
+    from meschers_igl.geodesic import shortest_path
+
+    V = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [2, 1, 0], [1, 2, 0.5]], float)
+    F = np.array([[0, 2, 4], [0, 4, 3], [0, 1, 2], [3, 4, 5]])
+    m = Mescher.from_mesh(V, F)
+    assert igl.doublearea(V, F)[2] == 0.0  # (the operators see it mollified)
+    for s in range(len(V)):
+        np.testing.assert_allclose(geodesic_distance(m, s, "exact"), _igl(V, F, s), atol=TOL)
+        for t in range(len(V)):
+            if t != s:
+                assert shortest_path(m, s, t).length == pytest.approx(_igl(V, F, s)[t], rel=1e-12)

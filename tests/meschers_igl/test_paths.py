@@ -9,6 +9,8 @@ shorter than the exact distance; a geodesic found by the shortening is within 0.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import igl
 import numpy as np
 import pytest
@@ -293,3 +295,27 @@ def test_never_longer_than_potpourri3ds_flipout():
             P = flip.find_geodesic_path(int(s), int(t))
             theirs = float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
             assert shortest_path(m, int(s), int(t)).length <= theirs * (1 + 1e-9)
+
+
+REAL = Path(__file__).resolve().parents[3] / "shared" / "real_models"
+
+
+@pytest.mark.skipif(not REAL.is_dir(), reason="the real models are not here")
+@pytest.mark.parametrize(
+    "name", ["EscherCube.obj", "IllusionEscalier.obj", "ImpossibleTriangle.obj"]
+)
+def test_shortest_paths_on_real_models_are_exact(name):
+    """Models as people export them (T-junction slits closed by faces without area, 0.9-degree
+    slivers, 178-degree angles), as ordinary meshes: path length = MMP's distance."""
+    V, F = igl.read_triangle_mesh(str(REAL / name))
+    V, _, _, F = igl.remove_duplicate_vertices(V, F, 1e-9)
+    F = F[(F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])]
+    used = np.unique(F)
+    V, F = V[used], np.searchsorted(used, F)
+    m = Mescher.from_mesh(V, F)
+    rel = []
+    for s, t in _pairs(len(V), 8, seed=1):
+        de = igl.exact_geodesic(V, F, VS=np.array([s]), VT=np.array([t]))[0]
+        if 0 < de < 1e300:  # same component
+            rel.append(shortest_path(m, int(s), int(t)).length / de - 1.0)
+    assert len(rel) >= 4 and np.abs(rel).max() < 1e-9
