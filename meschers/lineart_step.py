@@ -22,7 +22,8 @@ __all__ = ["line_art"]
 
 def line_art(job: Any, s: Any) -> None:
     """Shaded render, line art and the lines over the render, of the input mescher."""
-    from meschers_igl.lines import KINDS, line_agreement, line_drawing
+    from meschers_igl.line_pixels import line_agreement
+    from meschers_igl.lines import KINDS, line_drawing
     from pyvista_views.lineart import picture
 
     m0, o0 = s.coarse if s.coarse is not None else (s.m, s.order)

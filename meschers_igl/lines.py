@@ -17,15 +17,14 @@ surface to another, or turns a sharp corner:
     construction the paper's occluding contours of meshes refer to), a curve that crosses
     faces instead of zig-zagging along their edges.
 
-* **visibility**, exactly, from the order: a point ``p`` of a source on the faces ``S`` is
-  hidden when a face drawn after every face of ``S`` (a larger rank in the order's linear
-  extension) contains ``p`` in its interior.  Each source segment ``a + t (b - a)`` is clipped
-  against the interior of every later face whose box it meets (three half-planes: an interval
-  of ``t``); the union of those intervals is hidden, the rest visible, so a line stops exactly
-  where it passes behind a face (a T-junction).  For interpolated contours ``S`` is the
-  two-ring of the contour's face: the faces just beyond the contour fold under it, and a
-  vertex-normal curve cannot be made consistent with them (the known limit of interpolated
-  contours), so they neither hide it nor count as "beyond" it.
+* **visibility**, exactly, from the order: a line is seen where one of its own faces shows
+  beside it.  A side of a source segment ``a + t (b - a)`` is covered where a face drawn after
+  its own faces on that side (a larger rank in the order's linear extension) holds the
+  segment strictly inside, or has it on an edge and lies on that side (three half-planes: an
+  interval of ``t``); where both sides are covered the line is hidden, so it stops exactly
+  where it passes behind a face (a T-junction).  Faces of the two-ring of an interpolated
+  contour's face neither hide it nor count as beyond it: they fold under it, and a
+  vertex-normal curve cannot be made consistent with them (the known limit of the method).
 
 * **kinds**, from what the picture shows on either side of a visible piece (the last face
   drawn just left and just right of its midpoint): ``"outline"`` where the background is on
@@ -34,12 +33,10 @@ surface to another, or turns a sharp corner:
   boundaries and contours over other surface are occlusion lines).
 
 Pieces of one kind and visibility that meet end to end are joined into polylines (a compiled
-walk), and points where a polyline goes straight on are dropped, so a bar's edge made of many
-mesh edges is one two-point line.  :func:`line_drawing` returns a :class:`LineDrawing`;
-``pyvista_views.draw`` writes it as SVG or PDF and overlays it on a render.
-
-Everything is vectorized: the broad phase bins the faces' boxes once into a uniform grid,
-clipping and interval unions are array operations, the joining walk is compiled.
+walk) without the points where they go straight on, so a bar's edge made of many mesh edges
+is one two-point line.  Everything else is array work over a uniform grid of the faces' boxes.
+:func:`line_drawing` returns a :class:`LineDrawing`; ``pyvista_views.draw`` writes it as SVG or
+PDF; :mod:`meschers_igl.line_pixels` measures it against the painter's picture.
 """
 
 from __future__ import annotations
@@ -65,9 +62,7 @@ __all__ = [
     "LineDrawing",
     "crease_edges",
     "interpolated_contours",
-    "line_agreement",
     "line_drawing",
-    "visible_face_edges",
 ]
 
 #: Line kinds, in the order of the codes in :attr:`LineDrawing.kind`.
@@ -337,17 +332,7 @@ def interpolated_contours(m: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 # --------------------------------------------------------------------------- visibility
 def _hidden_intervals(
-    A: np.ndarray,
-    B: np.ndarray,
-    thr: np.ndarray,
-    anchor: np.ndarray,
-    T: np.ndarray,
-    area2: np.ndarray,
-    rank: np.ndarray,
-    near: np.ndarray | None,
-    scale: float,
-    tol: float,
-    grid: _FaceGrid,
+    src: _Sources, sc: _Scene, tol: float
 ) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
     """Parameter intervals ``(seg, t0, t1)`` where segment ``A + t (B - A)`` is hidden, and the
     break points ``(seg, t)`` where it crosses the boundary of any face.
@@ -360,6 +345,8 @@ def _hidden_intervals(
     skipped.  The segment is hidden where both sides are covered: a line is seen wherever one
     of its own faces shows beside it.
     """
+    A, B, thr, anchor, near = src.A, src.B, src.thr, src.anchor, src.near
+    T, area2, rank, scale, grid = sc.T, sc.area2, sc.rank, sc.scale, sc.grid
     n = len(A)
     pad = tol + 1e-12 * scale  # faces whose edge lies within tol of a segment are met too
     s, g = grid.pairs(np.minimum(A, B) - pad, np.maximum(A, B) + pad)
@@ -720,24 +707,80 @@ def line_drawing(
     side probes, then array clipping; linear in the number of (segment, face) box contacts.
     """
     contours = as_choice(contours, "contours", CONTOUR_MODES)
-    try:
-        F = np.asarray(m.F, dtype=np.int64)
-        xy = np.asarray(m.xy, dtype=np.float64)
-        E = np.asarray(m.edges, dtype=np.int64)
-    except AttributeError:
-        raise MescherError(f"m: expected a Mescher, found {type(m).__name__}") from None
-    nF, nV = len(F), len(xy)
-    draw = _draw_order(m, order)
-    rank = np.empty(nF, dtype=np.int64)
-    rank[draw] = np.arange(nF)
-    T = xy[F]
-    area2 = _double_area(T)
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
-    box = (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
-    scale = float(max(hi - lo)) or 1.0
-
     crease_angle = as_positive(crease_angle, "crease_angle", allow_zero=True)
-    ef = edge_faces(np.asarray(m.face_edges), len(E))
+    sc = _Scene.of(m, order)
+    src = _sources(m, sc, crease_angle, contours)
+    (hs, h0, h1), breaks = _hidden_intervals(src, sc, default_tol(sc.xy))
+    n_seg = len(src.A)
+    vs, v0, v1 = _complement(n_seg, hs, h0, h1)
+    pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
+    if hidden:
+        ws, w0, w1 = _complement(n_seg, vs, v0, v1)
+        pieces.append((ws, w0, w1, np.zeros(len(ws), dtype=bool)))
+    ps, p0, p1, vis = (np.concatenate([p[i] for p in pieces]) for i in range(4))
+    ps, vis, Q0, Q1 = _split_at(ps, p0, p1, vis, breaks, src, sc.scale)
+    kind = _kinds(ps, vis, Q0, Q1, src, sc)
+    # pieces join within one kind, visibility and source (mesh edges or interpolated contours)
+    group = (kind * 2 + vis.astype(np.int64)) * 2 + (src.anchor[ps] >= 0)
+    return _polylines(Q0, Q1, group, sc, min_length)
+
+
+@dataclass(frozen=True)
+class _Scene:
+    """A mescher's screen triangles in their drawing order, binned once."""
+
+    F: np.ndarray
+    xy: np.ndarray
+    E: np.ndarray
+    T: np.ndarray
+    area2: np.ndarray
+    draw: np.ndarray
+    rank: np.ndarray
+    ef: np.ndarray
+    scale: float
+    box: tuple[float, float, float, float]
+    grid: _FaceGrid
+
+    @classmethod
+    def of(cls, m: Any, order: Any) -> _Scene:
+        try:
+            F = np.asarray(m.F, dtype=np.int64)
+            xy = np.asarray(m.xy, dtype=np.float64)
+            E = np.asarray(m.edges, dtype=np.int64)
+        except AttributeError:
+            raise MescherError(f"m: expected a Mescher, found {type(m).__name__}") from None
+        draw = _draw_order(m, order)
+        rank = np.empty(len(F), dtype=np.int64)
+        rank[draw] = np.arange(len(F))
+        T = xy[F]
+        area2 = _double_area(T)
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        return cls(
+            F, xy, E, T, area2, draw, rank, edge_faces(np.asarray(m.face_edges), len(E)),
+            float(max(hi - lo)) or 1.0, (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])),
+            _FaceGrid(T, area2),
+        )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _Sources:
+    """Source segments ``A -> B``: per side the last rank of their own faces (``thr``), the
+    face holding an interpolated contour (``anchor``, -1 for mesh edges), the edge's faces
+    (``own``), which are creases, and the near relation of contour faces (sorted keys)."""
+
+    A: np.ndarray
+    B: np.ndarray
+    thr: np.ndarray
+    anchor: np.ndarray
+    own: np.ndarray
+    is_crease: np.ndarray
+    near: np.ndarray | None
+
+
+def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources:
+    """Boundary, crease and (mesh) contour edges, or interpolated contour segments."""
+    F, xy, E, ef, area2, rank = sc.F, sc.xy, sc.E, sc.ef, sc.area2, sc.rank
+    nF, nV = len(F), len(xy)
     _, crease = _dihedral(m, ef, crease_angle)
     boundary = ef[:, 1] < 0
     f1, f2 = ef[:, 0], ef[:, 1]
@@ -749,21 +792,17 @@ def line_drawing(
     # an edge onto a face seen edge-on, across which the surface goes on smoothly, is a seam
     src &= _seam_partners(m, ef, area2, crease_angle) < 0
     # an edge whose faces all cover nothing on screen (seen edge-on) is never drawn
-    shows = (area2[f1] != 0) | (~boundary & (area2[np.maximum(f2, 0)] != 0))
-    src &= shows
-    src &= np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) > _MIN_PIECE * scale
-    e_src = np.flatnonzero(src)
-    A = [xy[E[e_src, 0]]]
-    B = [xy[E[e_src, 1]]]
-    thr = [_side_ranks(xy, F, E[e_src], f1[e_src], f2[e_src], rank, area2)]
-    anchor = [np.full(len(e_src), -1, dtype=np.int64)]
-    own = [np.stack([f1[e_src], f2[e_src]], axis=1)]
-    is_crease_src = [crease[e_src]]
+    src &= (area2[f1] != 0) | (~boundary & (area2[np.maximum(f2, 0)] != 0))
+    src &= np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) > _MIN_PIECE * sc.scale
+    e = np.flatnonzero(src)
+    parts = [
+        (xy[E[e, 0]], xy[E[e, 1]], _side_ranks(xy, F, E[e], f1[e], f2[e], rank, area2),
+         np.full(len(e), -1, dtype=np.int64), np.stack([f1[e], f2[e]], axis=1), crease[e])
+    ]  # fmt: skip
     near = None
-    grid = _FaceGrid(T, area2)
     if contours == "interpolated":
         cf, cedge, CP = interpolated_contours(m)
-        ok = np.linalg.norm(CP[cedge[:, 1]] - CP[cedge[:, 0]], axis=1) > _MIN_PIECE * scale
+        ok = np.linalg.norm(CP[cedge[:, 1]] - CP[cedge[:, 0]], axis=1) > _MIN_PIECE * sc.scale
         cf, cedge = cf[ok], cedge[ok]
         if len(cf):
             VF = sp.csr_matrix(
@@ -775,79 +814,63 @@ def line_drawing(
             near = np.unique(cf[r2.row] * np.int64(_NEAR_BASE) + r2.col)
             # the local fold is drawn up to the last face of the one-ring
             seg_thr = np.maximum.reduceat(rank[r1.indices], r1.indptr[:-1])
-            A.append(CP[cedge[:, 0]])
-            B.append(CP[cedge[:, 1]])
-            thr.append(np.stack([seg_thr, seg_thr], axis=1))
-            anchor.append(cf)
-            own.append(np.full((len(cf), 2), -1, dtype=np.int64))
-            is_crease_src.append(np.zeros(len(cf), dtype=bool))
-    A, B = np.concatenate(A), np.concatenate(B)
-    thr, anchor = np.concatenate(thr), np.concatenate(anchor)
-    own = np.concatenate(own)
-    is_crease_src = np.concatenate(is_crease_src)
-    n_seg = len(A)
+            parts.append(
+                (CP[cedge[:, 0]], CP[cedge[:, 1]], np.stack([seg_thr, seg_thr], axis=1), cf,
+                 np.full((len(cf), 2), -1, dtype=np.int64), np.zeros(len(cf), dtype=bool))
+            )  # fmt: skip
+    cat = [np.concatenate([p[i] for p in parts]) for i in range(6)]
+    return _Sources(*cat, near)
 
-    (hs, h0, h1), (bs, bt) = _hidden_intervals(
-        A, B, thr, anchor, T, area2, rank, near, scale, default_tol(xy), grid
-    )
-    vs, v0, v1 = _complement(n_seg, hs, h0, h1)
-    pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
-    if hidden:
-        ws, w0, w1 = _complement(n_seg, vs, v0, v1)
-        pieces.append((ws, w0, w1, np.zeros(len(ws), dtype=bool)))
-    ps = np.concatenate([p[0] for p in pieces])
-    p0 = np.concatenate([p[1] for p in pieces])
-    p1 = np.concatenate([p[2] for p in pieces])
-    vis = np.concatenate([p[3] for p in pieces])
-    # split pieces where their segment crosses a face's boundary (the side may change there);
-    # a split point is one node shared by the two sub-pieces
+
+def _split_at(ps, p0, p1, vis, breaks, src: _Sources, scale: float):
+    """Pieces ``[p0, p1]`` of segments ``ps`` cut where their segment crosses a face's boundary
+    (what lies beside it may change there); returns the pieces' segments, visibility and ends."""
+    bs, bt = breaks
     key, first = np.unique(bs * 4.0 + bt, return_index=True)
-    bs, bt = bs[first], bt[first]
+    bt = bt[first]
     lo_i = np.searchsorted(key, ps * 4.0 + p0, "right")
     hi_i = np.searchsorted(key, ps * 4.0 + p1, "left")
-    k = np.maximum(hi_i - lo_i, 0)
-    n_sub = k + 1
+    n_sub = np.maximum(hi_i - lo_i, 0) + 1
     piece = np.repeat(np.arange(len(ps)), n_sub)
     j = _ranges(n_sub)
-    is_first, is_last = j == 0, j == n_sub[piece] - 1
-    bp_lo = lo_i[piece] + j - 1  # break point at the start of sub-piece j (j >= 1)
-    s0 = np.where(
-        is_first, p0[piece], bt[np.clip(bp_lo, 0, max(len(bt) - 1, 0))] if len(bt) else 0.0
-    )
-    s1 = np.where(
-        is_last, p1[piece], bt[np.clip(bp_lo + 1, 0, max(len(bt) - 1, 0))] if len(bt) else 0.0
-    )
+    bp = lo_i[piece] + j - 1  # break point at the start of sub-piece j (j >= 1)
+    last = max(len(bt) - 1, 0)
+    at = (lambda i: bt[np.clip(i, 0, last)]) if len(bt) else (lambda i: np.zeros(len(i)))
+    s0 = np.where(j == 0, p0[piece], at(bp))
+    s1 = np.where(j == n_sub[piece] - 1, p1[piece], at(bp + 1))
     ps, vis = ps[piece], vis[piece]
-    p0, p1 = s0, s1
-    d = B[ps] - A[ps]
-    seg_len = np.linalg.norm(d, axis=1)
-    long = (p1 - p0) * seg_len > _MIN_PIECE * scale
-    sel = np.flatnonzero(long)
-    ps, p0, p1, vis, d, seg_len = ps[sel], p0[sel], p1[sel], vis[sel], d[sel], seg_len[sel]
+    A, B = src.A[ps], src.B[ps]
+    d = B - A
+    sel = (s1 - s0) * np.linalg.norm(d, axis=1) > _MIN_PIECE * scale
+    ps, vis, s0, s1, A, B, d = ps[sel], vis[sel], s0[sel], s1[sel], A[sel], B[sel], d[sel]
     # a source's own ends exactly (A + 1 (B - A) may differ from B in the last bit)
-    Q0 = np.where((p0 <= 0.0)[:, None], A[ps], A[ps] + p0[:, None] * d)
-    Q1 = np.where((p1 >= 1.0)[:, None], B[ps], A[ps] + p1[:, None] * d)
+    Q0 = np.where((s0 <= 0.0)[:, None], A, A + s0[:, None] * d)
+    Q1 = np.where((s1 >= 1.0)[:, None], B, A + s1[:, None] * d)
+    return ps, vis, Q0, Q1
 
-    # kinds from the faces drawn just left and right of each piece's midpoint
+
+def _kinds(ps, vis, Q0, Q1, src: _Sources, sc: _Scene) -> np.ndarray:
+    """Kind of each piece from the faces drawn just left and right of its midpoint."""
+    d = Q1 - Q0
     mid = 0.5 * (Q0 + Q1)
-    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / seg_len[:, None]
-    probe = _PROBE * scale
+    nrm = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.linalg.norm(d, axis=1)[:, None]
+    probe = _PROBE * sc.scale
     P = np.concatenate([mid + probe * nrm, mid - probe * nrm])
-    anc2 = np.concatenate([anchor[ps], anchor[ps]])
-    top = _top_faces(P, T, area2, rank, draw, anc2, near, scale, grid)
+    anc2 = np.concatenate([src.anchor[ps], src.anchor[ps]])
+    top = _top_faces(P, sc.T, sc.area2, sc.rank, sc.draw, anc2, src.near, sc.scale, sc.grid)
     left, right = top[: len(ps)], top[len(ps) :]
-    o1, o2 = own[ps, 0], own[ps, 1]
+    o1, o2 = src.own[ps, 0], src.own[ps, 1]
     is_crease = (o2 >= 0) & (((left == o1) & (right == o2)) | ((left == o2) & (right == o1)))
     kind = np.where(
         (left < 0) | (right < 0), OUTLINE, np.where(is_crease, CREASE, OCCLUSION)
     ).astype(np.int64)
     # a hidden piece is drawn by what it would be if seen: a crease or an occluding line
-    kind = np.where(vis, kind, np.where(is_crease_src[ps], CREASE, OCCLUSION))
+    return np.where(vis, kind, np.where(src.is_crease[ps], CREASE, OCCLUSION))
 
-    # pieces join within one kind, visibility and source (mesh edges or interpolated contours)
-    smooth_src = anchor[ps] >= 0
-    group = (kind * 2 + vis.astype(np.int64)) * 2 + smooth_src
-    X, offsets, line_group, closed = _join(Q0, Q1, group, scale)
+
+def _polylines(Q0, Q1, group, sc: _Scene, min_length: float) -> LineDrawing:
+    """Join the pieces and leave out interpolated-contour specks (group bit 0)."""
+    X, offsets, line_group, closed = _join(Q0, Q1, group, sc.scale)
     keep = np.ones(len(line_group), dtype=bool)
     if min_length > 0:
         # specks: an interpolated contour is not the mesh's own fold, and where the two
@@ -855,7 +878,7 @@ def line_drawing(
         seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
         csum = np.concatenate([[0.0], np.cumsum(seg)])
         length = csum[offsets[1:] - 1] - csum[offsets[:-1]]
-        keep = ~((line_group % 2 == 1) & (length < min_length * scale))
+        keep = ~((line_group % 2 == 1) & (length < min_length * sc.scale))
     sel = np.flatnonzero(keep)
     n_pts = np.diff(offsets)[sel]
     pts = X[np.repeat(offsets[:-1][sel], n_pts) + _ranges(n_pts)]
@@ -866,171 +889,5 @@ def line_drawing(
         kind=(line_group // 2).astype(np.int8),
         visible=(line_group % 2).astype(bool),
         closed=closed[sel],
-        box=box,
+        box=sc.box,
     )
-
-
-def visible_face_edges(
-    faces: np.ndarray,
-    m: Any,
-    bounds: Any,
-    *,
-    crease_angle: float = 30.0,
-    max_steps: int = 64,
-) -> np.ndarray:
-    """Pixels where a visible-face map changes from one piece of surface to another: the line
-    pixels a correct line drawing must pass next to.
-
-    Two 4-neighbouring pixels showing faces ``f != g`` (or one showing the background) are a
-    line pair unless the surface is one smooth sheet between them: walking on the mesh from
-    ``f`` along the screen segment between the two pixel centres, face to face across the
-    edges the segment crosses, reaches ``g`` at the second centre without crossing a line edge
-    (a boundary, a crease, or an edge between a front- and a back-facing face).  The walk
-    makes the test exact whatever the faces' size (a Loop-subdivided crease is a band of
-    faces narrower than a pixel).  Both pixels of a line pair are marked.
-
-    Parameters
-    ----------
-    faces : (H, W) int64
-        Visible face per pixel, -1 for background (:func:`meschers_igl.painter.visible_faces`
-        with the same ``bounds``, or a renderer's face-id image).
-    m : Mescher
-    bounds : (xmin, xmax, ymin, ymax)
-        The image's extent in screen units (pixel centres as in
-        :func:`meschers_igl.painter.pixel_grid`).
-    crease_angle : float, default: 30
-    max_steps : int, default: 64
-        Faces crossed at most between two pixel centres; a walk that has not arrived by then
-        counts as a line.
-
-    Returns
-    -------
-    (H, W) bool
-    """
-    F = np.asarray(m.F)
-    xy = np.asarray(m.xy, dtype=np.float64)
-    fe = np.asarray(m.face_edges)
-    ef = edge_faces(fe, m.n_edges)
-    _, crease = crease_edges(m, crease_angle)
-    area2 = _double_area(xy[F])
-    front = area2 > 0
-    inner = ef[:, 1] >= 0
-    smooth = inner & ~crease
-    smooth[inner] &= front[ef[inner, 0]] == front[ef[inner, 1]]
-    partner = _seam_partners(m, ef, area2, crease_angle)
-    smooth |= partner >= 0  # a seam across a face seen edge-on: the walk goes on to the partner
-    H, W = faces.shape
-    x0, x1, y0, y1 = (float(b) for b in bounds)
-    dx, dy = (x1 - x0) / W, (y1 - y0) / H
-    out = np.zeros(faces.shape, dtype=bool)
-    for di, dj in ((0, 1), (1, 0)):
-        f = faces[: H - di, : W - dj]
-        g = faces[di:, dj:]
-        diff = f != g
-        line = diff & ((f < 0) | (g < 0))
-        r, c = np.nonzero(diff & (f >= 0) & (g >= 0))
-        if len(r):
-            P = np.stack([x0 + (c + 0.5) * dx, y1 - (r + 0.5) * dy], axis=1)
-            Q = P + np.array([dj * dx, -di * dy])
-            same = _walk_to(
-                f[r, c], g[r, c], P, Q, F, xy, fe, ef, smooth, partner, area2, max_steps
-            )
-            line[r, c] = ~same
-        out[: H - di, : W - dj] |= line
-        out[di:, dj:] |= line
-    return out
-
-
-def _walk_to(f, g, P, Q, F, xy, fe, ef, smooth, partner, area2, max_steps) -> np.ndarray:
-    """For each pair, does the walk from face ``f`` at ``P`` toward ``Q`` across smooth edges
-    end in face ``g``?"""
-    n = len(f)
-    cur = f.copy()
-    result = np.zeros(n, dtype=bool)
-    active = np.ones(n, dtype=bool)
-    d = Q - P
-    for _ in range(max_steps):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            break
-        fc = cur[idx]
-        arrived = fc == g[idx]
-        result[idx[arrived]] = True
-        active[idx[arrived]] = False
-        idx, fc = idx[~arrived], fc[~arrived]
-        if idx.size == 0:
-            break
-        T = xy[F[fc]]
-        a2 = area2[fc]
-        # barycentric coordinate of corner i along P + t d: l_i(t) = alpha_i + beta_i t; the
-        # segment leaves through the edge opposite the corner whose coordinate reaches 0 last
-        # before... first, with beta < 0
-        t_exit = np.full((len(idx), 3), np.inf)
-        for i in range(3):
-            v, w = T[:, (i + 1) % 3], T[:, (i + 2) % 3]
-            e = w - v
-            alpha = (e[:, 0] * (P[idx, 1] - v[:, 1]) - e[:, 1] * (P[idx, 0] - v[:, 0])) / a2
-            beta = (e[:, 0] * d[idx, 1] - e[:, 1] * d[idx, 0]) / a2
-            with np.errstate(divide="ignore", invalid="ignore"):
-                t = -alpha / beta
-            t_exit[:, i] = np.where(beta < 0, t, np.inf)
-        k = np.argmin(t_exit, axis=1)
-        t = t_exit[np.arange(len(idx)), k]
-        stays = ~(t < 1.0)  # Q is in this face, and it is not g: another sheet is seen at Q
-        active[idx[stays]] = False
-        idx, fc, k = idx[~stays], fc[~stays], k[~stays]
-        e = fe[fc, k]
-        cross_ok = smooth[e]
-        active[idx[~cross_ok]] = False
-        idx, fc, e = idx[cross_ok], fc[cross_ok], e[cross_ok]
-        nxt = np.where(ef[e, 0] == fc, ef[e, 1], ef[e, 0])
-        cur[idx] = np.where((area2[nxt] == 0) & (partner[e] >= 0), partner[e], nxt)
-    return result
-
-
-def line_agreement(
-    lines: LineDrawing,
-    m: Any,
-    order: Any = None,
-    *,
-    size: int = 512,
-    bounds: Any = None,
-    tol: float = 1.5,
-    crease_angle: float = 30.0,
-) -> tuple[float, float]:
-    """Recall and precision of a line drawing against the painter's picture, in pixels.
-
-    The picture is :func:`meschers_igl.painter.visible_faces` at ``size``; its line pixels are
-    :func:`visible_face_edges`; the drawing's pixels are those its visible polylines pass
-    through (sampled every 0.2 pixel).  Recall: the share of line pixels within ``tol`` pixels
-    of a drawn pixel; precision: the share of drawn pixels within ``tol`` of a line pixel.
-
-    Returns
-    -------
-    (recall, precision) : (float, float)
-        1.0 where there is nothing to find.
-    """
-    from scipy import ndimage
-
-    from .painter import pixel_grid, visible_faces
-
-    faces = visible_faces(m, order, size=size, bounds=bounds)
-    _, b, (H, W) = pixel_grid(np.asarray(m.xy), size, bounds)
-    gt = visible_face_edges(faces, m, b, crease_angle=crease_angle)
-    S = lines.segments()
-    drawn = np.zeros((H, W), dtype=bool)
-    if len(S):
-        px = (b[1] - b[0]) / W
-        n = np.maximum(np.ceil(np.linalg.norm(S[:, 1] - S[:, 0], axis=1) / (0.2 * px)), 1)
-        n = n.astype(np.int64)
-        t = (_ranges(n + 1) / np.repeat(n, n + 1))[:, None]
-        s = np.repeat(np.arange(len(S)), n + 1)
-        P = S[s, 0] + t * (S[s, 1] - S[s, 0])
-        col = np.clip(((P[:, 0] - b[0]) / px).astype(np.int64), 0, W - 1)
-        row = np.clip(((b[3] - P[:, 1]) / ((b[3] - b[2]) / H)).astype(np.int64), 0, H - 1)
-        drawn[row, col] = True
-    recall = float(np.mean(ndimage.distance_transform_edt(~drawn)[gt] <= tol)) if gt.any() else 1.0
-    precision = (
-        float(np.mean(ndimage.distance_transform_edt(~gt)[drawn] <= tol)) if drawn.any() else 1.0
-    )
-    return recall, precision

@@ -48,7 +48,6 @@ PENDING: dict[str, set[str]] = {
     "function_lines": {
         "meschers/cli.py",
         "meschers/inverse_cli.py",
-        "meschers_igl/lines.py",
         "pyvista_views/compare.py",
     },
 }

@@ -7,7 +7,8 @@ import pytest
 from scipy import ndimage
 
 from meschers_igl import DepthOrder, Mescher, MescherError, shapes
-from meschers_igl.lines import KINDS, crease_edges, line_drawing, visible_face_edges
+from meschers_igl.line_pixels import visible_face_edges
+from meschers_igl.lines import KINDS, crease_edges, line_drawing
 from meschers_igl.painter import visible_faces
 
 
@@ -293,7 +294,7 @@ def test_loop_subdivided_lines_match_the_picture(name):
 
 def test_line_agreement_finds_a_wrong_drawing():
     from meschers_igl.gallery import get_model
-    from meschers_igl.lines import line_agreement
+    from meschers_igl.line_pixels import line_agreement
 
     g = get_model("impossible_cube")
     right = line_drawing(g.mescher, g.order)

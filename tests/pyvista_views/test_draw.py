@@ -22,7 +22,8 @@ from scipy import ndimage
 
 from meschers_igl import DepthOrder, Mescher, MescherError, shapes
 from meschers_igl.gallery import get_model, list_models
-from meschers_igl.lines import KINDS, line_drawing, visible_face_edges
+from meschers_igl.line_pixels import visible_face_edges
+from meschers_igl.lines import KINDS, line_drawing
 from meschers_igl.painter import visible_faces
 from pyvista_views.camera import default_bounds
 from pyvista_views.lineart import DEFAULT_WIDTHS, draw, overlay, rasterize, to_svg
