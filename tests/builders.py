@@ -163,3 +163,61 @@ def chamfered_rectangle(a, b, w):
             (a - w, -b),
         ]
     )
+
+
+def box_mesh(lo, hi):
+    """The closed box ``[lo, hi]`` (12 outward triangles)."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    V = np.array(
+        [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    )
+    F = np.array(
+        "0 1 3 0 3 2 4 6 7 4 7 5 0 4 5 0 5 1 2 3 7 2 7 6 0 2 6 0 6 4 1 5 7 1 7 3".split(), int
+    ).reshape(-1, 3)
+    T = V[F]
+    if np.einsum("ij,ij->", T[:, 0], np.cross(T[:, 1], T[:, 2])) < 0:
+        F = F[:, [0, 2, 1]]
+    return V, F
+
+
+def merge_meshes(parts):
+    """One mesh of several ``(V, F)`` parts (not welded)."""
+    Vs, Fs, n = [], [], 0
+    for V, F in parts:
+        Vs.append(V)
+        Fs.append(F + n)
+        n += V.shape[0]
+    return np.vstack(Vs), np.vstack(Fs)
+
+
+def ordinary_stairs(n=6, seed=0):
+    """An ordinary straight staircase as one closed solid: its side profile extruded."""
+    import triangle as tr
+
+    prof = [(0.0, 0.0)]
+    for k in range(n):
+        prof += [(k, k + 1.0), (k + 1.0, k + 1.0)]
+    prof += [(float(n), 0.0)]
+    P = np.asarray(prof)
+    m = P.shape[0]
+    V = np.vstack([np.c_[P[:, 0], np.zeros(m), P[:, 1]], np.c_[P[:, 0], np.full(m, 3.0), P[:, 1]]])
+    seg = np.c_[np.arange(m), (np.arange(m) + 1) % m]
+    T = np.asarray(tr.triangulate({"vertices": P, "segments": seg}, "pQ")["triangles"])
+    sides = []
+    for i in range(m):
+        j = (i + 1) % m
+        sides += [[i, j, j + m], [i, j + m, i + m]]
+    F = np.vstack([T, T[:, ::-1] + m, np.asarray(sides)])
+    Tv = V[F]
+    if np.einsum("ij,ij->", Tv[:, 0], np.cross(Tv[:, 1], Tv[:, 2])) < 0:
+        F = F[:, [0, 2, 1]]
+    return V, F
+
+
+def tilted_view(view, degrees, seed):
+    """``view`` turned by ``degrees`` about a random axis perpendicular to it (Rodrigues)."""
+    a = np.random.default_rng(seed).normal(size=3)
+    a -= (a @ view) * view
+    a /= np.linalg.norm(a)
+    t = np.radians(degrees)
+    return np.cos(t) * view + np.sin(t) * np.cross(a, view)

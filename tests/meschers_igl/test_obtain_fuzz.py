@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from builders import box_mesh, merge_meshes, ordinary_stairs
 from visible_models import ISO_UP, ISO_VIEW, block_stairs, hidden_gap_cube, triangulate, u_tribar
 
 from meschers_igl import MescherError
@@ -154,63 +155,17 @@ def test_tiny_jitter_keeps_the_junction_of_real_tribars():
             assert np.min(np.abs(p[:, None] - gaps[None]), axis=1).max() <= 1e-3 * gaps.max()
 
 
-def _box(lo, hi):
-    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
-    V = np.array(
-        [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
-    )
-    F = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
-                  [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])  # fmt: skip
-    T = V[F]
-    if np.einsum("ij,ij->", T[:, 0], np.cross(T[:, 1], T[:, 2])) < 0:
-        F = F[:, [0, 2, 1]]
-    return V, F
-
-
-def _merge(parts):
-    Vs, Fs, n = [], [], 0
-    for V, F in parts:
-        Vs.append(V)
-        Fs.append(F + n)
-        n += V.shape[0]
-    return np.vstack(Vs), np.vstack(Fs)
-
-
 def scene(n_boxes=60, seed=0):
     """A game level: a huge ground plane (a thin slab 1000 wide) and many boxes standing on it,
     some stacked, some touching."""
     rng = np.random.default_rng(seed)
-    parts = [_box([-500, -500, -1], [500, 500, 0])]
+    parts = [box_mesh([-500, -500, -1], [500, 500, 0])]
     for _ in range(n_boxes):  # test code
         c = rng.uniform(-20, 20, 2)
         s = rng.uniform(0.5, 3, 3)
         z0 = 0.0 if rng.random() < 0.8 else rng.uniform(0, 4)
-        parts.append(_box([c[0], c[1], z0], [c[0] + s[0], c[1] + s[1], z0 + s[2]]))
-    return _merge(parts)
-
-
-def ordinary_stairs(n=6, seed=0):
-    """An ordinary straight staircase as one closed solid: its side profile extruded."""
-    prof = [(0.0, 0.0)]
-    for k in range(n):
-        prof += [(k, k + 1.0), (k + 1.0, k + 1.0)]
-    prof += [(float(n), 0.0)]
-    P = np.asarray(prof)
-    m = P.shape[0]
-    V = np.vstack([np.c_[P[:, 0], np.zeros(m), P[:, 1]], np.c_[P[:, 0], np.full(m, 3.0), P[:, 1]]])
-    import triangle as tr
-
-    seg = np.c_[np.arange(m), (np.arange(m) + 1) % m]
-    T = np.asarray(tr.triangulate({"vertices": P, "segments": seg}, "pQ")["triangles"])
-    sides = []
-    for i in range(m):
-        j = (i + 1) % m
-        sides += [[i, j, j + m], [i, j + m, i + m]]
-    F = np.vstack([T, T[:, ::-1] + m, np.asarray(sides)])
-    Tv = V[F]
-    if np.einsum("ij,ij->", Tv[:, 0], np.cross(Tv[:, 1], Tv[:, 2])) < 0:
-        F = F[:, [0, 2, 1]]
-    return V, F
+        parts.append(box_mesh([c[0], c[1], z0], [c[0] + s[0], c[1] + s[1], z0 + s[2]]))
+    return merge_meshes(parts)
 
 
 def _views(k, seed):

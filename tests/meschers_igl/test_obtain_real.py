@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_obtain_fuzz import _box, _merge, ordinary_stairs
+from builders import box_mesh, merge_meshes, ordinary_stairs, tilted_view
 
 from meschers_igl import MescherError
 from meschers_igl.obtain import PERIOD_RTOL, model_to_mescher
@@ -36,7 +36,7 @@ def two_blocks(c=1.5, shift=(0.0, 0.0, 0.0)):
     its silhouette edge ``x = y = 2 + c`` lies on the first box's crease ``x = y = 2`` (whose
     other face the second box hides): a false edge, ``c sqrt(3)`` deep."""
     near = np.array([0.0, 2.0, 0.0]) + c + np.asarray(shift)
-    return _merge([_box([0, 0, 0], [2, 2, 2]), _box(near, near + 2.0)])
+    return merge_meshes([box_mesh([0, 0, 0], [2, 2, 2]), box_mesh(near, near + 2.0)])
 
 
 def test_false_edge_where_the_far_side_turns_a_crease():
@@ -76,18 +76,17 @@ def test_an_approximate_view_snaps_to_the_junction(name, degrees):
     3 degrees from which the junction (a false edge, or a gap hidden behind a bar) lines up is
     taken and reported; the period is the built gap, as from the exact view."""
     import visible_models as vm
-    from test_visible import _tilted
 
     V, P, gap = getattr(vm, name)()
     F = vm.triangulate(P)
-    m, _, report = _quiet(V, F, view=_tilted(vm.ISO_VIEW, degrees, 1), up=vm.ISO_UP)
+    m, _, report = _quiet(V, F, view=tilted_view(vm.ISO_VIEW, degrees, 1), up=vm.ISO_UP)
     p = np.abs(np.asarray(m.periods()))
     p = p[p > PERIOD_RTOL * m.scale()]
     assert p.size >= 1 and np.allclose(p, gap, rtol=1e-9)
     assert "view snapped by" in report.reason
     assert np.linalg.norm(np.cross(report.view, vm.ISO_VIEW)) <= 1e-6
     # 6 degrees off is farther than a person's error: no snap, the model as seen (possible)
-    m, _, report = _quiet(V, F, view=_tilted(vm.ISO_VIEW, 6.0, 1), up=vm.ISO_UP)
+    m, _, report = _quiet(V, F, view=tilted_view(vm.ISO_VIEW, 6.0, 1), up=vm.ISO_UP)
     assert "view snapped" not in report.reason and not m.is_impossible()
 
 

@@ -12,6 +12,7 @@ import warnings
 
 import numpy as np
 import pytest
+from builders import tilted_view
 from visible_models import (
     ISO_UP,
     ISO_VIEW,
@@ -254,15 +255,6 @@ def test_auto_view_finds_the_junction(name):
     assert abs(_nonzero_periods(m, gap)[0] - gap) <= 1e-6 * gap
 
 
-def _tilted(view, degrees, seed):
-    """``view`` turned by ``degrees`` about a random axis perpendicular to it (Rodrigues)."""
-    a = np.random.default_rng(seed).normal(size=3)
-    a -= (a @ view) * view
-    a /= np.linalg.norm(a)
-    t = np.radians(degrees)
-    return np.cos(t) * view + np.sin(t) * np.cross(a, view)
-
-
 @pytest.mark.parametrize("name", ["hidden_gap_frame", "hidden_gap_cube"])
 def test_auto_view_lines_up_a_hidden_gap(name):
     """The pieces of a bar broken behind an occluder line up only for views in the plane of the
@@ -271,7 +263,7 @@ def test_auto_view_lines_up_a_hidden_gap(name):
     round-off (the bar: 0.1 degree) and the period is the gap."""
     V, P, gap = MODELS[name]()
     F = triangulate(P)
-    starts = [None] + [_tilted(ISO_VIEW, 3.0, seed) for seed in range(3)]
+    starts = [None] + [tilted_view(ISO_VIEW, 3.0, seed) for seed in range(3)]
     for start in starts:
         with warnings.catch_warnings():
             warnings.simplefilter("error")
