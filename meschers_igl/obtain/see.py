@@ -113,7 +113,8 @@ def see_model(
 
     V, F, part = _clean(V, F, tol_abs, report)
     _check_options(view, view_start, hidden, perceive)
-    snap = snap and not isinstance(view, str)  # a found view is exact already
+    found = isinstance(view, str)
+    snap = snap and not found  # a found view is exact already
     if isinstance(view, str):
         judge = lambda v, u: _false_edge_seen(V, F, v, u, tol_abs)  # noqa: E731
         view, up = find_model_view(V, F, tol_abs, start=view_start, judge=judge)
@@ -148,6 +149,12 @@ def see_model(
         snapped = _snap_view(V, F, R, tol_abs, rel, bridge, hidden)
         if snapped is not None:
             return snapped
+    if found and perceive is None and not _has_junction(report, tol_abs):
+        raise MescherError(
+            f"view: expected a view from which junctions line up, found "
+            f"{np.round(R[2], 4).tolist()} (lining up bar ends) from which none is glued; pass "
+            "view= or view_start="
+        )
     _expectation_warning(report, V, F, C, front)
     return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
 
