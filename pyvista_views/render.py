@@ -126,7 +126,7 @@ def render(
         bar in a strip on the right, :meth:`MescherScene.add_scalar_bar`; the default bounds
         then frame the figure in the rest of the window.  Default: on unless ``bounds`` is
         given; with explicit bounds, leave the strip free with
-        ``camera.default_bounds(box, window_size, reserve=scene.SCALAR_BAR_STRIP)`` and pass
+        ``camera.default_bounds(box, window_size, reserve=scene.scalar_bar_strip(width))`` and pass
         ``scalar_bar=True``), ``scalar_bar_title`` (default:
         the field's name, the key of a dict of scalars, else ``"scalars"``), ``exposure`` (1),
         ``tone_map`` ("none" or "reinhard") and ``normalize_lights`` (True): by default the

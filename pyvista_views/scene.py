@@ -96,6 +96,13 @@ UNREACHED_COLOR = "#c8c8c8"
 MIN_LABEL_PX = 14
 
 
+def scalar_bar_strip(width: int) -> float:
+    """Share of a window ``width`` pixels wide kept for a colour bar: room for labels of
+    :data:`MIN_LABEL_PX` (six characters) where that takes 20-30% of the width."""
+    needed = MIN_LABEL_PX * 0.6 * 6 / 0.55 / max(width, 1) + 0.04
+    return float(np.clip(needed, SCALAR_BAR_STRIP, 0.3))
+
+
 def label_font_size(window: tuple[int, int]) -> int:
     """Line height in pixels of in-figure labels: 1/32 of the window's smaller side, at least
     :data:`MIN_LABEL_PX`."""
@@ -1010,11 +1017,11 @@ class MescherScene:
         return self.bounds
 
     def reserve_scalar_bar(self, share: float | bool = True) -> None:
-        """Keep the window's right ``share`` (default ``SCALAR_BAR_STRIP``; ``False``: none) free
+        """Keep the window's right ``share`` (default :func:`scalar_bar_strip`; ``False``: none) free
         for a colour bar or a panel when framing by default (call it before adding layers to
         frame them, and fit their isolines, once)."""
         if share is True:
-            share = SCALAR_BAR_STRIP
+            share = scalar_bar_strip(int(self.plotter.window_size[0]))
         self._reserve = float(share or 0.0)
 
     def add_scalar_bar(
@@ -1023,7 +1030,7 @@ class MescherScene:
         """A vertical colour bar with a title in a strip on the right, beside the figure.
 
         Unless :meth:`view` fixed the bounds, the figure is framed in the window's left
-        ``1 - SCALAR_BAR_STRIP`` so the bar never covers it.
+        ``1 - scalar_bar_strip(width)`` so the bar never covers it.
 
         Parameters
         ----------
@@ -1046,20 +1053,23 @@ class MescherScene:
                 )
             layer = with_scalars[-1]
         title = (layer.title if title is None else str(title)) or " "
-        if self._reserve < SCALAR_BAR_STRIP:
+        if self._reserve < scalar_bar_strip(int(self.plotter.window_size[0])):
             self.reserve_scalar_bar()
         if len(title) > 12 and " " in title and "\n" not in title:  # two lines, split mid-way
             spaces = [i for i, c in enumerate(title) if c == " "]
             cut = min(spaces, key=lambda i: abs(i - len(title) / 2))
             title = title[:cut] + "\n" + title[cut + 1 :]
         longest = max(len(line) for line in title.split("\n"))
-        strip = SCALAR_BAR_STRIP
+        strip = self._reserve
         # Text sized to the window, and the title to the strip (a glyph is ~0.6 em wide):
         # readable at 800 x 800, never wider than the strip.
         width_px, height_px = (int(v) for v in self.plotter.window_size)
         box_px = float(kwargs.get("width", strip - 0.04)) * width_px
-        title_size = int(max(6, min(height_px / 36, 1.1 * box_px / (0.6 * longest))))
-        label_size = int(max(6, min(height_px / 45, 0.55 * box_px / (0.6 * 6))))
+        # ... and at least MIN_LABEL_PX where the strip has room (scalar_bar_strip)
+        title_size = int(
+            max(6, min(max(height_px / 30, MIN_LABEL_PX), 1.1 * box_px / (0.6 * longest)))
+        )
+        label_size = int(max(6, min(max(height_px / 36, MIN_LABEL_PX), 0.55 * box_px / (0.6 * 6))))
         options = dict(
             title=title,
             title_font_size=title_size,
@@ -1176,7 +1186,7 @@ def embedding_of(m: Any, kind: str, scalars: object = None) -> tuple:
 
 
 def _exact_zero_labels(actor: Any, scalar_range: Sequence[float], n_labels: int) -> None:
-    """Label the bar at evenly spaced values, those within 1/1000 of the range of 0 shown as 0.
+    """Label the bar at evenly spaced values, the inner ones rounded to 1/100 of the range.
 
     VTK labels the bar at ``lo + k (hi - lo) / (n - 1)``; for a symmetric range the middle
     value is round-off (``1.74e-13``), printed as such. Custom labels carry the same values
@@ -1188,9 +1198,14 @@ def _exact_zero_labels(actor: Any, scalar_range: Sequence[float], n_labels: int)
 
     lo, hi = (float(v) for v in scalar_range)
     values = np.linspace(lo, hi, n_labels)
-    # a bar cannot show a value closer to 0 than 1/1000 of its span: the middle of
-    # (-0.593, 0.5929) is labelled 0, not -3.21e-05
-    values[np.abs(values) <= 1e-3 * abs(hi - lo)] = 0.0
+    span = abs(hi - lo)
+    if span > 0:
+        # a bar shows about 1/100 of its span: inner labels are rounded to that (the middle of
+        # (-0.582, 0.578) reads 0, not -0.00178; of (-0.593, 0.5929) 0, not -3.21e-05); the
+        # ends stay the data's range
+        digits = int(2 - np.floor(np.log10(span)))
+        values[1:-1] = np.round(values[1:-1], digits) + 0.0  # + 0.0: no "-0"
+    values[np.abs(values) <= 1e-3 * span] = 0.0
     labels = vtkDoubleArray()
     for v in values:
         labels.InsertNextValue(v)

@@ -26,3 +26,21 @@ def test_symmetric_range_labels_its_middle_zero():
     np.testing.assert_allclose(values[[0, -1]], [lo, hi], rtol=1e-12)
     assert values[len(values) // 2] == 0.0  # not 1e-13
     np.testing.assert_allclose(np.diff(values), (hi - lo) / (len(values) - 1), rtol=1e-9)
+
+
+def test_inner_bar_labels_are_rounded_to_a_hundredth_of_the_range():
+    """(-0.582, 0.578): the middle label reads 0 (not -0.00178), the quarter ones +-0.29; the
+    ends stay the data's range."""
+    from pyvista_views.scene import _exact_zero_labels
+
+    class Bar:
+        def SetCustomLabels(self, labels):  # noqa: N802 (VTK's name)
+            self.values = [labels.GetValue(i) for i in range(labels.GetNumberOfTuples())]
+
+        def SetUseCustomLabels(self, on):  # noqa: N802
+            self.on = on
+
+    bar = Bar()
+    _exact_zero_labels(bar, (-0.582, 0.578), 5)
+    assert bar.values == [-0.582, -0.29, 0.0, 0.29, 0.578]
+    assert str(bar.values[2]) == "0.0"  # not "-0.0"
