@@ -83,11 +83,18 @@ def _top(name: str) -> str:
 def wall_violations(imports: list[Import]) -> list[str]:
     """Each crossing of a wall, as 'module:line imports target (rule)'."""
     forbidden = {
-        "meschers_igl": {"pyvista", "vtk", "vtkmodules", "pymeshlab", "pyvista_views",
-                         "meshlab_filters", "meschers"},
+        "meschers_igl": {
+            "pyvista",
+            "vtk",
+            "vtkmodules",
+            "pymeshlab",
+            "pyvista_views",
+            "meshlab_filters",
+            "meschers",
+        },
         "pyvista_views": {"meshlab_filters", "meschers", "pymeshlab"},
         "meshlab_filters": {"pyvista_views", "meschers", "pyvista", "vtk", "vtkmodules"},
-    }  # fmt: skip
+    }
     bad = []
     for imp in imports:
         src, dst = _top(imp.module), _top(imp.target)

@@ -83,8 +83,11 @@ def test_loop_periods_match_periods_and_survive_smoothing():
     ],
 )
 def test_describe_topology(mesh, expected):
-    V, F = {"torus": lambda: shapes.torus(12, 6), "sphere": lambda: shapes.icosphere(1),
-            "annulus": lambda: shapes.annulus(12, 3)}[mesh]()  # fmt: skip
+    V, F = {
+        "torus": lambda: shapes.torus(12, 6),
+        "sphere": lambda: shapes.icosphere(1),
+        "annulus": lambda: shapes.annulus(12, 3),
+    }[mesh]()
     info = describe(Mescher.from_mesh(V, F))
     assert {k: info[k] for k in expected} == expected
     assert info["impossible"] is False  # an ordinary mesh has no harmonic depth
@@ -192,11 +195,20 @@ def _chromium() -> str | None:
 def test_report_screenshot_in_headless_chromium(study, tmp_path):
     shot = tmp_path / "shot.png"
     cmd = [
-        _chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-        "--no-first-run", "--disable-background-networking", "--disable-component-update",
-        "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}",
-        "--window-size=1200,900", (study.out / "index.html").resolve().as_uri(),
-    ]  # fmt: skip
+        _chromium(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        f"--screenshot={shot}",
+        "--window-size=1200,900",
+        (study.out / "index.html").resolve().as_uri(),
+    ]
     subprocess.run(cmd, capture_output=True, timeout=120, check=False)
     assert shot.is_file(), "Chromium wrote no screenshot"
     from PIL import Image

@@ -152,8 +152,13 @@ def test_unreferenced_vertices_are_refused_by_every_constructor(unreferenced_mes
     with pytest.raises(MescherError, match="xy: " + want):
         Mescher.from_corner_depths(F, xy, np.zeros(F.shape))
     # a file holding such a mescher is refused by name too
-    np.savez(tmp_path / "u.npz", F=F, xy=xy, edges=np.where(m.edges >= k, m.edges + 1, m.edges),
-             zeta=m.zeta)  # fmt: skip
+    np.savez(
+        tmp_path / "u.npz",
+        F=F,
+        xy=xy,
+        edges=np.where(m.edges >= k, m.edges + 1, m.edges),
+        zeta=m.zeta,
+    )
     from meschers_igl import load
 
     with pytest.raises(MescherError, match="u.npz: the stored mescher is invalid: xy: " + want):
