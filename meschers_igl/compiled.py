@@ -30,8 +30,8 @@ __all__ = ["GROUPS", "cold_kernels", "is_cached", "kernels", "warm"]
 GROUPS: dict[str, tuple[str, ...]] = {
     "order": ("meschers_igl.overlap", "meschers_igl.order_graph"),
     "geodesic": (
-        "meschers_igl.geodesic.exact",
-        "meschers_igl.geodesic.paths",
+        "meschers_igl.geodesic.windows",
+        "meschers_igl.geodesic.unfold",
         "meschers_igl.intrinsic",
         "meschers_igl.heap",
     ),
