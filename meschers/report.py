@@ -47,7 +47,9 @@ def _e(x: Any) -> str:
     return html.escape(str(x), quote=True)
 
 
-def _num(x: Any, pct: bool = False, digits: int = 4) -> str:
+def _num(x: Any, pct: bool = False, digits: int = 4, fixed: int | None = None) -> str:
+    """A table cell: ``digits`` significant digits, or ``fixed`` decimals (for measures whose
+    resolution is known: a luminance dL of 3.7e-05 is 0 at 8 bits per channel)."""
     if x is None:
         return "&ndash;"
     if isinstance(x, bool):
@@ -57,6 +59,8 @@ def _num(x: Any, pct: bool = False, digits: int = 4) -> str:
             return "&ndash;"
         if pct:
             return f"{100 * x:.2f}%"
+        if fixed is not None:
+            return f"{x:.{fixed}f}"
         return f"{x:.{digits}g}" if isinstance(x, float) else str(x)
     return _e(x)
 
@@ -116,8 +120,8 @@ def _gallery_table(models: dict) -> str:
                     _impossible_cell(r),
                     _periods(_get(r, "hodge", "periods")),
                     " / ".join(_drift(d, scale) for d in drift),
-                    _num(_max(_get(r, "relighting", "mescher", "luminance_mae")), digits=3),
-                    _num(_max(_get(r, "relighting", "bent", "luminance_mae")), digits=3),
+                    _num(_max(_get(r, "relighting", "mescher", "luminance_mae")), fixed=3),
+                    _num(_max(_get(r, "relighting", "bent", "luminance_mae")), fixed=3),
                     _num(_get(ge, "mescher", "mean"), pct=True),
                     _num(_get(ge, "cut", "mean"), pct=True),
                     _num(_get(ge, "bent", "mean"), pct=True),

@@ -270,7 +270,7 @@ def loop_subdivision(job: ModelJob, s: Subject) -> None:
             "plain Loop (smooth)"]  # fmt: skip
     fig = compose([panels], cols, notes=[notes])
     job.figure(fig, f"{s.name}_subdivision.png", "Loop subdivision with creases",
-        f"The input mescher ({m0.n_faces} faces, flat) and {levels} levels of Loop subdivision of the "
+        f"The input mescher ({m0.n_faces} faces, flat) and {levels} level{'s' if levels > 1 else ''} of Loop subdivision of the "
         "surface a person sees (paper Sec. 4.2), the depth order carried along: with the crease rules of "
         "piecewise-smooth Loop subdivision (Hoppe et al. 1994; edges sharper than 30 degrees stay "
         "sharp, corners stay put), flat and smooth shading, and plain Loop, which rounds every edge. "

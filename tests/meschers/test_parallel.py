@@ -76,7 +76,7 @@ def test_parallel_study_equals_serial(runs):
     assert par.metrics["parallel"] == {"jobs": 2, "scheduler": None}
     titles = [[f.title for f in s.figures] for s in serial.sections]
     assert titles == [[f.title for f in s.figures] for s in par.sections]
-    assert sum(map(len, titles)) == 7 + 2  # the mescher's seven figures, the stair's two
+    assert sum(map(len, titles)) == 9 + 2  # the mescher's nine figures, the stair's two
     html = par.index.read_text()
     assert "Step failed: broken: convert" in html and "Stair" in html
 

@@ -236,3 +236,12 @@ def test_study_captions_and_heat_scale(study):
     panel = img[20 : 20 + 192, : 3 * 192]
     covered = panel < 250
     assert (panel[covered] > 40).mean() > 0.5, "heat panels are nearly black"
+
+
+def test_summary_prints_luminance_differences_to_their_resolution():
+    """A dL of 3.7e-05 (under one 8-bit level) is printed 0.000, not 3.71e-05."""
+    from meschers.report import _num
+
+    assert _num(3.71e-05, fixed=3) == "0.000"
+    assert _num(0.0658, fixed=3) == "0.066"
+    assert _num(float("nan"), fixed=3) == "&ndash;"
