@@ -31,7 +31,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -40,11 +40,26 @@ import numpy as np
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import FORCE_HINT
 
+from .cli_args import (
+    PROG,
+    add,
+    add_force,
+    add_input,
+    add_mescher_output,
+    budget,
+    examples,
+    headless_views,
+    load_input,
+    nonnegative,
+    out_path,
+    save_png,
+    size,
+    subdivide,
+    vector,
+)
 from .describe import describe, format_info
 
 __all__ = ["build_parser", "describe", "load_input", "main"]
-
-PROG = "meschers"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -61,89 +76,6 @@ class _UsageError(Exception):
 # ------------------------------------------------------------------------------------------------
 # helpers
 # ------------------------------------------------------------------------------------------------
-def _vector(text: str, name: str = "vector", n: int = 3) -> tuple[float, ...]:
-    """Parse ``"x,y,z"``; an argparse type, so a bad value is a one-line usage error."""
-    try:
-        values = tuple(float(v) for v in text.replace(" ", "").split(","))
-    except ValueError:
-        values = ()
-    if len(values) != n or not np.all(np.isfinite(values)):
-        raise argparse.ArgumentTypeError(
-            f"{name}: expected {n} comma-separated numbers like {','.join(['1'] * n)}, found {text!r}"
-        )
-    return values
-
-
-def _size(text: str) -> tuple[int, int]:
-    parts = text.lower().replace("x", ",").split(",")
-    try:
-        w, h = (int(p) for p in parts) if len(parts) == 2 else (int(parts[0]),) * 2
-    except ValueError:
-        w = h = 0
-    if w <= 0 or h <= 0:
-        raise argparse.ArgumentTypeError(
-            f"size: expected WIDTH,HEIGHT or N (pixels), found {text!r}"
-        )
-    return w, h
-
-
-def _nonnegative(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        v = -1.0
-    if not np.isfinite(v) or v < 0:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, found {text!r}")
-    return v
-
-
-def load_input(spec: str, check: Callable[[Any], None] | None = None) -> tuple[Any, Any, str]:
-    """A mescher from a model name (:mod:`meschers.inputs`): a gallery model, ``paradox:NAME``,
-    a ``.ply`` / ``.npz`` mescher file, or a mesh with a sidecar JSON view.  ``check(mescher)``
-    runs before the depth order is computed (:func:`meschers.inputs.load_mescher`).
-
-    Returns
-    -------
-    (Mescher, DepthOrder or None, label)
-    """
-    from .inputs import load_mescher, resolve
-
-    model = resolve(spec, "INPUT")
-    m, order = load_mescher(model, check)
-    return m, order, model.label
-
-
-def _out_path(text: str, suffixes: Sequence[str], name: str = "OUT") -> Path:
-    p = Path(text)
-    if p.suffix.lower() not in suffixes:
-        raise MescherError(
-            f"{name}: expected a file name ending in {' or '.join(suffixes)}, found '{text}'"
-        )
-    if p.parent and not p.parent.exists():
-        raise MescherError(
-            f"{name}: expected an existing folder for '{text}', found no '{p.parent}'"
-        )
-    return p
-
-
-def _headless_views():
-    """Import pyvista_views for an off-screen render (EGL without a display)."""
-    import pyvista
-
-    import pyvista_views
-    from pyvista_views.headless import has_display
-
-    if not has_display():
-        pyvista.OFF_SCREEN = True
-    return pyvista_views
-
-
-def _save_png(image: np.ndarray, path: Path) -> None:
-    from PIL import Image
-
-    Image.fromarray(np.ascontiguousarray(image)).save(path)
-
-
 def _print_info(info: dict, label: str) -> None:
     print(format_info(info, label))
 
@@ -162,8 +94,15 @@ def _cmd_study(args: argparse.Namespace) -> int:
 
     jobs = as_count(args.jobs, "--jobs", minimum=1) if args.jobs is not None else _default_jobs()
     names = [*args.inputs, *_split_names(args.models)]
-    result = run_study(names or None, out=args.out, quick=args.quick, progress=not args.no_progress,
-                       other_tools=not args.no_other_tools, jobs=jobs, scheduler=args.scheduler)  # fmt: skip
+    result = run_study(
+        names or None,
+        out=args.out,
+        quick=args.quick,
+        progress=not args.no_progress,
+        other_tools=not args.no_other_tools,
+        jobs=jobs,
+        scheduler=args.scheduler,
+    )
     print(f"wrote {result.index} ({result.metrics['runtime_s']:.1f} s)")
     for err in result.errors:
         print(f"{PROG}: step failed: {err}", file=sys.stderr)
@@ -193,7 +132,7 @@ def _cmd_convert(args: argparse.Namespace) -> int:
 
     from .inputs import ModelSpec, resolve
 
-    out = _out_path(args.output, (".ply", ".npz"))
+    out = out_path(args.output, (".ply", ".npz"))
     src = Path(args.input)
     if src.is_file() and src.with_suffix(".json").is_file() or not src.exists():
         model = resolve(args.input, "INPUT")  # a named model, or a mesh with its sidecar view
@@ -210,53 +149,51 @@ def _cmd_convert(args: argparse.Namespace) -> int:
 
         view = args.view or model.view or (0.0, 0.0, 1.0)
         up = args.up or model.up or (0.0, 1.0, 0.0)
-        m, order, report = model_to_mescher(model.path, view=view, up=up, perceive=args.perceive,
-                                            merge_tol=args.merge_tol, tol=args.tol,
-                                            route="seen" if args.visible else "auto",
-                                            view_start=args.view_start)  # fmt: skip
+        m, order, report = model_to_mescher(
+            model.path,
+            view=view,
+            up=up,
+            perceive=args.perceive,
+            merge_tol=args.merge_tol,
+            tol=args.tol,
+            route="seen" if args.visible else "auto",
+            view_start=args.view_start,
+        )
         print(report)
     io.save(m, out, order=order)
     _print_info(describe(m, order), f"wrote {out}")
     return 0
 
 
-def _budget(m: Any, levels: int, force: bool, what: str) -> None:
-    """Refuse (exit 2, before any work) a subdivision whose result would not fit in memory."""
-    from meschers_igl.validate import check_budget
-
-    check_budget(float(m.n_faces) * 4.0 ** min(levels, 200), what=what, force=force)
-
-
 def _cmd_render(args: argparse.Namespace) -> int:
     from meschers_igl.validate import as_count
 
-    out = _out_path(args.output, (".png",), "-o")
+    out = out_path(args.output, (".png",), "-o")
     levels = as_count(args.subdivide, "--subdivide")
     m, order, _ = load_input(
-        args.input, lambda m: _budget(m, levels, args.force, f"render --subdivide {levels}")
+        args.input, lambda m: budget(m, levels, args.force, f"render --subdivide {levels}")
     )
     if levels:
-        m, order = _subdivide(m, order, levels, force=args.force)
-    pvv = _headless_views()
+        m, order = subdivide(m, order, levels, force=args.force)
+    pvv = headless_views()
     image = pvv.render(
-        m, order=order if args.representation == "mescher" else None,
-        lights=args.light or [(1.0, 1.0, 1.0)], shading=args.shading, env_map=args.env,
-        window_size=args.size, representation=args.representation, anti_aliasing=True,
-    )  # fmt: skip
+        m,
+        order=order if args.representation == "mescher" else None,
+        lights=args.light or [(1.0, 1.0, 1.0)],
+        shading=args.shading,
+        env_map=args.env,
+        window_size=args.size,
+        representation=args.representation,
+        anti_aliasing=True,
+    )
     if np.all(image == image[:1, :1]):
         raise MescherError(
             f"-o: expected a picture of the model, found a render of one colour (the model is "
             f"degenerate or outside the view); nothing written to {out}"
         )
-    _save_png(image, out)
+    save_png(image, out)
     print(f"wrote {out} ({image.shape[1]} x {image.shape[0]})")
     return 0
-
-
-def _subdivide(m: Any, order: Any, levels: int, scheme: str = "midpoint", force: bool = False):
-    if order is None:
-        return m.subdivide(levels, scheme=scheme, force=force), None
-    return m.subdivide(levels, scheme=scheme, order=order, force=force)
 
 
 def _cmd_geodesic(args: argparse.Namespace) -> int:
@@ -270,20 +207,24 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
         as_index_array(args.target, "--target", m.n_vertices)
     d = geodesic_solver(m, args.method or "auto").distance(args.source)
     finite = np.isfinite(d)
-    print(f"distance from vertex(es) {', '.join(map(str, args.source))}: max {d[finite].max():.6g}, "
-          f"mean {d[finite].mean():.6g}, unreachable vertices {int((~finite).sum())}")  # fmt: skip
+    print(
+        f"distance from vertex(es) {', '.join(map(str, args.source))}: max {d[finite].max():.6g}, "
+        f"mean {d[finite].mean():.6g}, unreachable vertices {int((~finite).sum())}"
+    )
     path = None
     if args.target is not None:
         path = m.shortest_path(args.source[0], args.target)
-        print(f"shortest path {args.source[0]} -> {args.target}: length {path.length:.6g}, "
-              f"{path.n_points} points (distance field: {d[args.target]:.6g})")  # fmt: skip
+        print(
+            f"shortest path {args.source[0]} -> {args.target}: length {path.length:.6g}, "
+            f"{path.n_points} points (distance field: {d[args.target]:.6g})"
+        )
     if args.save:
-        out = _out_path(args.save, (".npy",), "--save")
+        out = out_path(args.save, (".npy",), "--save")
         np.save(out, d)
         print(f"wrote {out}")
     if args.output:
-        out = _out_path(args.output, (".png",), "-o")
-        pvv = _headless_views()
+        out = out_path(args.output, (".png",), "-o")
+        pvv = headless_views()
         from pyvista_views.camera import default_bounds, xy_box
 
         from .figures import overlay
@@ -308,14 +249,25 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
             finite = np.isfinite(d)
             dv = S @ np.where(finite, d, 0.0)
             dv[(S @ (~finite).astype(float)) > 0] = np.inf  # a vertex next to an unreached one
-        image = pvv.render(mv, order=order_v, shading="smooth", scalars=dv,
-                           isolines=args.isolines, window_size=args.size, bounds=bounds,
-                           anti_aliasing=True)  # fmt: skip
+        image = pvv.render(
+            mv,
+            order=order_v,
+            shading="smooth",
+            scalars=dv,
+            isolines=args.isolines,
+            window_size=args.size,
+            bounds=bounds,
+            anti_aliasing=True,
+        )
         if path is not None:
             P = np.asarray(path.xy)
-            image = overlay(image, bounds, segments=[(np.stack([P[:-1], P[1:]], 1), "#ff2020", 3)],
-                            points=[(P[[0]], "white", 5), (P[[-1]], "#ff2020", 5)])  # fmt: skip
-        _save_png(image, out)
+            image = overlay(
+                image,
+                bounds,
+                segments=[(np.stack([P[:-1], P[1:]], 1), "#ff2020", 3)],
+                points=[(P[[0]], "white", 5), (P[[-1]], "#ff2020", 5)],
+            )
+        save_png(image, out)
         print(f"wrote {out}")
     return 0
 
@@ -325,15 +277,17 @@ def _cmd_smooth(args: argparse.Namespace) -> int:
     from meschers_igl.validate import as_count
 
     m, order, _ = load_input(args.input)
-    out = _out_path(args.output, (".ply", ".npz"), "-o")
+    out = out_path(args.output, (".ply", ".npz"), "-o")
     iterations = as_count(args.iterations, "--iterations", minimum=1)
     ms = m.smooth(t_xy=args.t_xy, t_zeta=args.t_zeta, iterations=iterations, order=order)
     if order is not None:  # smoothing moved xy: the order follows (overlaps come and go)
         ms, order = ms
     p0, p1 = np.asarray(m.periods()), np.asarray(ms.periods())
     io.save(ms, out, order=order)
-    print(f"wrote {out}: t_xy {args.t_xy:g}, t_zeta {args.t_zeta:g}, {iterations} iteration(s); "
-          f"largest period change {np.abs(p1 - p0).max(initial=0.0):.2e}")  # fmt: skip
+    print(
+        f"wrote {out}: t_xy {args.t_xy:g}, t_zeta {args.t_zeta:g}, {iterations} iteration(s); "
+        f"largest period change {np.abs(p1 - p0).max(initial=0.0):.2e}"
+    )
     return 0
 
 
@@ -342,11 +296,11 @@ def _cmd_subdivide(args: argparse.Namespace) -> int:
     from meschers_igl.validate import as_count
 
     levels = as_count(args.levels, "--levels")
-    out = _out_path(args.output, (".ply", ".npz"), "-o")
+    out = out_path(args.output, (".ply", ".npz"), "-o")
     m, order, _ = load_input(
-        args.input, lambda m: _budget(m, levels, args.force, f"subdivide --levels {levels}")
+        args.input, lambda m: budget(m, levels, args.force, f"subdivide --levels {levels}")
     )
-    ms, order_s = _subdivide(m, order, levels, args.scheme, force=args.force)
+    ms, order_s = subdivide(m, order, levels, args.scheme, force=args.force)
     io.save(ms, out, order=order_s)
     print(f"wrote {out}: {m.n_faces} -> {ms.n_faces} faces ({args.scheme}, {levels} level(s))")
     return 0
@@ -408,33 +362,8 @@ def _cmd_info_or_list(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------------------------------------
 # parser
 # ------------------------------------------------------------------------------------------------
-def _examples(*lines: str) -> str:
-    return "example:\n" + "\n".join(f"  {PROG} {ln}" for ln in lines)
-
-
-def _add(p: argparse.ArgumentParser, *names: str, **kw: Any) -> None:
-    """``add_argument`` that insists on a help text (every option documents itself)."""
-    if not kw.get("help"):
-        raise ValueError(f"option {names[0]} has no help text")  # a programming error
-    p.add_argument(*names, **kw)
-
-
-def _input(p: argparse.ArgumentParser, nargs: str | None = None) -> None:
-    _add(p, "input", metavar="INPUT", nargs=nargs,
-         help="a gallery model (e.g. penrose_triangle), paradox:NAME (a shipped ParadoxToolkit "
-              "model), solid:NAME (a shipped closed solid), a .ply/.npz mescher file, or a mesh with a sidecar .json view; "
-              "'meschers info --list' lists the names")  # fmt: skip
-
-
-def _mescher_output(p: argparse.ArgumentParser) -> None:
-    _add(p, "-o", "--output", required=True, metavar="OUT",
-         help="the mescher file to write (.ply or .npz)")  # fmt: skip
-
-
-def _force(p: argparse.ArgumentParser) -> None:
-    _add(p, "--force", action="store_true",
-         help="do it even when the estimated result does not fit in the memory available "
-              "(otherwise refused at once, exit status 2)")  # fmt: skip
+_RAW = argparse.RawDescriptionHelpFormatter
+_SIZE_HELP = "image size in pixels, WIDTH,HEIGHT or N for a square (default %(default)s)"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -443,138 +372,304 @@ def build_parser() -> argparse.ArgumentParser:
         prog=PROG,
         description="Geometry processing of impossible objects (meschers; Dodik et al., ACM TOG 2025).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=_examples("study --quick --out study", "info penrose_triangle"),
+        epilog=examples("study --quick --out study", "info penrose_triangle"),
     )
     from meschers_igl import __version__
 
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    raw = argparse.RawDescriptionHelpFormatter
-    size_help = "image size in pixels, WIDTH,HEIGHT or N for a square (default %(default)s)"
+    _parser_study(sub)
+    _parser_info(sub)
+    _parser_convert(sub)
+    _parser_render(sub)
+    from .draw_cli import add_draw_parser  # line art: meschers/draw_cli.py
 
-    p = sub.add_parser("study", help="run the comparison study; write one HTML page", formatter_class=raw,
-                       description="Every operation of the paper on each model, mescher vs cut vs bent, written "
-                       "to OUT/index.html (one file, figures embedded) with the PNGs and metrics.json. Default: "
-                       "the gallery and the shipped ParadoxToolkit and solid models.",
-                       epilog=_examples("study", "study --quick --models penrose_triangle,impossibagel --out study",
-                                        "study 'my_models/*.obj' saved.ply --jobs 2 --out mine",
-                                        "study --scheduler tcp://10.0.0.5:8786"))  # fmt: skip
-    _add(p, "inputs", nargs="*", metavar="MODEL",
-         help="models to study, exactly these: gallery names, paradox:NAME, solid:NAME, .ply/.npz meschers, meshes "
-              "with a sidecar .json view ({'view': [x,y,z], 'up': [x,y,z]}), folders, glob patterns "
-              "(quoted); default: the gallery and the shipped ParadoxToolkit and solid models "
-              "(meschers info --list)")  # fmt: skip
-    _add(p, "--models", action="append", metavar="NAMES",
-         help="comma-separated models, like MODEL (repeatable); only these are run")  # fmt: skip
-    _add(
+    add_draw_parser(sub)
+    _parser_geodesic(sub)
+    _parser_smooth(sub)
+    _parser_subdivide(sub)
+    _parser_view(sub)
+    from .studio import add_parser as add_studio_parser  # a studio in the browser (trame)
+
+    add_studio_parser(
+        sub, formatter_class=_RAW, epilog=examples("studio", "studio penrose_triangle --port 8090")
+    )
+    _parser_inverse(sub)
+    return parser
+
+
+def _parser_study(sub: Any) -> None:
+    """The ``study`` subcommand and its options."""
+    p = sub.add_parser(
+        "study",
+        help="run the comparison study; write one HTML page",
+        formatter_class=_RAW,
+        description="Every operation of the paper on each model, mescher vs cut vs bent, written "
+        "to OUT/index.html (one file, figures embedded) with the PNGs and metrics.json. Default: "
+        "the gallery and the shipped ParadoxToolkit and solid models.",
+        epilog=examples(
+            "study",
+            "study --quick --models penrose_triangle,impossibagel --out study",
+            "study 'my_models/*.obj' saved.ply --jobs 2 --out mine",
+            "study --scheduler tcp://10.0.0.5:8786",
+        ),
+    )
+    add(
+        p,
+        "inputs",
+        nargs="*",
+        metavar="MODEL",
+        help="models to study, exactly these: gallery names, paradox:NAME, solid:NAME, .ply/.npz meschers, meshes "
+        "with a sidecar .json view ({'view': [x,y,z], 'up': [x,y,z]}), folders, glob patterns "
+        "(quoted); default: the gallery and the shipped ParadoxToolkit and solid models "
+        "(meschers info --list)",
+    )
+    add(
+        p,
+        "--models",
+        action="append",
+        metavar="NAMES",
+        help="comma-separated models, like MODEL (repeatable); only these are run",
+    )
+    add(
         p,
         "--out",
         default="meschers_study",
         metavar="DIR",
         help="output folder (default: meschers_study)",
     )
-    _add(p, "--quick", action="store_true",
-         help="192-pixel panels and one subdivision level instead of 320 and two")  # fmt: skip
-    _add(p, "--jobs", type=int, default=None, metavar="N",
-         help="worker processes of a local Dask cluster, one model per task; 1 runs here, one model "
-              "after another (default: the cores available, at most 4)")  # fmt: skip
-    _add(p, "--scheduler", default=None, metavar="ADDRESS",
-         help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (its workers need meschers "
-              "installed); --jobs is then ignored")  # fmt: skip
-    _add(p, "--no-progress", action="store_true", help="no progress bar")
-    _add(p, "--no-other-tools", action="store_true",
-         help="without MODEL/--models: leave out the ParadoxToolkit section")  # fmt: skip
+    add(
+        p,
+        "--quick",
+        action="store_true",
+        help="192-pixel panels and one subdivision level instead of 320 and two",
+    )
+    add(
+        p,
+        "--jobs",
+        type=int,
+        default=None,
+        metavar="N",
+        help="worker processes of a local Dask cluster, one model per task; 1 runs here, one model "
+        "after another (default: the cores available, at most 4)",
+    )
+    add(
+        p,
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="run on an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (its workers need meschers "
+        "installed); --jobs is then ignored",
+    )
+    add(p, "--no-progress", action="store_true", help="no progress bar")
+    add(
+        p,
+        "--no-other-tools",
+        action="store_true",
+        help="without MODEL/--models: leave out the ParadoxToolkit section",
+    )
     p.set_defaults(func=_cmd_study)
 
-    p = sub.add_parser("info", help="counts, genus, components, impossible?, periods", formatter_class=raw,
-                       description="Describe a mescher: counts, Euler characteristic, genus, boundary loops, "
-                       "whether it is impossible, its periods and its depth order.",
-                       epilog=_examples("info penrose_triangle", "info paradox:penrose_triangle --json",
-                                        "info --list"))  # fmt: skip
-    _input(p, nargs="?")
-    _add(p, "--json", action="store_true", help="print one JSON object")
-    _add(
-        p, "--list", action="store_true", help="list the gallery and shipped ParadoxToolkit models"
+
+def _parser_info(sub: Any) -> None:
+    """The ``info`` subcommand and its options."""
+    p = sub.add_parser(
+        "info",
+        help="counts, genus, components, impossible?, periods",
+        formatter_class=_RAW,
+        description="Describe a mescher: counts, Euler characteristic, genus, boundary loops, "
+        "whether it is impossible, its periods and its depth order.",
+        epilog=examples(
+            "info penrose_triangle", "info paradox:penrose_triangle --json", "info --list"
+        ),
     )
+    add_input(p, nargs="?")
+    add(p, "--json", action="store_true", help="print one JSON object")
+    add(p, "--list", action="store_true", help="list the gallery and shipped ParadoxToolkit models")
     p.set_defaults(func=_cmd_info_or_list)
 
-    p = sub.add_parser("convert", help="a model (artist cut model, paradox:NAME, gallery) -> .ply mescher",
-                       formatter_class=raw,
-                       description="Write a mescher file. An artist's cut model (OBJ, PLY, STL, ... any format "
-                       "PyMeshLab reads) is cleaned with PyMeshLab and its seam glued into a mescher seen from "
-                       "--view (default: its sidecar .json view, else 0,0,1); a shipped model "
-                       "(paradox:NAME) uses its own camera; a gallery model is written as it is. The depth "
-                       "order is saved with it; the clean-up report is printed.",
-                       epilog=_examples("convert paradox:penrose_triangle penrose.ply",
-                                        "convert penrose_triangle.obj penrose.ply --view 0.577,-0.577,0.577 --up -0.408,0.408,0.816"))  # fmt: skip
-    _add(p, "input", metavar="INPUT",
-         help="a mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...), paradox:NAME or a gallery model")  # fmt: skip
-    _add(p, "output", metavar="OUT", help="the mescher file to write (.ply or .npz)")
-    _add(p, "--view", type=lambda s: s if s == "auto" else _vector(s, "--view"), default=None,
-         metavar="X,Y,Z|auto", help="direction from the model toward the camera (default: the sidecar "
-         ".json's, else 0,0,1); 'auto': the view where the model's junctions line up")  # fmt: skip
-    _add(p, "--up", type=lambda s: _vector(s, "--up"), default=None, metavar="X,Y,Z",
-         help="screen up (default: the sidecar .json's, else 0,1,0)")  # fmt: skip
-    _add(p, "--view-start", type=lambda s: _vector(s, "--view-start"), default=None,
-         metavar="X,Y,Z", help="with --view auto: a view near the intended one (searched within "
-         "10 degrees of it)")  # fmt: skip
-    _add(p, "--tol", type=float, default=None, metavar="T",
-         help="gluing tolerance relative to the model's size (default: automatic)")  # fmt: skip
-    _add(p, "--visible", action="store_true",
-         help="take the seen-from-the-view route even for a cut model (by default the route is "
-         "picked from the model: an open seam whose loops glue is glued there; anything else is "
-         "seen from the view, false edges glued, hidden gaps bridged)")  # fmt: skip
-    _add(p, "--perceive", choices=["manhattan"], default=None,
-         help="'manhattan': snap normals to the perceived right angles (sheared tricks, reliefs)")  # fmt: skip
-    _add(p, "--merge-tol", type=_nonnegative, default=0.0, metavar="D",
-         help="3D distance under which the clean-up merges duplicate vertices (default 0: exact)")  # fmt: skip
+
+def _parser_convert(sub: Any) -> None:
+    """The ``convert`` subcommand and its options."""
+    p = sub.add_parser(
+        "convert",
+        help="a model (artist cut model, paradox:NAME, gallery) -> .ply mescher",
+        formatter_class=_RAW,
+        description="Write a mescher file. An artist's cut model (OBJ, PLY, STL, ... any format "
+        "PyMeshLab reads) is cleaned with PyMeshLab and its seam glued into a mescher seen from "
+        "--view (default: its sidecar .json view, else 0,0,1); a shipped model "
+        "(paradox:NAME) uses its own camera; a gallery model is written as it is. The depth "
+        "order is saved with it; the clean-up report is printed.",
+        epilog=examples(
+            "convert paradox:penrose_triangle penrose.ply",
+            "convert penrose_triangle.obj penrose.ply --view 0.577,-0.577,0.577 --up -0.408,0.408,0.816",
+        ),
+    )
+    add(
+        p,
+        "input",
+        metavar="INPUT",
+        help="a mesh file PyMeshLab reads (OBJ, PLY, STL, OFF, ...), paradox:NAME or a gallery model",
+    )
+    add(p, "output", metavar="OUT", help="the mescher file to write (.ply or .npz)")
+    add(
+        p,
+        "--view",
+        type=lambda s: s if s == "auto" else vector(s, "--view"),
+        default=None,
+        metavar="X,Y,Z|auto",
+        help="direction from the model toward the camera (default: the sidecar "
+        ".json's, else 0,0,1); 'auto': the view where the model's junctions line up",
+    )
+    add(
+        p,
+        "--up",
+        type=lambda s: vector(s, "--up"),
+        default=None,
+        metavar="X,Y,Z",
+        help="screen up (default: the sidecar .json's, else 0,1,0)",
+    )
+    add(
+        p,
+        "--view-start",
+        type=lambda s: vector(s, "--view-start"),
+        default=None,
+        metavar="X,Y,Z",
+        help="with --view auto: a view near the intended one (searched within 10 degrees of it)",
+    )
+    add(
+        p,
+        "--tol",
+        type=float,
+        default=None,
+        metavar="T",
+        help="gluing tolerance relative to the model's size (default: automatic)",
+    )
+    add(
+        p,
+        "--visible",
+        action="store_true",
+        help="take the seen-from-the-view route even for a cut model (by default the route is "
+        "picked from the model: an open seam whose loops glue is glued there; anything else is "
+        "seen from the view, false edges glued, hidden gaps bridged)",
+    )
+    add(
+        p,
+        "--perceive",
+        choices=["manhattan"],
+        default=None,
+        help="'manhattan': snap normals to the perceived right angles (sheared tricks, reliefs)",
+    )
+    add(
+        p,
+        "--merge-tol",
+        type=nonnegative,
+        default=0.0,
+        metavar="D",
+        help="3D distance under which the clean-up merges duplicate vertices (default 0: exact)",
+    )
     p.set_defaults(func=_cmd_convert)
 
-    p = sub.add_parser("render", help="render a mescher head-on to a PNG", formatter_class=raw,
-                       description="Render a mescher in its depth order (or its cut/bent embedding) under "
-                       "directional lights and an optional environment map.",
-                       epilog=_examples("render penrose_triangle -o penrose.png --light 1,1,1 --light -1,0,1 --shading smooth",
-                                        "render paradox:penrose_triangle -o bent.png --representation bent --env studio"))  # fmt: skip
-    _input(p)
-    _add(p, "-o", "--output", required=True, metavar="PNG", help="the image to write (.png)")
-    _add(p, "--light", action="append", type=lambda s: _vector(s, "--light"), metavar="X,Y,Z",
-         help="direction toward a directional light, camera frame (repeatable; default 1,1,1)")  # fmt: skip
-    _add(p, "--shading", choices=("flat", "smooth"), default="flat",
-         help="per-face or interpolated normals (default %(default)s)")  # fmt: skip
-    _add(p, "--env", default=None, metavar="MAP",
-         help="environment map: studio, sky, uniform or a lat-long image")  # fmt: skip
-    _add(p, "--representation", choices=("mescher", "cut", "bent"), default="mescher",
-         help="draw the mescher in its depth order, or its cut or bent 3D embedding (default %(default)s)")  # fmt: skip
-    _add(p, "--subdivide", type=int, default=0, metavar="N",
-         help="midpoint subdivision levels before rendering (each level: 4x the faces; default 0)")  # fmt: skip
-    _add(p, "--size", type=_size, default=(800, 800), metavar="W,H", help=size_help)
-    _force(p)
+
+def _parser_render(sub: Any) -> None:
+    """The ``render`` subcommand and its options."""
+    p = sub.add_parser(
+        "render",
+        help="render a mescher head-on to a PNG",
+        formatter_class=_RAW,
+        description="Render a mescher in its depth order (or its cut/bent embedding) under "
+        "directional lights and an optional environment map.",
+        epilog=examples(
+            "render penrose_triangle -o penrose.png --light 1,1,1 --light -1,0,1 --shading smooth",
+            "render paradox:penrose_triangle -o bent.png --representation bent --env studio",
+        ),
+    )
+    add_input(p)
+    add(p, "-o", "--output", required=True, metavar="PNG", help="the image to write (.png)")
+    add(
+        p,
+        "--light",
+        action="append",
+        type=lambda s: vector(s, "--light"),
+        metavar="X,Y,Z",
+        help="direction toward a directional light, camera frame (repeatable; default 1,1,1)",
+    )
+    add(
+        p,
+        "--shading",
+        choices=("flat", "smooth"),
+        default="flat",
+        help="per-face or interpolated normals (default %(default)s)",
+    )
+    add(
+        p,
+        "--env",
+        default=None,
+        metavar="MAP",
+        help="environment map: studio, sky, uniform or a lat-long image",
+    )
+    add(
+        p,
+        "--representation",
+        choices=("mescher", "cut", "bent"),
+        default="mescher",
+        help="draw the mescher in its depth order, or its cut or bent 3D embedding (default %(default)s)",
+    )
+    add(
+        p,
+        "--subdivide",
+        type=int,
+        default=0,
+        metavar="N",
+        help="midpoint subdivision levels before rendering (each level: 4x the faces; default 0)",
+    )
+    add(p, "--size", type=size, default=(800, 800), metavar="W,H", help=_SIZE_HELP)
+    add_force(p)
     p.set_defaults(func=_cmd_render)
 
-    from .draw_cli import add_draw_parser  # line art: meschers/draw_cli.py
 
-    add_draw_parser(sub)
-
-    p = sub.add_parser("geodesic", help="geodesic distance (heat method or exact) and a shortest path", formatter_class=raw,
-                       description="Geodesic distance from source vertices (heat method, or exact), optionally a shortest "
-                       "path to a target, a PNG with isolines and the path, and the distances as .npy.",
-                       epilog=_examples("geodesic penrose_triangle --source 0 --target 30 -o distance.png"))  # fmt: skip
-    _input(p)
-    _add(p, "--source", type=int, nargs="+", required=True, metavar="V",
-         help="source vertex index (or several: distance to the nearest)")  # fmt: skip
-    _add(p, "--target", type=int, default=None, metavar="V",
-         help="draw and report a shortest path from the first source to this vertex")  # fmt: skip
-    _add(p, "--method", default=None, metavar="NAME",
-         help="exact (window propagation: exact distances) or a heat-method preset of "
-              "meschers_igl.HeatGeodesicSolver, e.g. standard, geometry_central (potpourri3d's) "
-              "or accurate (intrinsic refinement, about 3x less error); default: the "
-              "library's heat method")  # fmt: skip
-    _add(
-        p, "-o", "--output", metavar="PNG", help="render the distance with isolines (and the path)"
+def _parser_geodesic(sub: Any) -> None:
+    """The ``geodesic`` subcommand and its options."""
+    p = sub.add_parser(
+        "geodesic",
+        help="geodesic distance (heat method or exact) and a shortest path",
+        formatter_class=_RAW,
+        description="Geodesic distance from source vertices (heat method, or exact), optionally a shortest "
+        "path to a target, a PNG with isolines and the path, and the distances as .npy.",
+        epilog=examples("geodesic penrose_triangle --source 0 --target 30 -o distance.png"),
     )
-    _add(p, "--save", metavar="NPY", help="save the (#V,) distances as a .npy file")
-    _add(
+    add_input(p)
+    add(
+        p,
+        "--source",
+        type=int,
+        nargs="+",
+        required=True,
+        metavar="V",
+        help="source vertex index (or several: distance to the nearest)",
+    )
+    add(
+        p,
+        "--target",
+        type=int,
+        default=None,
+        metavar="V",
+        help="draw and report a shortest path from the first source to this vertex",
+    )
+    add(
+        p,
+        "--method",
+        default=None,
+        metavar="NAME",
+        help="exact (window propagation: exact distances) or a heat-method preset of "
+        "meschers_igl.HeatGeodesicSolver, e.g. standard, geometry_central (potpourri3d's) "
+        "or accurate (intrinsic refinement, about 3x less error); default: the "
+        "library's heat method",
+    )
+    add(p, "-o", "--output", metavar="PNG", help="render the distance with isolines (and the path)")
+    add(p, "--save", metavar="NPY", help="save the (#V,) distances as a .npy file")
+    add(
         p,
         "--isolines",
         type=int,
@@ -582,66 +677,123 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="K",
         help="isolines in the PNG (default %(default)s)",
     )
-    _add(p, "--size", type=_size, default=(800, 800), metavar="W,H", help=size_help)
+    add(p, "--size", type=size, default=(800, 800), metavar="W,H", help=_SIZE_HELP)
     p.set_defaults(func=_cmd_geodesic)
 
-    p = sub.add_parser("smooth", help="Laplacian smoothing of xy and/or zeta (periods kept)", formatter_class=raw,
-                       description="Implicit Laplacian smoothing of screen positions and of the exact part of the "
-                       "depths (paper Sec. 4.4); the harmonic part and every period are kept.",
-                       epilog=_examples("smooth penrose_triangle -o smooth.ply --t-xy 0.05 --t-zeta 0.05"))  # fmt: skip
-    _input(p)
-    _mescher_output(p)
-    _add(p, "--t-xy", type=_nonnegative, default=0.0, metavar="T",
-         help="diffusion time for the screen positions, in squared screen units (default 0: kept)")  # fmt: skip
-    _add(p, "--t-zeta", type=_nonnegative, default=0.0, metavar="T",
-         help="diffusion time for the exact part of the depths (default 0: kept)")  # fmt: skip
-    _add(p, "--iterations", type=int, default=1, metavar="N",
-         help="repeat, rebuilding the operators each time (default %(default)s)")  # fmt: skip
+
+def _parser_smooth(sub: Any) -> None:
+    """The ``smooth`` subcommand and its options."""
+    p = sub.add_parser(
+        "smooth",
+        help="Laplacian smoothing of xy and/or zeta (periods kept)",
+        formatter_class=_RAW,
+        description="Implicit Laplacian smoothing of screen positions and of the exact part of the "
+        "depths (paper Sec. 4.4); the harmonic part and every period are kept.",
+        epilog=examples("smooth penrose_triangle -o smooth.ply --t-xy 0.05 --t-zeta 0.05"),
+    )
+    add_input(p)
+    add_mescher_output(p)
+    add(
+        p,
+        "--t-xy",
+        type=nonnegative,
+        default=0.0,
+        metavar="T",
+        help="diffusion time for the screen positions, in squared screen units (default 0: kept)",
+    )
+    add(
+        p,
+        "--t-zeta",
+        type=nonnegative,
+        default=0.0,
+        metavar="T",
+        help="diffusion time for the exact part of the depths (default 0: kept)",
+    )
+    add(
+        p,
+        "--iterations",
+        type=int,
+        default=1,
+        metavar="N",
+        help="repeat, rebuilding the operators each time (default %(default)s)",
+    )
     p.set_defaults(func=_cmd_smooth)
 
-    p = sub.add_parser("subdivide", help="1-to-4 subdivision (midpoint or Loop), depth order kept", formatter_class=raw,
-                       description="Subdivide a mescher; periods and local integrability are kept. A request whose "
-                       "result would not fit in memory is refused at once unless --force is given.",
-                       epilog=_examples("subdivide penrose_triangle -o fine.ply --levels 2 --scheme loop"))  # fmt: skip
-    _input(p)
-    _mescher_output(p)
-    _add(p, "--levels", type=int, default=1, metavar="N",
-         help="subdivision levels; each multiplies the faces by 4 (default %(default)s)")  # fmt: skip
-    _add(p, "--scheme", choices=("midpoint", "loop"), default="midpoint",
-         help="midpoint split (the surface is unchanged) or Loop subdivision of the covering "
-              "(default %(default)s)")  # fmt: skip
-    _force(p)
+
+def _parser_subdivide(sub: Any) -> None:
+    """The ``subdivide`` subcommand and its options."""
+    p = sub.add_parser(
+        "subdivide",
+        help="1-to-4 subdivision (midpoint or Loop), depth order kept",
+        formatter_class=_RAW,
+        description="Subdivide a mescher; periods and local integrability are kept. A request whose "
+        "result would not fit in memory is refused at once unless --force is given.",
+        epilog=examples("subdivide penrose_triangle -o fine.ply --levels 2 --scheme loop"),
+    )
+    add_input(p)
+    add_mescher_output(p)
+    add(
+        p,
+        "--levels",
+        type=int,
+        default=1,
+        metavar="N",
+        help="subdivision levels; each multiplies the faces by 4 (default %(default)s)",
+    )
+    add(
+        p,
+        "--scheme",
+        choices=("midpoint", "loop"),
+        default="midpoint",
+        help="midpoint split (the surface is unchanged) or Loop subdivision of the covering "
+        "(default %(default)s)",
+    )
+    add_force(p)
     p.set_defaults(func=_cmd_subdivide)
 
-    p = sub.add_parser("view", help="interactive view (needs a display)", formatter_class=raw,
-                       description="Open an interactive window: sliders move the light, 's' cycles scalars, "
-                       "'f' toggles flat/smooth, 'r' selects faces to put in front.",
-                       epilog=_examples("view penrose_triangle"))  # fmt: skip
-    _input(p)
-    _add(p, "--shading", choices=("flat", "smooth"), default="flat",
-         help="per-face or interpolated normals (default %(default)s)")  # fmt: skip
-    _add(
+
+def _parser_view(sub: Any) -> None:
+    """The ``view`` subcommand and its options."""
+    p = sub.add_parser(
+        "view",
+        help="interactive view (needs a display)",
+        formatter_class=_RAW,
+        description="Open an interactive window: sliders move the light, 's' cycles scalars, "
+        "'f' toggles flat/smooth, 'r' selects faces to put in front.",
+        epilog=examples("view penrose_triangle"),
+    )
+    add_input(p)
+    add(
+        p,
+        "--shading",
+        choices=("flat", "smooth"),
+        default="flat",
+        help="per-face or interpolated normals (default %(default)s)",
+    )
+    add(
         p,
         "--size",
-        type=_size,
+        type=size,
         default=(900, 900),
         metavar="W,H",
         help="window size in pixels (default 900,900)",
     )
     p.set_defaults(func=_cmd_view)
 
-    from .studio import add_parser as add_studio_parser  # a studio in the browser (trame)
 
-    add_studio_parser(sub, formatter_class=raw,
-                      epilog=_examples("studio", "studio penrose_triangle --port 8090"))  # fmt: skip
-
-    p = sub.add_parser("inverse", help="recover a mescher from a picture (needs torch)", formatter_class=raw,
-                       add_help=False, description="Inverse rendering (paper Sec. 4.5); arguments go to "
-                       "meschers.inverse_cli ('meschers inverse --help' for them).",
-                       epilog=_examples("inverse target.png --light 0,0,1 --out fit --init torus --iters 300"))  # fmt: skip
-    _add(p, "rest", nargs=argparse.REMAINDER, help="arguments of the inverse command")
+def _parser_inverse(sub: Any) -> None:
+    """The ``inverse`` subcommand and its options."""
+    p = sub.add_parser(
+        "inverse",
+        help="recover a mescher from a picture (needs torch)",
+        formatter_class=_RAW,
+        add_help=False,
+        description="Inverse rendering (paper Sec. 4.5); arguments go to "
+        "meschers.inverse_cli ('meschers inverse --help' for them).",
+        epilog=examples("inverse target.png --light 0,0,1 --out fit --init torus --iters 300"),
+    )
+    add(p, "rest", nargs=argparse.REMAINDER, help="arguments of the inverse command")
     p.set_defaults(func=_cmd_inverse)
-    return parser
 
 
 _VECTOR_OPTIONS = ("--view", "--up", "--light")

@@ -46,7 +46,6 @@ PENDING: dict[str, set[str]] = {
     },
     "module_lines": {"meschers_igl/inverse/picture.py", "pyvista_views/scene.py"},
     "function_lines": {
-        "meschers/cli.py",
         "meschers/inverse_cli.py",
         "meschers_igl/obtain/see.py",
         "pyvista_views/compare.py",
