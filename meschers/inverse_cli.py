@@ -1,6 +1,6 @@
 """``meschers inverse TARGET [--light X,Y,Z] --out DIR [--init picture|torus] [--iters N]``.
 
-Recovers a mescher from a picture (paper Section 4.5, issue 14): the target image spans the
+Recovers a mescher from a picture (paper Section 4.5): the target image spans the
 screen square ``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights.  The
 default initialization starts from the picture itself
 (:func:`meschers_igl.inverse.picture.mescher_from_picture`); ``--init torus`` is the paper's.

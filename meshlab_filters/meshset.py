@@ -1,4 +1,4 @@
-"""Meschers in a ``pymeshlab.MeshSet`` and back, without touching disk (issue 9, item 5).
+"""Meschers in a ``pymeshlab.MeshSet`` and back, without touching disk.
 
 Layout (the documented metadata; PyMeshLab has no per-mesh or per-MeshSet attributes, so all of
 it lives in meshes and their custom attributes, all float64, so every value is kept exactly):

@@ -1015,7 +1015,7 @@ def mescher_from_picture(
     occlusion_deg: float = 15.0,
     complete: bool = True,
 ) -> tuple[Mescher, np.ndarray, dict]:
-    """The initialization of issue 14: segment, triangulate with holes, lift from shading.
+    """The initialization from a picture: segment, triangulate with holes, lift from shading.
 
     Boundaries between two shade regions that do not run along their crease (more than
     ``occlusion_deg`` off) are occlusions: one surface passes in front of the other there, so the

@@ -29,7 +29,7 @@ Two departures from SoftRas, both for pictures of meshes rather than of single t
   inside a triangulated region it is 1, at the outline it is SoftRas's ``D_j``.  Colours keep
   SoftRas's ``D_j``, which anti-aliases and differentiates creases between faces.
 
-Speed (FACTS.md, 2 cores, 128x128): each face is evaluated only on its pixel window (bounding
+Speed: each face is evaluated only on its pixel window (bounding
 box widened by the radius where ``D`` falls below ``1e-4``), faces batched by window size, and
 face-pixel pairs outside the face with ``D < 1e-4`` are dropped, as the official SoftRas code
 does (otherwise far faces swamp the background).
