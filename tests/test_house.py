@@ -40,7 +40,7 @@ PENDING: dict[str, set[str]] = {
         "pyvista_views/render.py",
         "pyvista_views/scene.py",
     },
-    "module_lines": {"meschers_igl/inverse/picture.py", "pyvista_views/scene.py"},
+    "module_lines": {"pyvista_views/scene.py"},
     "function_lines": {
         "meschers/inverse_cli.py",
         "meschers_igl/obtain/see.py",

@@ -193,7 +193,8 @@ def shade_drawing(
     """
     from scipy import ndimage
 
-    from .picture import frames_from_creases, region_polygons
+    from .picture import region_polygons
+    from .shading import frames_from_creases
 
     t = np.asarray(target, dtype=np.float64)
     if t.ndim != 3 or t.shape[2] != 3 or t.shape[0] != t.shape[1]:

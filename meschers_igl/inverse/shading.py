@@ -1,0 +1,253 @@
+"""Normals and the light from the flat shades of a figure of boxes (a picture's faces).
+
+Under one directional light a Lambertian face of normal ``n`` shades ``ambient + diffuse *
+max(n . l, 0)``; three face orientations at right angles (a Manhattan frame) and their shades
+fix the light, and the crease directions between faces on screen fix the frame itself.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import MescherError
+
+__all__ = ["crease_directions", "estimate_light", "frames_from_creases", "normals_from_shading"]
+
+
+def normals_from_shading(
+    shades: np.ndarray,
+    light,
+    ambient: float,
+    boundary_dirs: np.ndarray | None = None,
+    boundary_pairs: np.ndarray | None = None,
+    boundary_weights: np.ndarray | None = None,
+    n_angles: int = 1440,
+    trunc: float = math.sin(math.radians(15.0)) ** 2,
+) -> tuple[np.ndarray, float]:
+    """Three orthonormal face normals whose Lambertian shades are ``shades``.
+
+    ``n_k . l = s_k = (shade_k - ambient) / (1 - ambient)``, ``n_k = R e_k``: ``R^T l = s``.
+    ``R = Q_theta R_0`` with ``R_0`` a rotation taking ``s/|s|`` to ``l`` and ``Q_theta`` a turn
+    about ``l``; also mirrored frames.  Among the ``R`` with every ``n_k`` facing the viewer,
+    the one whose crease projections ``(n_i x n_j)_xy`` best follow the region boundaries
+    (``boundary_dirs`` between regions ``boundary_pairs``, length ``boundary_weights``) wins.
+
+    Parameters
+    ----------
+    shades : (3,) float
+    light : (3,) float
+        Direction toward the light, camera frame.
+    ambient : float
+    boundary_dirs : (B, 2) float, optional
+    boundary_pairs : (B, 2) int, optional
+    boundary_weights : (B,) float, optional
+    n_angles : int
+        Turns about ``l`` tried.
+    trunc : float
+        Each boundary's ``sin^2`` counts at most this much (robust to occlusion boundaries).
+
+    Returns
+    -------
+    normals : (3, 3) float64
+        Row ``k``: the unit normal of region ``k`` (camera frame, ``n_z > 0``).
+    misfit : float
+        Weighted mean ``sin^2`` of the angle between boundaries and crease projections.
+    """
+    s = (np.asarray(shades, dtype=np.float64) - ambient) / (1.0 - ambient)
+    if s.shape != (3,):
+        raise MescherError(f"shades: expected three face shades, found {s.shape}")
+    # a face at the ambient shade is turned away from the light: n . l < 0, not 0
+    s = _shadowed_root(s)
+    lvec = np.asarray(light, dtype=np.float64)
+    lvec = lvec / np.linalg.norm(lvec)
+    s = s / np.linalg.norm(s)
+    R0 = _rotation_taking(s, lvec)
+    th = np.linspace(0.0, 2.0 * np.pi, n_angles, endpoint=False)
+    K = np.array([[0, -lvec[2], lvec[1]], [lvec[2], 0, -lvec[0]], [-lvec[1], lvec[0], 0]])
+    # Rodrigues: Q = I + sin K + (1 - cos) K^2, for all angles at once
+    Q = np.eye(3)[None] + np.sin(th)[:, None, None] * K + (1 - np.cos(th))[:, None, None] * (K @ K)
+    best = (math.inf, None)
+    for mirror in (np.eye(3), np.diag([1.0, 1.0, -1.0])):
+        # a mirror that keeps s (reflect through a plane containing s) keeps R^T l = s
+        Ms = _reflection_fixing(s) if mirror[2, 2] < 0 else np.eye(3)
+        Rs = Q @ (R0 @ Ms)  # (A, 3, 3); columns are the normals
+        N = np.transpose(Rs, (0, 2, 1))  # rows n_k
+        ok = (N[:, :, 2] > 1e-3).all(axis=1)
+        cost = np.zeros(n_angles)
+        if boundary_dirs is not None and len(boundary_dirs):
+            d = np.asarray(boundary_dirs, dtype=np.float64)
+            d = d / np.linalg.norm(d, axis=1, keepdims=True)
+            pr = np.asarray(boundary_pairs, dtype=np.int64)
+            wts = np.ones(len(d)) if boundary_weights is None else np.asarray(boundary_weights)
+            c = np.cross(N[:, pr[:, 0]], N[:, pr[:, 1]])[..., :2]  # (A, B, 2)
+            c = c / np.maximum(np.linalg.norm(c, axis=-1, keepdims=True), 1e-12)
+            sin = c[..., 0] * d[None, :, 1] - c[..., 1] * d[None, :, 0]
+            # truncated: occlusion boundaries (no crease) must not pull the frame
+            cost = (np.minimum(sin**2, trunc) * wts).sum(axis=1) / wts.sum()
+        cost = np.where(ok, cost, np.inf)
+        a = int(np.argmin(cost))
+        if cost[a] < best[0]:
+            best = (float(cost[a]), N[a])
+    if best[1] is None:
+        raise MescherError(
+            "shades: expected three shades of orthogonal faces seen from the front, found none "
+            "consistent with the light"
+        )
+    return best[1].copy(), best[0]
+
+
+def crease_directions(dirs: np.ndarray, pairs: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """The screen direction of the crease between each two of three face groups.
+
+    The boundary between groups ``i`` and ``j`` runs mostly along their crease; occlusions run
+    elsewhere.  The crease is the mode of the boundary's orientations (length-weighted
+    histogram of 1-degree bins, smoothed over 5), refined by the weighted mean of the doubled
+    angles within 5 degrees of it.
+
+    Parameters
+    ----------
+    dirs : (B, 2) float
+        Boundary edge vectors (:func:`region_boundaries`).
+    pairs : (B, 2) int
+        The two groups on either side, in ``0, 1, 2``.
+    weights : (B,) float
+        Edge lengths.
+
+    Returns
+    -------
+    (3, 2) float64
+        Row ``k``: the unit crease direction between the two groups other than ``k`` (the
+        screen projection of group ``k``'s normal's direction, up to sign).
+
+    Raises
+    ------
+    MescherError
+        Two groups that never meet.
+    """
+    d = np.asarray(dirs, dtype=np.float64)
+    pr = np.sort(np.asarray(pairs, dtype=np.int64), axis=1)
+    wts = np.asarray(weights, dtype=np.float64)
+    ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), np.pi)
+    out = np.zeros((3, 2))
+    for k in range(3):
+        i, j = [g for g in range(3) if g != k]
+        sel = (pr[:, 0] == i) & (pr[:, 1] == j)
+        if not sel.any():
+            raise MescherError(
+                f"target: expected every two face orientations to meet along a crease, found "
+                f"none between the shades {i} and {j}"
+            )
+        a, wt = ang[sel], wts[sel]
+        hist = np.bincount(np.floor(np.degrees(a)).astype(np.int64) % 180, wt, minlength=180)
+        smooth = sum(np.roll(hist, s_) for s_ in range(-2, 3))
+        mode = math.radians(int(np.argmax(smooth)) + 0.5)
+        near = np.abs(np.angle(np.exp(2j * (a - mode)))) < 2.0 * math.radians(5.0)
+        z = (wt[near] * np.exp(2j * a[near])).sum()
+        th = 0.5 * math.atan2(z.imag, z.real)
+        out[k] = (math.cos(th), math.sin(th))
+    return out
+
+
+def frames_from_creases(creases: np.ndarray) -> np.ndarray:
+    """The two right-angled frames whose face normals project along ``creases``.
+
+    Under an orthographic view the unit normals ``n_k = (t_k d_k, z_k)`` of three orthogonal
+    face directions have screen parts along the creases ``d_k`` (row ``k`` of ``creases``), and
+    the screen rows of the orthonormal frame are orthonormal:
+    ``sum_k t_k^2 d_k d_k^T = I`` (three linear equations in ``t_k^2``).  Then
+    ``z_k = sqrt(1 - t_k^2)`` (facing the viewer) and the signs of ``t_k`` follow from
+    ``n_i . n_j = 0``, up to one sign for all three: the two readings of a Necker figure,
+    ``(x, y, z)`` and ``(-x, -y, z)``, the same picture under the light ``(l_x, l_y, l_z)``
+    and ``(-l_x, -l_y, l_z)``.
+
+    Parameters
+    ----------
+    creases : (3, 2) float
+        Unit screen directions (either sign).
+
+    Returns
+    -------
+    (2, 3, 3) float64
+        Two readings; row ``k`` of each is the unit normal of face direction ``k``.
+
+    Raises
+    ------
+    MescherError
+        Directions that no right-angled frame projects to (some ``t_k^2`` outside (0, 1)).
+    """
+    d = np.asarray(creases, dtype=np.float64)
+    d = d / np.linalg.norm(d, axis=1, keepdims=True)
+    A = np.stack([d[:, 0] ** 2, d[:, 0] * d[:, 1], d[:, 1] ** 2])
+    try:
+        t2 = np.linalg.solve(A, np.array([1.0, 0.0, 1.0]))
+    except np.linalg.LinAlgError:
+        t2 = np.full(3, np.nan)
+    if not np.all((t2 > 1e-6) & (t2 < 1.0 - 1e-6)):
+        deg = np.round(np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 180.0, 1).tolist()
+        raise MescherError(
+            "target: expected lines along the projections of three right-angled directions, "
+            f"found crease directions {deg} degrees, which no right-angled frame projects to"
+        )
+    t, z = np.sqrt(t2), np.sqrt(1.0 - t2)
+    s = np.array([1.0, -np.sign(d[0] @ d[1]), -np.sign(d[0] @ d[2])])
+    N = np.column_stack([(s * t)[:, None] * d, z])
+    return np.stack([N, N * np.array([-1.0, -1.0, 1.0])])
+
+
+def estimate_light(shades: np.ndarray, normals: np.ndarray, ambient: float) -> np.ndarray:
+    """The direction toward the light that shades faces of ``normals`` with ``shades``.
+
+    ``n_k . l = s_k = (shade_k - ambient) / (1 - ambient)`` for orthonormal ``n_k`` gives
+    ``l = sum_k s_k n_k``.  A face at the ambient shade is turned away: its ``s_k`` is the
+    negative root of ``|l| = 1``.
+
+    Parameters
+    ----------
+    shades : (3,) float
+    normals : (3, 3) float
+        Orthonormal rows.
+    ambient : float
+
+    Returns
+    -------
+    (3,) float64
+        Unit light direction, camera frame.
+    """
+    s = (np.asarray(shades, dtype=np.float64) - ambient) / (1.0 - ambient)
+    s = _shadowed_root(s)
+    lvec = np.asarray(normals, dtype=np.float64).T @ s
+    return lvec / np.linalg.norm(lvec)
+
+
+def _shadowed_root(s: np.ndarray, eps: float = 0.02) -> np.ndarray:
+    """``s`` with one face at the ambient shade given ``-sqrt(1 - |others|^2)``."""
+    s = np.array(s, dtype=np.float64)
+    dark = s <= eps
+    if dark.sum() == 1:
+        s[dark] = -math.sqrt(max(0.0, 1.0 - float((s[~dark] ** 2).sum())))
+    return s
+
+
+def _rotation_taking(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """A rotation with ``R a = b`` (unit vectors)."""
+    v = np.cross(a, b)
+    c = float(a @ b)
+    if np.linalg.norm(v) < 1e-12:
+        if c > 0:
+            return np.eye(3)
+        p = np.eye(3)[np.argmin(np.abs(a))]
+        u = np.cross(a, p)
+        u /= np.linalg.norm(u)
+        return 2.0 * np.outer(u, u) - np.eye(3)
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
+def _reflection_fixing(s: np.ndarray) -> np.ndarray:
+    """A reflection through a plane that contains ``s`` (so it maps ``s`` to itself)."""
+    p = np.eye(3)[np.argmin(np.abs(s))]
+    u = np.cross(s, p)
+    u /= np.linalg.norm(u)
+    return np.eye(3) - 2.0 * np.outer(u, u)
