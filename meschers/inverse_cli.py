@@ -95,12 +95,26 @@ def zbuffer_picture(
     try:
         pl.disable_anti_aliasing()
         pl.set_background(tuple(background))
-        pl.add_mesh(mesh, color="white", ambient=ambient, diffuse=1.0 - ambient, specular=0.0,
-                    smooth_shading=False, lighting=True)  # fmt: skip
+        pl.add_mesh(
+            mesh,
+            color="white",
+            ambient=ambient,
+            diffuse=1.0 - ambient,
+            specular=0.0,
+            smooth_shading=False,
+            lighting=True,
+        )
         lw = np.asarray(light, dtype=np.float64) @ R  # toward the light, model coordinates
         lw = lw / np.linalg.norm(lw)
-        pl.add_light(pv.Light(position=tuple(centre + lw), focal_point=tuple(centre),
-                              light_type="scene light", positional=False, intensity=1.0))  # fmt: skip
+        pl.add_light(
+            pv.Light(
+                position=tuple(centre + lw),
+                focal_point=tuple(centre),
+                light_type="scene light",
+                positional=False,
+                intensity=1.0,
+            )
+        )
         span = float(np.ptp(C, axis=0).max()) + 1.0
         pl.camera.enable_parallel_projection()
         pl.camera.focal_point = tuple(centre)
@@ -149,30 +163,59 @@ def _join_negative_values(argv: list[str]) -> list[str]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``meschers inverse`` arguments to ``parser`` (returned)."""
-    parser.add_argument("target", help="target PNG spanning the screen square, or a built-in: "
-                        f"{', '.join(BUILTIN)}")  # fmt: skip
-    parser.add_argument("--light", action="append", default=None, metavar="X,Y,Z",
-                        help="direction toward a light, camera frame (negative components are "
-                        "fine: --light -0.5,0.35,1); repeat for several; default: estimated "
-                        f"from the picture with --init picture, else {DEFAULT_LIGHT}")  # fmt: skip
-    parser.add_argument("--light-color", action="append", default=None, metavar="R,G,B",
-                        help="RGB intensity of each --light, in the same order "
-                        "(default white, (1 - ambient) / #lights each)")  # fmt: skip
+    parser.add_argument(
+        "target", help=f"target PNG spanning the screen square, or a built-in: {', '.join(BUILTIN)}"
+    )
+    parser.add_argument(
+        "--light",
+        action="append",
+        default=None,
+        metavar="X,Y,Z",
+        help="direction toward a light, camera frame (negative components are "
+        "fine: --light -0.5,0.35,1); repeat for several; default: estimated "
+        f"from the picture with --init picture, else {DEFAULT_LIGHT}",
+    )
+    parser.add_argument(
+        "--light-color",
+        action="append",
+        default=None,
+        metavar="R,G,B",
+        help="RGB intensity of each --light, in the same order "
+        "(default white, (1 - ambient) / #lights each)",
+    )
     parser.add_argument("--ambient", type=float, default=0.2, help="ambient light (default 0.2)")
     parser.add_argument("--out", required=True, help="output folder (created)")
-    parser.add_argument("--init", choices=["picture", "torus"], default="picture",
-                        help="initialization: from the picture (segment, triangulate, lift; "
-                        "needs one white light) or a torus (default picture)")  # fmt: skip
+    parser.add_argument(
+        "--init",
+        choices=["picture", "torus"],
+        default="picture",
+        help="initialization: from the picture (segment, triangulate, lift; "
+        "needs one white light) or a torus (default picture)",
+    )
     parser.add_argument("--iters", type=int, default=300, help="steps (default 300)")
-    parser.add_argument("--resolution", type=int, default=128,
-                        help="working resolution; the target is resampled (default 128)")  # fmt: skip
-    parser.add_argument("--torus", default="96,24", metavar="N_MAJOR,N_MINOR",
-                        help="torus resolution for --init torus (default 96,24)")  # fmt: skip
-    parser.add_argument("--power", type=int, choices=[1, 2], default=1,
-                        help="Sobolev preconditioner (I + lambda L)^-power (default 1)")  # fmt: skip
+    parser.add_argument(
+        "--resolution",
+        type=int,
+        default=128,
+        help="working resolution; the target is resampled (default 128)",
+    )
+    parser.add_argument(
+        "--torus",
+        default="96,24",
+        metavar="N_MAJOR,N_MINOR",
+        help="torus resolution for --init torus (default 96,24)",
+    )
+    parser.add_argument(
+        "--power",
+        type=int,
+        choices=[1, 2],
+        default=1,
+        help="Sobolev preconditioner (I + lambda L)^-power (default 1)",
+    )
     parser.add_argument("--device", default=None, help="torch device, e.g. cuda (default cpu)")
-    parser.add_argument("--every", type=int, default=50,
-                        help="save a render every so many steps (default 50)")  # fmt: skip
+    parser.add_argument(
+        "--every", type=int, default=50, help="save a render every so many steps (default 50)"
+    )
     parser.add_argument("--force", action="store_true", help="skip the memory-size guard")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
@@ -269,98 +312,26 @@ def _builtin_target(name: str, res: int, lights, colors, ambient: float):
         return penrose_target(res, lights=lights, light_colors=colors, ambient=ambient), None
     if len(lights) != 1 or colors is not None:
         raise MescherError(f"--light: expected one white light for {name!r}, found {len(lights)}")
-    model = {"tribar": models.penrose_tribar, "cube": models.impossible_cube,
-             "stairs": models.penrose_stairs}[name]()  # fmt: skip
+    model = {
+        "tribar": models.penrose_tribar,
+        "cube": models.impossible_cube,
+        "stairs": models.penrose_stairs,
+    }[name]()
     image, scale = zbuffer_picture(model, res, light=lights[0], ambient=ambient)
     return image, (model, scale)
 
 
-def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
-    """Run ``meschers inverse``; ``args`` is an argv list (parsed here) or a parsed namespace.
-
-    Returns
-    -------
-    int
-        Exit status 0; bad input raises :class:`MescherError`.
-    """
-    import sys
-
-    if args is None or not isinstance(args, argparse.Namespace):
-        argv = sys.argv[1:] if args is None else list(args)
-        args = _parser().parse_args(_join_negative_values(argv))
+def _save_fit(out, args, target, bg, before, result, lights, drawing, model, iters, given) -> dict:
+    """Write the fitted mescher (with its order), the pictures and the snapshots; the metrics."""
     from meschers_igl import save
-    from meschers_igl.inverse.drawing import is_line_drawing, shade_drawing
     from meschers_igl.inverse.metrics import (
         figure_period,
         image_psnr,
         max_period_ratio,
         silhouette_iou,
     )
-    from meschers_igl.inverse.optimize import InverseOptions, extract_order, fit_mescher
-    from meschers_igl.inverse.picture import fit_options, mescher_from_picture
-    from meschers_igl.inverse.rasterizer import render_mescher
-    from meschers_igl.inverse.targets import target_mask, torus_for_target
-    from meschers_igl.validate import check_budget
-
-    given = bool(args.light)
-    lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
-    colors = None
-    if args.light_color:
-        colors = [_triple(t, "--light-color") for t in args.light_color]
-        if len(colors) != len(lights):
-            raise MescherError(
-                f"--light-color: expected one per --light ({len(lights)}), found {len(colors)}"
-            )
-    iters = as_count(args.iters, "--iters", minimum=1)
-    res = as_count(args.resolution, "--resolution", minimum=8)
-    every = as_count(args.every, "--every", minimum=1)
-    # a soft rasterizer keeps per (face, pixel) pairs: about 2 kB per pixel at 128^2
-    check_budget(float(res) * res, bytes_per_face=2048.0, what=f"inverse --resolution {res}",
-                 force=bool(args.force))  # fmt: skip
-    n_major, n_minor = (int(v) for v in _triple(args.torus + ",0", "--torus")[:2])
-    model = None
-    if args.target in BUILTIN:
-        target, model = _builtin_target(args.target, res, lights, colors, args.ambient)
-    else:
-        target = _load_target(args.target, 0)  # the file's own size: thin lines stay dark
-    bg = _background(target)
-    drawing = None
-    if model is None and is_line_drawing(target, bg):
-        # a line drawing: faces between the lines, shaded by their Manhattan reading
-        drawing = shade_drawing(target, bg, light=lights[0] if given else None,
-                                ambient=args.ambient)  # fmt: skip
-        target = _resize_flat(drawing.picture, res)
-        lights, given = [tuple(float(v) for v in drawing.light)], True
-    elif model is None and target.shape[0] != res:
-        target = _load_target(args.target, res)
-    if int(target_mask(target, bg).sum()) < 16:
-        raise MescherError(
-            f"TARGET: expected a figure on a plain background, found {args.target!r} with no "
-            "pixels unlike its corners"
-        )
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-
-    shade = dict(lights=lights, light_colors=colors, ambient=args.ambient)
-    if args.init == "picture":
-        if len(lights) != 1 or colors is not None:
-            raise MescherError(
-                f"--init picture: expected one white --light, found {len(lights)} lights"
-                + (" with colours" if colors is not None else "")
-            )
-        m0, _, info = mescher_from_picture(target, lights[0] if given else None, args.ambient,
-                                           background=bg)  # fmt: skip
-        lights = [tuple(float(v) for v in info["light"])]
-        shade["lights"] = lights
-        off0 = None
-        opts = fit_options(iters=iters, power=args.power, eval_every=every)
-    else:
-        m0, off0 = torus_for_target(target, bg, n_major=n_major, n_minor=n_minor)
-        opts = InverseOptions(iters=iters, resolution=res, power=args.power, eval_every=every)
-    before = render_mescher(m0, off0, resolution=res, background=bg, sigma=1e-6, **shade)
-    progress = (not args.no_progress) and sys.stderr.isatty()
-    result = fit_mescher(target, m0, off0, background=bg, options=opts, progress=progress,
-                         device=args.device, **shade)  # fmt: skip
+    from meschers_igl.inverse.optimize import extract_order
+    from meschers_igl.inverse.targets import target_mask
 
     m = result.mescher
     order = extract_order(m, result.offsets)
@@ -397,6 +368,104 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         _save_png(out / "drawing_shaded.png", drawing.picture)
     if model is not None:
         metrics["true_gap"] = float(model[0].gap * model[1])
+    return metrics
+
+
+def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
+    """Run ``meschers inverse``; ``args`` is an argv list (parsed here) or a parsed namespace.
+
+    Returns
+    -------
+    int
+        Exit status 0; bad input raises :class:`MescherError`.
+    """
+    import sys
+
+    if args is None or not isinstance(args, argparse.Namespace):
+        argv = sys.argv[1:] if args is None else list(args)
+        args = _parser().parse_args(_join_negative_values(argv))
+    from meschers_igl.inverse.drawing import is_line_drawing, shade_drawing
+    from meschers_igl.inverse.optimize import InverseOptions, fit_mescher
+    from meschers_igl.inverse.picture import fit_options, mescher_from_picture
+    from meschers_igl.inverse.rasterizer import render_mescher
+    from meschers_igl.inverse.targets import target_mask, torus_for_target
+    from meschers_igl.validate import check_budget
+
+    given = bool(args.light)
+    lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
+    colors = None
+    if args.light_color:
+        colors = [_triple(t, "--light-color") for t in args.light_color]
+        if len(colors) != len(lights):
+            raise MescherError(
+                f"--light-color: expected one per --light ({len(lights)}), found {len(colors)}"
+            )
+    iters = as_count(args.iters, "--iters", minimum=1)
+    res = as_count(args.resolution, "--resolution", minimum=8)
+    every = as_count(args.every, "--every", minimum=1)
+    # a soft rasterizer keeps per (face, pixel) pairs: about 2 kB per pixel at 128^2
+    check_budget(
+        float(res) * res,
+        bytes_per_face=2048.0,
+        what=f"inverse --resolution {res}",
+        force=bool(args.force),
+    )
+    n_major, n_minor = (int(v) for v in _triple(args.torus + ",0", "--torus")[:2])
+    model = None
+    if args.target in BUILTIN:
+        target, model = _builtin_target(args.target, res, lights, colors, args.ambient)
+    else:
+        target = _load_target(args.target, 0)  # the file's own size: thin lines stay dark
+    bg = _background(target)
+    drawing = None
+    if model is None and is_line_drawing(target, bg):
+        # a line drawing: faces between the lines, shaded by their Manhattan reading
+        drawing = shade_drawing(
+            target, bg, light=lights[0] if given else None, ambient=args.ambient
+        )
+        target = _resize_flat(drawing.picture, res)
+        lights, given = [tuple(float(v) for v in drawing.light)], True
+    elif model is None and target.shape[0] != res:
+        target = _load_target(args.target, res)
+    if int(target_mask(target, bg).sum()) < 16:
+        raise MescherError(
+            f"TARGET: expected a figure on a plain background, found {args.target!r} with no "
+            "pixels unlike its corners"
+        )
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+
+    shade = dict(lights=lights, light_colors=colors, ambient=args.ambient)
+    if args.init == "picture":
+        if len(lights) != 1 or colors is not None:
+            raise MescherError(
+                f"--init picture: expected one white --light, found {len(lights)} lights"
+                + (" with colours" if colors is not None else "")
+            )
+        m0, _, info = mescher_from_picture(
+            target, lights[0] if given else None, args.ambient, background=bg
+        )
+        lights = [tuple(float(v) for v in info["light"])]
+        shade["lights"] = lights
+        off0 = None
+        opts = fit_options(iters=iters, power=args.power, eval_every=every)
+    else:
+        m0, off0 = torus_for_target(target, bg, n_major=n_major, n_minor=n_minor)
+        opts = InverseOptions(iters=iters, resolution=res, power=args.power, eval_every=every)
+    before = render_mescher(m0, off0, resolution=res, background=bg, sigma=1e-6, **shade)
+    progress = (not args.no_progress) and sys.stderr.isatty()
+    result = fit_mescher(
+        target,
+        m0,
+        off0,
+        background=bg,
+        options=opts,
+        progress=progress,
+        device=args.device,
+        **shade,
+    )
+
+    metrics = _save_fit(out, args, target, bg, before, result, lights, drawing, model, iters, given)
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2))
     print(
         f"silhouette IoU {metrics['silhouette_iou']:.4f}  PSNR {metrics['psnr_init_db']:.2f} -> "
