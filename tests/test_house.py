@@ -42,7 +42,6 @@ PENDING: dict[str, set[str]] = {
     },
     "module_lines": {"pyvista_views/scene.py"},
     "function_lines": {
-        "meschers_igl/obtain/see.py",
         "pyvista_views/compare.py",
     },
 }

@@ -98,20 +98,7 @@ def see_model(
     MescherError
         Bad arrays, a model with no face toward the viewer.
     """
-    V = as_points(V, "V", 3)
-    F = as_faces(F, "F", V.shape[0])
-    if perceive not in (None, "manhattan"):
-        raise MescherError(f"perceive: expected None or 'manhattan', found {perceive!r}")
-    used = np.unique(F)
-    diag = float(np.linalg.norm(V[used].max(axis=0) - V[used].min(axis=0)))
-    if diag == 0.0:
-        raise MescherError("V: expected vertices spanning a non-empty box, found a single point")
-    report = ConversionReport()
-    rel = REL_TOL if tol is None else float(tol)
-    tol_abs = rel * diag
-    grid = REL_GRID * diag
-
-    V, F, part = _clean(V, F, tol_abs, report)
+    V, F, part, report, rel, tol_abs, grid = _prepare(V, F, perceive, tol)
     _check_options(view, view_start, hidden, perceive)
     found = isinstance(view, str)
     snap = snap and not found  # a found view is exact already
@@ -157,6 +144,23 @@ def see_model(
         )
     _expectation_warning(report, V, F, C, front)
     return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
+
+
+def _prepare(V: Any, F: Any, perceive: str | None, tol: float | None):
+    """Checked and cleaned arrays, the report, and the tolerances (relative, absolute, grid)."""
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    if perceive not in (None, "manhattan"):
+        raise MescherError(f"perceive: expected None or 'manhattan', found {perceive!r}")
+    used = np.unique(F)
+    diag = float(np.linalg.norm(V[used].max(axis=0) - V[used].min(axis=0)))
+    if diag == 0.0:
+        raise MescherError("V: expected vertices spanning a non-empty box, found a single point")
+    report = ConversionReport()
+    rel = REL_TOL if tol is None else float(tol)
+    tol_abs = rel * diag
+    V, F, part = _clean(V, F, tol_abs, report)
+    return V, F, part, report, rel, tol_abs, REL_GRID * diag
 
 
 def _has_junction(report, tol: float) -> bool:
