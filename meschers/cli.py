@@ -631,6 +631,8 @@ def _parser_render(sub: Any) -> None:
 
 def _parser_geodesic(sub: Any) -> None:
     """The ``geodesic`` subcommand and its options."""
+    from meschers_igl.geodesic import methods
+
     p = sub.add_parser(
         "geodesic",
         help="geodesic distance (heat method or exact) and a shortest path",
@@ -662,10 +664,9 @@ def _parser_geodesic(sub: Any) -> None:
         "--method",
         default=None,
         metavar="NAME",
-        help="exact (window propagation: exact distances) or a heat-method preset of "
-        "meschers_igl.HeatGeodesicSolver, e.g. standard, geometry_central (potpourri3d's) "
-        "or accurate (intrinsic refinement, about 3x less error); default: the "
-        "library's heat method",
+        help=f"one of the registry meschers_igl.geodesic.SOLVERS: {', '.join(methods())} "
+        "(exact: window propagation; covering: MMP on a covering; the others: heat-method "
+        "presets); default: auto, the library's heat method",
     )
     add(p, "-o", "--output", metavar="PNG", help="render the distance with isolines (and the path)")
     add(p, "--save", metavar="NPY", help="save the (#V,) distances as a .npy file")
