@@ -613,8 +613,12 @@ def serve(
     The port is checked first (a clear :class:`MescherError` when it is taken); nothing is
     written to disk except by the page's Save button.
     """
+    from .warmup import ensure_compiled
+
     _require_trame()
     port = check_port(host, port)
+    # the page turns, relights and draws geodesics at once: its kernels compiled before serving
+    ensure_compiled(lambda line: print(f"meschers studio: {line}", flush=True))
     m, order, label = load_model(spec)
     model = StudioModel(m, order, label, size=size)
     server, _ = build_page(model)
