@@ -304,11 +304,13 @@ def heat(job: ModelJob, s: Subject) -> None:
         "min_over_max": spans,
     }
     bar = Colorbar(HEAT_CMAP, HEAT_LOG_MIN, 0.0, "log10(u/max u)")
+    # only a model with a period has a loop that climbs; the others are impossible by their order
+    across = ", across the impossible loop" if s.m.is_impossible() else ""
     job.figure(compose([images], notes, colorbar=bar), f"{s.name}_heat.png", "Heat diffusion",
         f"Backward Euler heat diffusion (M - tL) u = M u0 (paper Eq. 5) from vertex {s.source}, for "
         "three times t (s: diagonal of the xy box), each panel normalised to its maximum and drawn on a log "
         f"scale, log10(u / max u) from {HEAT_LOG_MIN:g} (dark blue) to 0 (yellow): the heat spreads over "
-        "the surface as perceived, across the impossible loop (grey: parts it cannot reach). Total heat 1^T M u is kept to "
+        f"the surface as perceived{across} (grey: parts it cannot reach). Total heat 1^T M u is kept to "
         f"{max(drift):.1e}.")  # fmt: skip
 
 

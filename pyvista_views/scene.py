@@ -395,7 +395,9 @@ def _add_isolines(
 
 
 def _representation_kwargs(**kw: Any) -> dict:
-    return {
+    """The layer's material and isoline options; any other keyword is refused (a misspelt one
+    would otherwise be ignored without a word)."""
+    opts = {
         "color": kw.pop("color", DEFAULT_COLOR),
         "cmap": kw.pop("cmap", "viridis"),
         "clim": kw.pop("clim", None),
@@ -406,6 +408,23 @@ def _representation_kwargs(**kw: Any) -> dict:
         "diffuse": kw.pop("diffuse", 0.8),
         "name": kw.pop("name", None),
     }
+    if kw:
+        import difflib
+
+        known = sorted({*opts, *LAYER_KEYWORDS})
+        bad = sorted(kw)[0]
+        near = difflib.get_close_matches(bad, [*known, *CALL_KEYWORDS], n=1)
+        raise MescherError(
+            f"{bad}: expected a keyword of render / add_mescher ({', '.join(known)}), found "
+            f"an unknown one" + (f" (did you mean {near[0]!r}?)" if near else "")
+        )
+    return opts
+
+
+#: keywords the layer functions take besides the material's (for the message above)
+LAYER_KEYWORDS = ("feature_angle", "early_z", "bounds", "fit_isolines")
+#: the positional parameters of render(), which a misspelt keyword may have meant
+CALL_KEYWORDS = ("lights", "order", "shading", "scalars", "env_map", "window_size", "background")
 
 
 def add_mescher(

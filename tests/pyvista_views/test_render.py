@@ -333,3 +333,13 @@ def test_edges_are_anti_aliased_by_default(ball):
     assert changed.sum() > 0.5 * 4 * np.sqrt(figure.sum())  # about the outline's length
     assert changed[outline].mean() > 5 * changed[~outline].mean()
     assert np.abs(luminance(smooth) - luminance(hard))[~outline].mean() < 2
+
+
+def test_a_misspelt_keyword_is_refused_with_a_suggestion():
+    from meschers_igl import gallery
+
+    m = gallery.get_model("penrose_triangle").mescher
+    with pytest.raises(MescherError, match=r"lihgts: expected a keyword .*did you mean 'lights'"):
+        render(m, lihgts=[(1.0, 1.0, 1.0)], window_size=(32, 32))
+    with pytest.raises(MescherError, match=r"colour: expected a keyword .*did you mean 'color'"):
+        render(m, colour="red", window_size=(32, 32))
