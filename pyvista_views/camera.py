@@ -1,6 +1,6 @@
 """The head-on camera every picture uses: screen boxes, image bounds and the orthographic view.
 
-The camera frame of DESIGN.md (x right, y up, z toward the viewer) is the scene frame: the camera
+The camera frame of docs/conventions.rst (x right, y up, z toward the viewer) is the scene frame: the camera
 looks down -z with y up and is orthographic, so ``bounds = (xmin, xmax, ymin, ymax)`` in screen
 units is exactly the image's extent.  Pixel (row r, column c) of a ``(width, height)`` window
 covers ``x in xmin + [c, c+1] * (xmax-xmin)/width`` and ``y in ymax - [r+1, r] * (ymax-ymin)/height``.

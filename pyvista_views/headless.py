@@ -2,7 +2,7 @@
 plotter every view starts from.
 
 On Linux, VTK's default window tries X first and prints ``vtkXOpenGLRenderWindow ... bad X server
-connection`` when no X server answers, before falling back (FACTS.md).  Asking for a display-free
+connection`` when no X server answers, before falling back.  Asking for a display-free
 window up front avoids the warning: ``vtkEGLRenderWindow`` (EGL: a GPU, or Mesa's llvmpipe) when
 ``libEGL`` can be loaded, else ``vtkOSOpenGLRenderWindow`` (OSMesa, software).  The choice goes in
 ``VTK_DEFAULT_OPENGL_WINDOW``, which VTK reads whenever it makes a render window, so

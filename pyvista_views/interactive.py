@@ -1,6 +1,6 @@
 """Interactive views: live relighting, scalar toggles, and picking faces to reorder depth.
 
-The window keeps the head-on orthographic camera (a mescher is only meaningful head-on, FACTS.md),
+The window keeps the head-on orthographic camera (a mescher is only meaningful head-on),
 so the widgets change the light, the scalar field shown, the shading, and the depth order, never
 the view direction.  Off screen (``pyvista.OFF_SCREEN``, ``off_screen=True`` or no display) there
 is nothing to interact with, and :func:`plot` returns a screenshot instead of blocking.

@@ -3,7 +3,7 @@
 A mescher has no absolute depth, so radiance that depends on *where* a point is (point, spot and
 area lights) is undefined for it; radiance that depends only on the *direction* it arrives from is
 translation invariant and therefore well defined.  Directional lights and environment maps
-(:mod:`.envmap`) are exactly those.  Everything here is in the camera frame of DESIGN.md: x right,
+(:mod:`.envmap`) are exactly those.  Everything here is in the camera frame of docs/conventions.rst: x right,
 y up, z toward the viewer; a light is given by the unit direction *toward* it.
 """
 

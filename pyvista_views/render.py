@@ -2,7 +2,7 @@
 
 The building blocks live beside it: :mod:`.scene` (layers, lights, :class:`MescherScene`),
 :mod:`.camera` (bounds and the orthographic view) and :mod:`.gl` (the GL tricks that make a
-mescher draw as fast as an ordinary mesh).  The names they used to have here are re-exported.
+mescher draw as fast as an ordinary mesh).  Their names are re-exported here too.
 """
 
 from __future__ import annotations

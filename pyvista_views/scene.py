@@ -11,7 +11,7 @@ component ``plotter.mescher`` (registered by :mod:`pyvista_views.plugin` and the
   environment map, with irradiance baked per face or per vertex.
 
 The camera (:mod:`.camera`) is always orthographic, looking down -z with y up, so the camera
-frame of DESIGN.md is the scene frame and ``bounds = (xmin, xmax, ymin, ymax)`` is exactly the
+frame of docs/conventions.rst is the scene frame and ``bounds = (xmin, xmax, ymin, ymax)`` is exactly the
 image's extent.
 
 A mescher is drawn as an *indexed* mesh at ``z = 0`` (:mod:`.polydata`): its cells go front to
@@ -314,7 +314,7 @@ def _add_layer(
         specular=0.0,
         # Point normals need Gouraud interpolation; "provoking" then makes them flat varyings.
         interpolation="flat" if (shading == "flat" and layout != "provoking") else "gouraud",
-        smooth_shading=False,  # would recompute normals from the flat geometry (FACTS.md)
+        smooth_shading=False,  # would recompute normals from the flat geometry
         lighting=True,
         name=name,
         reset_camera=False,
