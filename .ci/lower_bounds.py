@@ -12,10 +12,14 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
-from packaging.version import InvalidVersion, Version
+import tomllib
+
+try:
+    from packaging.version import InvalidVersion, Version
+except ImportError:  # a bare environment: pip's own copy
+    from pip._vendor.packaging.version import InvalidVersion, Version
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -49,7 +49,7 @@ def _cairosvg():
     except ImportError as exc:  # optional: only PDF/PNG output and rasterizing need it
         raise ImportError(
             "PDF and PNG output of line drawings need cairosvg: pip install "
-            "\"meschers[lineart]\" (or cairosvg; and the system's libcairo2)"
+            '"meschers[lineart]" (or cairosvg; and the system\'s libcairo2)'
         ) from exc
     return cairosvg
 
