@@ -307,6 +307,32 @@ def compare(
         "bent": (V_bent, F_bent),
     }
     geodesic_field = {"mescher": d_m, "cut": d_cut, "bent": d_bent}
+    images, background = _panels(
+        m,
+        order,
+        meshes,
+        geodesic_field,
+        smoothed_rows,
+        dict(shading=shading, cmap=cmap, clim=clim, isolines=isolines),
+        bounds,
+        lights,
+        relit_lights,
+        window_size,
+    )
+
+    numbers = _numbers(images, distances, d_m, clim, background)
+
+    result = Comparison(numbers, images, distances, None, meschers, smoothed_rows, solvers, vmap)
+    if path is not None:
+        result.path = _save_figure(result, Path(path))
+    return result
+
+
+def _panels(
+    m, order, meshes, geodesic_field, smoothed_rows, look, bounds, lights, relit_lights, window_size
+):
+    """The figure's panels, ``images[row][column]``, and the background colour."""
+    shading, cmap, clim, isolines = look["shading"], look["cmap"], look["clim"], look["isolines"]
     images: dict[str, dict[str, np.ndarray]] = {r: {} for r in ROWS}
     with MescherScene(window_size=window_size) as scene:
         for row in ROWS:
@@ -335,7 +361,13 @@ def compare(
                 scene.relight(relit_lights if column == "relit" else lights)
                 images[row][column] = scene.screenshot()
         background = np.asarray(scene.plotter.background_color.int_rgb, dtype=np.uint8)
+    return images, background
 
+
+def _numbers(images, distances, d_m, clim, background) -> dict[str, dict[str, float]]:
+    """dL of each panel against the cut model's (render, relit) or the mescher's (smoothed), and
+    the mean geodesic difference to the mescher's distances over the field's range."""
+    finite = np.isfinite(d_m)
     numbers: dict[str, dict[str, float]] = {r: {} for r in ROWS}
     scale = clim[1] or 1.0
     for row in ROWS:
@@ -349,11 +381,7 @@ def compare(
         d = distances[row]
         ok = finite & np.isfinite(d)
         numbers[row]["geodesic"] = float(np.abs(d[ok] - d_m[ok]).mean() / scale)
-
-    result = Comparison(numbers, images, distances, None, meschers, smoothed_rows, solvers, vmap)
-    if path is not None:
-        result.path = _save_figure(result, Path(path))
-    return result
+    return numbers
 
 
 def _save_figure(result: Comparison, path: Path) -> Path:

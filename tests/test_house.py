@@ -34,9 +34,7 @@ HISTORY = re.compile(
 PENDING: dict[str, set[str]] = {
     "history": set(),
     "module_lines": {"pyvista_views/scene.py"},
-    "function_lines": {
-        "pyvista_views/compare.py",
-    },
+    "function_lines": set(),
 }
 
 
