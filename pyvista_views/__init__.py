@@ -20,11 +20,12 @@ from . import accessor, fileio, plugin, theme  # noqa: E402, F401
 from .compare import compare  # noqa: E402
 from .envmap import EnvironmentMap  # noqa: E402
 from .interactive import MescherViewer, plot  # noqa: E402
+from .layers import Layer, add_embedding, add_mescher, relight  # noqa: E402
 from .lights import DirectionalLight  # noqa: E402
 from .lineart import draw  # noqa: E402
 from .polydata import to_polydata  # noqa: E402
 from .render import render  # noqa: E402
-from .scene import Layer, MescherScene, add_embedding, add_mescher, relight  # noqa: E402
+from .scene import MescherScene  # noqa: E402
 
 __all__ = [
     "DirectionalLight",

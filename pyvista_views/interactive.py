@@ -18,8 +18,9 @@ from meschers_igl.validate import as_index_array
 
 from . import headless
 from .camera import as_bounds
+from .layers import DEFAULT_LIGHTS
 from .polydata import SHADINGS, as_scalars, draw_order
-from .scene import DEFAULT_LIGHTS, MescherScene
+from .scene import MescherScene
 
 #: Font size of the help text in the side panel (PyVista's points: about 17-pixel lines).
 HELP_FONT_SIZE = 9
@@ -59,7 +60,7 @@ class MescherViewer:
         A colour bar titled with the field's name whenever a field is shown; default: unless
         ``bounds`` is given (as in :func:`pyvista_views.render`).
     **kwargs
-        Passed to :func:`pyvista_views.scene.add_mescher` (``cmap``, ``isolines``, ...).
+        Passed to :func:`pyvista_views.layers.add_mescher` (``cmap``, ``isolines``, ...).
     """
 
     def __init__(

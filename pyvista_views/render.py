@@ -18,20 +18,19 @@ from meschers_igl.validate import as_choice
 from .camera import DEFAULT_MARGIN, as_bounds, default_bounds, set_view, xy_box
 from .envmap import as_env_map
 from .gl import flat_varyings_work, use_early_z, use_flat_varyings
-from .lights import as_lights
-from .overlays import as_path_marks, as_point_marks
-from .polydata import SHADINGS
-from .scene import (
+from .layers import (
     DEFAULT_COLOR,
     DEFAULT_LIGHTS,
     REPRESENTATIONS,
     Layer,
-    MescherScene,
     add_embedding,
     add_mescher,
-    embedding_of,
     relight,
 )
+from .lights import as_lights
+from .overlays import as_path_marks, as_point_marks
+from .polydata import SHADINGS
+from .scene import MescherScene, embedding_of
 
 _LOG = logging.getLogger(__name__)
 
@@ -131,7 +130,7 @@ def render(
         the field's name, the key of a dict of scalars, else ``"scalars"``), ``exposure`` (1),
         ``tone_map`` ("none" or "reinhard") and ``normalize_lights`` (True): by default the
         lights and environment are scaled so that no visible normal is lit brighter than the
-        material's colour, however many lights there are (:func:`~pyvista_views.scene.relight`).
+        material's colour, however many lights there are (:func:`~pyvista_views.layers.relight`).
 
     Returns
     -------

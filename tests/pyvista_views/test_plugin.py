@@ -370,7 +370,7 @@ def test_provoking_cells_are_rotations_ending_with_their_own_point():
 def test_flat_varyings_draw_exactly_what_cell_normals_draw(monkeypatch):
     import sys as _sys
 
-    render_module = _sys.modules["pyvista_views.scene"]  # where add_mescher picks its layout
+    render_module = _sys.modules["pyvista_views.layers"]  # where add_mescher picks its layout
     assert render_module.flat_varyings_work()
     V, F = sphere(20)
     m = Mescher.from_mesh(V, F)

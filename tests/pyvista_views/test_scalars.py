@@ -9,8 +9,8 @@ from pvv_helpers import luminance, requires_gl
 from meschers_igl import MescherError
 from meschers_igl.gallery import get_model
 from pyvista_views import render
+from pyvista_views.layers import SCALAR_AMBIENT
 from pyvista_views.polydata import as_scalars
-from pyvista_views.scene import SCALAR_AMBIENT
 
 pytestmark = requires_gl
 
