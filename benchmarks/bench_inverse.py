@@ -92,17 +92,20 @@ def run_target(name: str, iters: int, power: int = 1, quiet: bool = False) -> di
     from meschers_igl.inverse.targets import target_mask
     from meschers_igl.painter import visible_faces
 
-    model = {"tribar": models.penrose_tribar, "cube": models.impossible_cube,
-             "stairs": models.penrose_stairs}[name]()  # fmt: skip
-    target, scale, depth = zbuffer_picture(model, 128, light=LIGHT, ambient=AMBIENT,
-                                           return_depth=True)  # fmt: skip
+    model = {
+        "tribar": models.penrose_tribar,
+        "cube": models.impossible_cube,
+        "stairs": models.penrose_stairs,
+    }[name]()
+    target, scale, depth = zbuffer_picture(
+        model, 128, light=LIGHT, ambient=AMBIENT, return_depth=True
+    )
     # the largest step between neighbouring figure pixels of the real model's z-buffer
     steps = np.r_[np.abs(np.diff(depth, axis=0)).ravel(), np.abs(np.diff(depth, axis=1)).ravel()]
     zjump = float(np.nanmax(steps))
     t0, c0 = time.perf_counter(), time.process_time()
     m0, _, info = mescher_from_picture(target, LIGHT, AMBIENT)
-    init_img = render_mescher(m0, None, lights=[LIGHT], ambient=AMBIENT, resolution=128,
-                              sigma=1e-6)  # fmt: skip
+    init_img = render_mescher(m0, None, lights=[LIGHT], ambient=AMBIENT, resolution=128, sigma=1e-6)
     opts = fit_options(iters=iters, power=power)
     res = fit_mescher(target, m0, None, lights=[LIGHT], ambient=AMBIENT, options=opts)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
@@ -139,25 +142,42 @@ def main(argv=None) -> int:
     ap.add_argument("--iters", type=int, default=300)
     ap.add_argument("--targets", default="tribar,cube,stairs")
     ap.add_argument("--compare-power", action="store_true")
-    ap.add_argument("--figures", default=None, metavar="DIR",
-                    help="also write DIR/inverse_penrose.png (tribar), DIR/inverse_cube.png and "
-                         "DIR/inverse_stairs.png")  # fmt: skip
+    ap.add_argument(
+        "--figures",
+        default=None,
+        metavar="DIR",
+        help="also write DIR/inverse_penrose.png (tribar), DIR/inverse_cube.png and "
+        "DIR/inverse_stairs.png",
+    )
     args = ap.parse_args(argv)
     print(f"light {LIGHT}, ambient {AMBIENT}, 128 x 128, {args.iters} steps, torch 1 thread")
-    head = (f"{'target':8s} {'faces':>6s} {'PSNR0':>6s} {'PSNR':>6s} {'IoU':>6s} {'imposs':>6s} "
-            f"{'axis10':>7s} {'period':>7s} {'gap':>7s} {'zjump':>6s} {'err':>6s} {'wall s':>7s} "
-            f"{'CPU s':>6s}  pass")  # fmt: skip
+    head = (
+        f"{'target':8s} {'faces':>6s} {'PSNR0':>6s} {'PSNR':>6s} {'IoU':>6s} {'imposs':>6s} "
+        f"{'axis10':>7s} {'period':>7s} {'gap':>7s} {'zjump':>6s} {'err':>6s} {'wall s':>7s} "
+        f"{'CPU s':>6s}  pass"
+    )
     print(head)
     for name in args.targets.split(","):
         r = run_target(name, args.iters)
-        ok = (r["psnr"] >= 30 and r["iou"] >= 0.97 and r["impossible"] and r["axis_share"] >= 0.7
-              and r["period_err"] <= 0.15 and r["wall_s"] <= 300)  # fmt: skip
-        print(f"{r['target']:8s} {r['faces']:6d} {r['psnr_init']:6.2f} {r['psnr']:6.2f} "
-              f"{r['iou']:6.3f} {str(r['impossible']):>6s} {r['axis_share']:7.1%} "
-              f"{r['period']:7.3f} {r['true_gap']:7.3f} {r['zbuffer_jump']:6.3f} {r['period_err']:6.1%} "
-              f"{r['wall_s']:7.1f} {r['cpu_s']:6.1f}  {'yes' if ok else 'NO'}")  # fmt: skip
-        fig_name = {"tribar": "inverse_penrose.png", "cube": "inverse_cube.png",
-                    "stairs": "inverse_stairs.png"}.get(name)  # fmt: skip
+        ok = (
+            r["psnr"] >= 30
+            and r["iou"] >= 0.97
+            and r["impossible"]
+            and r["axis_share"] >= 0.7
+            and r["period_err"] <= 0.15
+            and r["wall_s"] <= 300
+        )
+        print(
+            f"{r['target']:8s} {r['faces']:6d} {r['psnr_init']:6.2f} {r['psnr']:6.2f} "
+            f"{r['iou']:6.3f} {str(r['impossible']):>6s} {r['axis_share']:7.1%} "
+            f"{r['period']:7.3f} {r['true_gap']:7.3f} {r['zbuffer_jump']:6.3f} {r['period_err']:6.1%} "
+            f"{r['wall_s']:7.1f} {r['cpu_s']:6.1f}  {'yes' if ok else 'NO'}"
+        )
+        fig_name = {
+            "tribar": "inverse_penrose.png",
+            "cube": "inverse_cube.png",
+            "stairs": "inverse_stairs.png",
+        }.get(name)
         if args.figures and fig_name:
             save_figure(os.path.join(args.figures, fig_name), r)
     if args.compare_power:

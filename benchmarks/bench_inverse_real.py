@@ -99,8 +99,11 @@ def load_models(folder: Path | None, only: set | None):
             gaps = v.get("coincident_depth_gaps") or []
             gap = max(gaps) if gaps and "perceive" not in v else math.nan
             out.append((BoxModel(name, V, np.asarray(F), view, up, gap), model_axes(V, F)))
-    for name, make in (("tribar", models.penrose_tribar), ("cube", models.impossible_cube),
-                       ("stairs", models.penrose_stairs)):  # fmt: skip
+    for name, make in (
+        ("tribar", models.penrose_tribar),
+        ("cube", models.impossible_cube),
+        ("stairs", models.penrose_stairs),
+    ):
         if only and name not in only:
             continue
         m = make()
@@ -140,10 +143,18 @@ def run_case(model, axes, light, res: int, iters: int) -> dict:
         out["light_err_mirror"] = math.degrees(math.acos(np.clip(le @ mir, -1, 1)))
     except MescherError as exc:
         out["light_error"] = str(exc)
-    init_img = render_mescher(m0, None, lights=[light], ambient=AMBIENT, resolution=res,
-                              sigma=1e-6, background=GROUND)  # fmt: skip
-    r = fit_mescher(target, m0, None, lights=[light], ambient=AMBIENT, background=GROUND,
-                    options=fit_options(iters=iters))  # fmt: skip
+    init_img = render_mescher(
+        m0, None, lights=[light], ambient=AMBIENT, resolution=res, sigma=1e-6, background=GROUND
+    )
+    r = fit_mescher(
+        target,
+        m0,
+        None,
+        lights=[light],
+        ambient=AMBIENT,
+        background=GROUND,
+        options=fit_options(iters=iters),
+    )
     m = r.mescher
     order = extract_order(m, r.offsets)
     vis = visible_faces(m, order, size=res, bounds=(-1.0, 1.0, -1.0, 1.0))
@@ -170,8 +181,13 @@ def passes(r: dict) -> bool:
     if "error" in r:
         return False
     per = r["period_err"]
-    return (r["psnr"] >= 30 and r["iou"] >= 0.98 and r["axis"] >= 0.9 and r["impossible"]
-            and (not math.isfinite(per) or per <= 0.05))  # fmt: skip
+    return (
+        r["psnr"] >= 30
+        and r["iou"] >= 0.98
+        and r["axis"] >= 0.9
+        and r["impossible"]
+        and (not math.isfinite(per) or per <= 0.05)
+    )
 
 
 def save_panel(path: Path, r: dict) -> None:
@@ -195,9 +211,11 @@ def _median_worst(ok: list, n: int, key: str, worst=min, fmt: str = "{:.2f}") ->
 
 
 def table(rows: list[dict]) -> str:
-    lines = [f"{'model':22s} {'pass':>5s} {'PSNR med/worst':>15s} {'IoU med/worst':>14s} "
-             f"{'axis10 med/worst':>17s} {'imposs':>7s} {'period err med/worst':>21s} "
-             f"{'light est err':>14s} {'wall s':>7s}"]  # fmt: skip
+    lines = [
+        f"{'model':22s} {'pass':>5s} {'PSNR med/worst':>15s} {'IoU med/worst':>14s} "
+        f"{'axis10 med/worst':>17s} {'imposs':>7s} {'period err med/worst':>21s} "
+        f"{'light est err':>14s} {'wall s':>7s}"
+    ]
     names = list(dict.fromkeys(r["model"] for r in rows))
     for name in names:
         rs = [r for r in rows if r["model"] == name]
@@ -226,11 +244,16 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--iters", type=int, default=300)
     ap.add_argument("--resolution", type=int, default=128)
-    ap.add_argument("--figures", default=None, metavar="DIR",
-                    help="save target | start | fit strips as DIR/<model>_<k>.png")  # fmt: skip
+    ap.add_argument(
+        "--figures",
+        default=None,
+        metavar="DIR",
+        help="save target | start | fit strips as DIR/<model>_<k>.png",
+    )
     ap.add_argument("--log", default=None, help="append one JSON line per picture")
-    ap.add_argument("--table-from", default=None, metavar="LOG",
-                    help="only print the table of a --log file")  # fmt: skip
+    ap.add_argument(
+        "--table-from", default=None, metavar="LOG", help="only print the table of a --log file"
+    )
     args = ap.parse_args(argv)
     if args.table_from:
         rows = [json.loads(t) for t in Path(args.table_from).read_text().splitlines() if t]
@@ -239,16 +262,22 @@ def main(argv=None) -> int:
     only = set(args.only.split(",")) if args.only else None
     folder = Path(args.models)
     lights = hemisphere_lights(args.lights, args.seed)
-    print(f"{args.resolution}^2, {args.iters} steps, {args.lights} lights (seed {args.seed}), "
-          f"ambient {AMBIENT}, torch 1 thread")  # fmt: skip
+    print(
+        f"{args.resolution}^2, {args.iters} steps, {args.lights} lights (seed {args.seed}), "
+        f"ambient {AMBIENT}, torch 1 thread"
+    )
     rows = []
     for model, axes in load_models(folder if folder.is_dir() else None, only):
         for k, light in enumerate(lights):
             try:
                 r = run_case(model, axes, light, args.resolution, args.iters)
             except Exception as exc:  # a crash is a result too: it fails every column
-                r = {"model": model.name, "light": [float(v) for v in light],
-                     "error": f"{type(exc).__name__}: {exc}", "target_img": np.ones((8, 8, 3))}  # fmt: skip
+                r = {
+                    "model": model.name,
+                    "light": [float(v) for v in light],
+                    "error": f"{type(exc).__name__}: {exc}",
+                    "target_img": np.ones((8, 8, 3)),
+                }
             rows.append(r)
             if args.figures:
                 Path(args.figures).mkdir(parents=True, exist_ok=True)

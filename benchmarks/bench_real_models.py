@@ -98,9 +98,13 @@ def _row(path, given, gaps, auto, size, save_dir, perceive=None):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("folder", nargs="?", default=os.environ.get("MESCHERS_REAL_MODELS", "."),
-                    help="a folder of model files with their views.json (default: "
-                    "$MESCHERS_REAL_MODELS, else the current folder)")  # fmt: skip
+    ap.add_argument(
+        "folder",
+        nargs="?",
+        default=os.environ.get("MESCHERS_REAL_MODELS", "."),
+        help="a folder of model files with their views.json (default: "
+        "$MESCHERS_REAL_MODELS, else the current folder)",
+    )
     ap.add_argument("--size", type=int, default=160, help="render size in pixels")
     ap.add_argument("--save", default=None, help="folder for z-buffer | mescher pictures")
     a = ap.parse_args(argv)
@@ -126,13 +130,21 @@ def main(argv=None):
         n += 1
         gaps = [float(g) for g in d.get("coincident_depth_gaps", [])]
         for auto in (False, True):
-            line, (kind, hint) = _row(folder / name, (d["view"], d["up"]), gaps, auto, a.size,
-                                      a.save)  # fmt: skip
+            line, (kind, hint) = _row(
+                folder / name, (d["view"], d["up"]), gaps, auto, a.size, a.save
+            )
             n_imp[auto] += kind is not None
             print(f"{name[:22]:22s} {'auto' if auto else 'given':5s} {line}")
             if hint and not auto:  # the converter suggests perceived right angles: take it
-                line, (kind, _) = _row(folder / name, (d["view"], d["up"]), gaps, auto, a.size,
-                                       a.save, perceive="manhattan")  # fmt: skip
+                line, (kind, _) = _row(
+                    folder / name,
+                    (d["view"], d["up"]),
+                    gaps,
+                    auto,
+                    a.size,
+                    a.save,
+                    perceive="manhattan",
+                )
                 # perceived depths against the model's own order: only a period counts
                 n_perceived += kind == "zeta"
                 print(f"{name[:22]:22s} {'+mh':5s} {line}")

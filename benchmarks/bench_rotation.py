@@ -115,8 +115,14 @@ class Figure:
             )
             d = np.where(np.abs(d) < 1e-300, 1e-300, d)
             q = p[None]
-            u = ((b[..., 0] - q[..., 0]) * (c[..., 1] - q[..., 1]) - (b[..., 1] - q[..., 1]) * (c[..., 0] - q[..., 0])) / d  # fmt: skip
-            v = ((c[..., 0] - q[..., 0]) * (a[..., 1] - q[..., 1]) - (c[..., 1] - q[..., 1]) * (a[..., 0] - q[..., 0])) / d  # fmt: skip
+            u = (
+                (b[..., 0] - q[..., 0]) * (c[..., 1] - q[..., 1])
+                - (b[..., 1] - q[..., 1]) * (c[..., 0] - q[..., 0])
+            ) / d
+            v = (
+                (c[..., 0] - q[..., 0]) * (a[..., 1] - q[..., 1])
+                - (c[..., 1] - q[..., 1]) * (a[..., 0] - q[..., 0])
+            ) / d
             inside |= ((u >= 0) & (v >= 0) & (u + v <= 1)).any(axis=0)
         mask = inside.reshape(self.size, self.size)
         return ndimage.binary_dilation(mask, iterations=2)
@@ -207,8 +213,10 @@ def main(argv=None) -> None:
     ap.add_argument("--strip-size", type=int, default=180)
     args = ap.parse_args(argv)
     angles = [float(a) for a in args.angles.split(",")]
-    print("| figure | axis | deg | resid | back | crack px (mescher) | cut crack (% size, px) "
-          "| dL outside seam | IoU | period / period(0) | impossible | other face than cut | turn s |")  # fmt: skip
+    print(
+        "| figure | axis | deg | resid | back | crack px (mescher) | cut crack (% size, px) "
+        "| dL outside seam | IoU | period / period(0) | impossible | other face than cut | turn s |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name in args.models.split(","):
         fig = Figure(name, args.size)
@@ -219,10 +227,13 @@ def main(argv=None) -> None:
                 r = measure(fig, deg, axis)
                 ratio = f"{r['periods'][k] / p0[k]:.4f}" if fig.has_period else "-"
                 od = f"{r['order_defect']:.2%}" if fig.has_period else "-"
-                print(f"| {name} | {axis} | {deg:g} | {r['resid']:.2e} | {r['back']:.2%} | "
-                      f"{r['crack_px']:d} | {r['cut_crack']:.2%}, "
-                      f"{r['cut_crack_px']:.1f} | {r['dL']:.4f} | {r['iou']:.3f} | "
-                      f"{ratio} | {r['kind']} | {od} | {r['t_turn']:.3f} |", flush=True)  # fmt: skip
+                print(
+                    f"| {name} | {axis} | {deg:g} | {r['resid']:.2e} | {r['back']:.2%} | "
+                    f"{r['crack_px']:d} | {r['cut_crack']:.2%}, "
+                    f"{r['cut_crack_px']:.1f} | {r['dL']:.4f} | {r['iou']:.3f} | "
+                    f"{ratio} | {r['kind']} | {od} | {r['t_turn']:.3f} |",
+                    flush=True,
+                )
         if args.strips:
             small = Figure(name, args.strip_size)
             strip(small, os.path.join(args.strips, f"turntable_{name}.png"))

@@ -65,10 +65,14 @@ def main(argv=None):
         worst = max(worst, t_conv)
         p = np.abs(m.periods())
         print(f"  model_to_mescher, {what}:")
-        print(f"    {t_conv:8.3f} s = {t_conv / t_cot:6.1f} x cotmatrix -> {m.n_faces} faces, "
-              f"period {p.max():.6f} (built with {gap:.6f}), {order.n_arcs} arcs")  # fmt: skip
-    print(f"  bar              : <= 10 s at 100k faces on 2 cores -> "
-          f"{'OK' if worst <= 10.0 else 'TOO SLOW'}")  # fmt: skip
+        print(
+            f"    {t_conv:8.3f} s = {t_conv / t_cot:6.1f} x cotmatrix -> {m.n_faces} faces, "
+            f"period {p.max():.6f} (built with {gap:.6f}), {order.n_arcs} arcs"
+        )
+    print(
+        f"  bar              : <= 10 s at 100k faces on 2 cores -> "
+        f"{'OK' if worst <= 10.0 else 'TOO SLOW'}"
+    )
 
 
 if __name__ == "__main__":

@@ -100,10 +100,15 @@ def closed_solid_figure() -> Path:
     )
     panels = [
         render(side, order=side_order, lights=lights, window_size=(S, S)),
-        render(before, order=DepthOrder.from_embedding(before, C[:, 2][F]), lights=lights,
-               window_size=(S, S), bounds=bounds),
+        render(
+            before,
+            order=DepthOrder.from_embedding(before, C[:, 2][F]),
+            lights=lights,
+            window_size=(S, S),
+            bounds=bounds,
+        ),
         render(m, order=order, lights=lights, window_size=(S, S), bounds=bounds),
-    ]  # fmt: skip
+    ]
     img = Image.new("RGB", (3 * S, S + 70), "white")
     for k, p in enumerate(panels):
         img.paste(Image.fromarray(p), (k * S, 0))
@@ -119,8 +124,12 @@ def closed_solid_figure() -> Path:
     ]
     for k, text in enumerate(captions):
         draw.text((k * S + 10, S + 10), text, fill="black", font=_font())
-    draw.text((2 * S + 10, S + 35), f"(the depth gap {gap:.4f}); glued junction circled",
-              fill="black", font=_font())  # fmt: skip
+    draw.text(
+        (2 * S + 10, S + 35),
+        f"(the depth gap {gap:.4f}); glued junction circled",
+        fill="black",
+        font=_font(),
+    )
     path = OUT / "closed_solid.png"
     img.save(path)
     return path
@@ -136,12 +145,18 @@ def _model_panels(V, F, meta, side, m, order, captions: list[str], name: str, S:
     def framed(C):
         lo, hi = C[:, :2].min(0), C[:, :2].max(0)
         c, h = 0.5 * (lo + hi), 0.55 * float((hi - lo).max())
-        return {"bounds": (c[0] - h, c[0] + h, c[1] - h, c[1] + h), "lights": lights,
-                "window_size": (S, S)}  # fmt: skip
+        return {
+            "bounds": (c[0] - h, c[0] + h, c[1] - h, c[1] + h),
+            "lights": lights,
+            "window_size": (S, S),
+        }
 
     Co, C = V @ view_frame(side, R[1]).T, V @ R.T
-    panels = [render((Co, F), **framed(Co)), render((C, F), **framed(C)),
-              render(m, order=order, **framed(C))]  # fmt: skip
+    panels = [
+        render((Co, F), **framed(Co)),
+        render((C, F), **framed(C)),
+        render(m, order=order, **framed(C)),
+    ]
     img = Image.new("RGB", (3 * S, S + 40), "white")
     draw = ImageDraw.Draw(img)
     for k, (panel, text) in enumerate(zip(panels, captions)):
@@ -158,22 +173,31 @@ def hidden_gap_cube_figure() -> Path:
     R = view_frame(meta["view"], meta["up"])
     t, u = np.radians(18.0), (R[0] + 0.6 * R[1]) / np.linalg.norm(R[0] + 0.6 * R[1])
     m, order, _ = model_to_mescher(V, F, view="auto")
-    captions = ["the closed frame (oblique view)", "its z-buffer from its view",
-                f"the mescher: period {np.abs(m.periods()).max():.4f} (gap {gap:.4f})"]  # fmt: skip
-    return _model_panels(V, F, meta, np.cos(t) * R[2] + np.sin(t) * u, m, order, captions,
-                         "hidden_gap_cube")  # fmt: skip
+    captions = [
+        "the closed frame (oblique view)",
+        "its z-buffer from its view",
+        f"the mescher: period {np.abs(m.periods()).max():.4f} (gap {gap:.4f})",
+    ]
+    return _model_panels(
+        V, F, meta, np.cos(t) * R[2] + np.sin(t) * u, m, order, captions, "hidden_gap_cube"
+    )
 
 
 def reutersvard_relief_figure() -> Path:
     V, F, meta = _solid("reutersvard_relief")
     R = view_frame(meta["view"], meta["up"])
     t = np.radians(70.0)
-    m, order, _ = model_to_mescher(V, F, view=meta["view"], up=meta["up"],
-                                   perceive=meta["perceive"])  # fmt: skip
-    captions = ["the relief, 70 degrees aside", "its z-buffer from its view",
-                f"as perceived: period {np.abs(m.periods()).max():.4f}"]  # fmt: skip
-    return _model_panels(V, F, meta, np.cos(t) * R[2] + np.sin(t) * R[0], m, order, captions,
-                         "reutersvard_relief")  # fmt: skip
+    m, order, _ = model_to_mescher(
+        V, F, view=meta["view"], up=meta["up"], perceive=meta["perceive"]
+    )
+    captions = [
+        "the relief, 70 degrees aside",
+        "its z-buffer from its view",
+        f"as perceived: period {np.abs(m.periods()).max():.4f}",
+    ]
+    return _model_panels(
+        V, F, meta, np.cos(t) * R[2] + np.sin(t) * R[0], m, order, captions, "reutersvard_relief"
+    )
 
 
 def exact_geodesic_figure() -> Path:
@@ -196,21 +220,31 @@ def exact_geodesic_figure() -> Path:
 
     size = (TILE + 40, TILE)
     bounds = default_bounds(xy_box(np.asarray(m.xy)), size)
-    kw = {"order": order, "lights": [(0.4, 0.6, 1.0)], "window_size": size, "bounds": bounds,
-          "shading": "smooth", "show_scalar_bar": False,
-          "points": {"vertices": [source], "color": "white", "radius": 6}}  # fmt: skip
+    kw = {
+        "order": order,
+        "lights": [(0.4, 0.6, 1.0)],
+        "window_size": size,
+        "bounds": bounds,
+        "shading": "smooth",
+        "show_scalar_bar": False,
+        "points": {"vertices": [source], "color": "white", "radius": 6},
+    }
     cmap = "viridis"
     cells = [
         render(m, scalars=exact, clim=(0, top), cmap=cmap, isolines=12, **kw),
         render(m, scalars=heat, clim=(0, top), cmap=cmap, isolines=12, **kw),
     ]
-    dist = compose([cells],
-                   col_labels=["exact (window propagation)", f"heat method (auto = {heat_solver.method})"],
-                   colorbar=Colorbar(cmap, 0.0, top, "geodesic distance"))  # fmt: skip
+    dist = compose(
+        [cells],
+        col_labels=["exact (window propagation)", f"heat method (auto = {heat_solver.method})"],
+        colorbar=Colorbar(cmap, 0.0, top, "geodesic distance"),
+    )
     diff = render(m, scalars=err, clim=(0, float(err.max())), cmap="magma", **kw)
-    diff = compose([[diff]],
-                   col_labels=[f"difference: mean {err.mean():.2%}, max {err.max():.2%}"],
-                   colorbar=Colorbar("magma", 0.0, float(err.max()), "|heat - exact| / max"))  # fmt: skip
+    diff = compose(
+        [[diff]],
+        col_labels=[f"difference: mean {err.mean():.2%}, max {err.max():.2%}"],
+        colorbar=Colorbar("magma", 0.0, float(err.max()), "|heat - exact| / max"),
+    )
     dist, diff = np.asarray(dist.convert("RGB")), np.asarray(diff.convert("RGB"))
     h = max(dist.shape[0], diff.shape[0])
     pad = lambda a: np.pad(a, ((0, h - a.shape[0]), (0, 0), (0, 0)), constant_values=255)  # noqa: E731

@@ -61,10 +61,17 @@ pt = gallery.get_model("penrose_triangle")
 mp, op = pt.mescher.subdivide(1, order=pt.order)
 path = mp.shortest_path(0, 200)
 marks = [{"path": path, "color": "red", "label": "path"}]
-marks += [{"path": loop, "hidden": "dashed", "label": f"loop {k}"}
-          for k, loop in enumerate(shortest_loops(mp))]  # fmt: skip
-img = render(mp, order=op, paths=marks, points={"vertices": [0, 200], "labels": ["s", "t"]},
-             window_size=(480, 480))  # fmt: skip
+marks += [
+    {"path": loop, "hidden": "dashed", "label": f"loop {k}"}
+    for k, loop in enumerate(shortest_loops(mp))
+]
+img = render(
+    mp,
+    order=op,
+    paths=marks,
+    points={"vertices": [0, 200], "labels": ["s", "t"]},
+    window_size=(480, 480),
+)
 plt.figure(figsize=(6, 6))
 plt.imshow(img)
 plt.axis("off")

@@ -145,18 +145,33 @@ def add(p: argparse.ArgumentParser, *names: str, **kw: Any) -> None:
 
 
 def add_input(p: argparse.ArgumentParser, nargs: str | None = None) -> None:
-    add(p, "input", metavar="INPUT", nargs=nargs,
-         help="a gallery model (e.g. penrose_triangle), paradox:NAME (a shipped ParadoxToolkit "
-              "model), solid:NAME (a shipped closed solid), a .ply/.npz mescher file, or a mesh with a sidecar .json view; "
-              "'meschers info --list' lists the names")  # fmt: skip
+    add(
+        p,
+        "input",
+        metavar="INPUT",
+        nargs=nargs,
+        help="a gallery model (e.g. penrose_triangle), paradox:NAME (a shipped ParadoxToolkit "
+        "model), solid:NAME (a shipped closed solid), a .ply/.npz mescher file, or a mesh with a sidecar .json view; "
+        "'meschers info --list' lists the names",
+    )
 
 
 def add_mescher_output(p: argparse.ArgumentParser) -> None:
-    add(p, "-o", "--output", required=True, metavar="OUT",
-         help="the mescher file to write (.ply or .npz)")  # fmt: skip
+    add(
+        p,
+        "-o",
+        "--output",
+        required=True,
+        metavar="OUT",
+        help="the mescher file to write (.ply or .npz)",
+    )
 
 
 def add_force(p: argparse.ArgumentParser) -> None:
-    add(p, "--force", action="store_true",
-         help="do it even when the estimated result does not fit in the memory available "
-              "(otherwise refused at once, exit status 2)")  # fmt: skip
+    add(
+        p,
+        "--force",
+        action="store_true",
+        help="do it even when the estimated result does not fit in the memory available "
+        "(otherwise refused at once, exit status 2)",
+    )

@@ -273,8 +273,9 @@ def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.
             x0, y0, x1, y1 = draw.textbbox((0, 0), text, font=fnt, stroke_width=2)
             sizes.append((x1 - x0 + 2, y1 - y0 + 2))
         for (x, y), (_, text, colour) in zip(place_labels(anchors, sizes, (w, h)), labels):
-            draw.text((x + 1, y + 1), text, fill=colour, font=fnt, stroke_width=2,
-                      stroke_fill="white")  # fmt: skip
+            draw.text(
+                (x + 1, y + 1), text, fill=colour, font=fnt, stroke_width=2, stroke_fill="white"
+            )
     return np.asarray(canvas)
 
 

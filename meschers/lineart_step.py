@@ -49,13 +49,19 @@ def line_art(job: Any, s: Any) -> None:
         f"recall {recall:.3f}, precision {precision:.3f}",
         f"{int((~lines.visible).sum())} hidden",
     ]
-    fig = compose([[shaded, art, over, dashed]],
-                  ["shaded", "line art", "lines over the render", "hidden lines dashed"],
-                  notes=[notes])  # fmt: skip
-    job.figure(fig, f"{s.name}_line_art.png", "Line art",
+    fig = compose(
+        [[shaded, art, over, dashed]],
+        ["shaded", "line art", "lines over the render", "hidden lines dashed"],
+        notes=[notes],
+    )
+    job.figure(
+        fig,
+        f"{s.name}_line_art.png",
+        "Line art",
         "The drawing a person makes of the figure, from the mescher and its depth order: outlines "
         "against the paper (thick), occlusion lines where one part passes in front of another, "
         "ending exactly where they pass behind a face, and creases where zeta's dihedral angle "
         "exceeds 30 degrees (thin); `meschers draw` writes it as SVG or PDF. Recall and precision: "
         "the line pixels of the painter's picture within 1.5 px of a drawn line, and the drawn "
-        "pixels within 1.5 px of one (512 px).")  # fmt: skip
+        "pixels within 1.5 px of one (512 px).",
+    )

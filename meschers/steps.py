@@ -160,8 +160,9 @@ def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) 
         text = format_value(periods[k], scale)
         # only loops that climb are labelled (ten "p=0" labels would bury the figure)
         label = (f"p{k}={text}" if prefix else text) if nonzero else None
-        items.append(("path", loop, None, {"color": colour, "width": 3 if nonzero else 2,
-                                           "label": label}))  # fmt: skip
+        items.append(
+            ("path", loop, None, {"color": colour, "width": 3 if nonzero else 2, "label": label})
+        )
     return items
 
 
@@ -200,30 +201,38 @@ def hodge(job: ModelJob, s: Subject) -> None:
         [f"exact part z ({st.isolines} isolines)", "homology loops and periods"],
         colorbar=Colorbar("coolwarm", *zlim, "z (depth, bent model)"),
     )
-    job.figure(fig, f"{s.name}_hodge.png", "Hodge decomposition and periods",
+    job.figure(
+        fig,
+        f"{s.name}_hodge.png",
+        "Hodge decomposition and periods",
         "Left: the potential z of the exact part d01 z of zeta (paper Eq. 3), i.e. the depth of the "
         f"bent embedding, with {st.isolines} isolines. Right: a closed geodesic in the class of each "
         "homology generator (tree-cotree), drawn where it lies on the visible surface (grey: period 0; "
         "coloured and labelled: the depth gained around it), and the depth gained around each, the periods of the harmonic part omega: "
         f"{format_values(periods, scale=round_off_scale(periods, s.scale))} (values "
         "below 1e-9 of the model's size are round-off, printed as 0). "
-        f"{_impossible_because(kind)}")  # fmt: skip
+        f"{_impossible_because(kind)}",
+    )
 
 
 def _impossible_because(kind: str | None) -> str:
     """The caption's last sentence: what makes this object impossible, if anything."""
     if kind == "order":
-        return ("Every period is 0, so zeta integrates; what makes the object impossible is its "
-                "depth order, which its bent embedding cannot realise with one depth offset per "
-                "connected component.")  # fmt: skip
+        return (
+            "Every period is 0, so zeta integrates; what makes the object impossible is its "
+            "depth order, which its bent embedding cannot realise with one depth offset per "
+            "connected component."
+        )
     return "A non-zero period is what makes the object impossible."
 
 
 def render(job: ModelJob, s: Subject) -> None:
     """Flat and smooth shading under four lights and an environment map."""
     bounds = s.bounds(job.st.cell)
-    rows = [job.renderer.relit([_mescher(s, shading=sh)], bounds, LIGHTS, ENV_MAP)
-            for sh in ("flat", "smooth")]  # fmt: skip
+    rows = [
+        job.renderer.relit([_mescher(s, shading=sh)], bounds, LIGHTS, ENV_MAP)
+        for sh in ("flat", "smooth")
+    ]
     cols = [f"light {i + 1} {tuple(round(c, 1) for c in L)}" for i, L in enumerate(LIGHTS)]
     fig = compose(rows, [*cols, f"env map '{ENV_MAP}'"], ["flat", "smooth"])
     job.record["render"] = {
@@ -231,11 +240,15 @@ def render(job: ModelJob, s: Subject) -> None:
         "env_map": ENV_MAP,
         "arcs_in_depth_order": int(s.order.n_arcs) if s.order is not None else 0,
     }
-    job.figure(fig, f"{s.name}_render.png", "Rendering and relighting",
+    job.figure(
+        fig,
+        f"{s.name}_render.png",
+        "Rendering and relighting",
         "The flattened mescher drawn back to front in a linear extension of its depth order (paper "
         "Sec. 4.1), shaded with normals derived from zeta: per face (top) and interpolated per vertex "
         "(bottom), under four directional lights and an environment map. Only directional and "
-        "environment lighting is defined on a mescher (it has no absolute depth).")  # fmt: skip
+        "environment lighting is defined on a mescher (it has no absolute depth).",
+    )
 
 
 def loop_subdivision(job: ModelJob, s: Subject) -> None:
@@ -266,16 +279,24 @@ def loop_subdivision(job: ModelJob, s: Subject) -> None:
         rec[f"{scheme}_{shading}"] = {"backface_share": back, "period_drift": drift}
         notes.append(f"back faces {back:.1%}")
     job.record["loop_subdivision"] = rec
-    cols = ["input (flat)", f"Loop x{levels}, creases (flat)", "creases (smooth)",
-            "plain Loop (smooth)"]  # fmt: skip
+    cols = [
+        "input (flat)",
+        f"Loop x{levels}, creases (flat)",
+        "creases (smooth)",
+        "plain Loop (smooth)",
+    ]
     fig = compose([panels], cols, notes=[notes])
-    job.figure(fig, f"{s.name}_subdivision.png", "Loop subdivision with creases",
+    job.figure(
+        fig,
+        f"{s.name}_subdivision.png",
+        "Loop subdivision with creases",
         f"The input mescher ({m0.n_faces} faces, flat) and {levels} level{'s' if levels > 1 else ''} of Loop subdivision of the "
         "surface a person sees (paper Sec. 4.2), the depth order carried along: with the crease rules of "
         "piecewise-smooth Loop subdivision (Hoppe et al. 1994; edges sharper than 30 degrees stay "
         "sharp, corners stay put), flat and smooth shading, and plain Loop, which rounds every edge. "
         "Under each panel: the share of the figure showing a back face. The periods are kept "
-        f"(largest change {max(v['period_drift'] for k, v in rec.items() if isinstance(v, dict)):.1e}).")  # fmt: skip
+        f"(largest change {max(v['period_drift'] for k, v in rec.items() if isinstance(v, dict)):.1e}).",
+    )
 
 
 def heat(job: ModelJob, s: Subject) -> None:
@@ -306,12 +327,16 @@ def heat(job: ModelJob, s: Subject) -> None:
     bar = Colorbar(HEAT_CMAP, HEAT_LOG_MIN, 0.0, "log10(u/max u)")
     # only a model with a period has a loop that climbs; the others are impossible by their order
     across = ", across the impossible loop" if s.m.is_impossible() else ""
-    job.figure(compose([images], notes, colorbar=bar), f"{s.name}_heat.png", "Heat diffusion",
+    job.figure(
+        compose([images], notes, colorbar=bar),
+        f"{s.name}_heat.png",
+        "Heat diffusion",
         f"Backward Euler heat diffusion (M - tL) u = M u0 (paper Eq. 5) from vertex {s.source}, for "
         "three times t (s: diagonal of the xy box), each panel normalised to its maximum and drawn on a log "
         f"scale, log10(u / max u) from {HEAT_LOG_MIN:g} (dark blue) to 0 (yellow): the heat spreads over "
         f"the surface as perceived{across} (grey: parts it cannot reach). Total heat 1^T M u is kept to "
-        f"{max(drift):.1e}.")  # fmt: skip
+        f"{max(drift):.1e}.",
+    )
 
 
 def geodesic(job: ModelJob, s: Subject) -> None:
@@ -338,29 +363,46 @@ def geodesic(job: ModelJob, s: Subject) -> None:
     job.record["geodesic"] = rec
     clim = (0.0, float(np.nanmax(np.where(np.isfinite(d_acc), d_acc, np.nan))))
     bounds = s.bounds(st.cell)
-    kw = {"shading": "smooth", "scalars": d_acc, "cmap": GEODESIC_CMAP, "clim": clim,
-          "isolines": st.isolines}  # fmt: skip
+    kw = {
+        "shading": "smooth",
+        "scalars": d_acc,
+        "cmap": GEODESIC_CMAP,
+        "clim": clim,
+        "isolines": st.isolines,
+    }
     img = job.renderer.shoot(
-        [_mescher(s, **kw), ("path", path, None, {"color": "#ff2020", "width": 3, "hidden": "dashed"}),
-         ("points", sources, None, {"color": "white", "radius": 5}),
-         ("points", [target], None, {"color": "#ff2020", "radius": 5})],
+        [
+            _mescher(s, **kw),
+            ("path", path, None, {"color": "#ff2020", "width": 3, "hidden": "dashed"}),
+            ("points", sources, None, {"color": "white", "radius": 5}),
+            ("points", [target], None, {"color": "#ff2020", "radius": 5}),
+        ],
         bounds,
-    )  # fmt: skip
+    )
     fig = compose([[img]], colorbar=Colorbar(GEODESIC_CMAP, *clim, "geodesic distance"))
     err = ""
     if d_exact is not None:
-        err = (" Against exact distances at every vertex (window propagation on the intrinsic mesh, equal to "
-               "igl.exact_geodesic on a real 3D covering to round-off): mean "
-               f"error {rec['heat_error']['mean']:.2%} (standard) and {rec['heat_accurate_error']['mean']:.2%} "
-               "(accurate preset) of the largest distance."
-               + (f" The path is {rec['path_length_over_exact']:.4f} times the exact distance."
-                  if "path_length_over_exact" in rec else ""))  # fmt: skip
-    job.figure(fig, f"{s.name}_geodesic.png", "Geodesic distance and shortest path",
+        err = (
+            " Against exact distances at every vertex (window propagation on the intrinsic mesh, equal to "
+            "igl.exact_geodesic on a real 3D covering to round-off): mean "
+            f"error {rec['heat_error']['mean']:.2%} (standard) and {rec['heat_accurate_error']['mean']:.2%} "
+            "(accurate preset) of the largest distance."
+            + (
+                f" The path is {rec['path_length_over_exact']:.4f} times the exact distance."
+                if "path_length_over_exact" in rec
+                else ""
+            )
+        )
+    job.figure(
+        fig,
+        f"{s.name}_geodesic.png",
+        "Geodesic distance and shortest path",
         f"Heat-method distance (Crane et al.; paper Sec. 4.3) from vertex {source} (white dot; one source "
         f"per connected component), accurate preset, with {st.isolines} isolines, and the shortest path "
         "(red) to the farthest vertex, traced down the distance's gradient and pulled taut; length "
         f"{path.length:.4g}. The path is solid where it lies on the visible surface and dashed where it "
-        f"passes behind another sheet; the dots are drawn only where they are visible.{err}")  # fmt: skip
+        f"passes behind another sheet; the dots are drawn only where they are visible.{err}",
+    )
 
 
 def smoothing(job: ModelJob, s: Subject) -> None:
@@ -406,15 +448,20 @@ def smoothing(job: ModelJob, s: Subject) -> None:
         "luminance_change": change_dl,
     }
     cols = [f"t = {f:g} s^2" for f in st.smooth_times]
-    fig = compose(rows, cols, ["smooth xy (t)", f"smooth zeta ({ZETA_TIME_FACTOR:g} t)",
-                               "smooth both"], notes)  # fmt: skip
-    job.figure(fig, f"{s.name}_smoothing.png", "Smoothing (the paper's Heart figure)",
+    fig = compose(
+        rows, cols, ["smooth xy (t)", f"smooth zeta ({ZETA_TIME_FACTOR:g} t)", "smooth both"], notes
+    )
+    job.figure(
+        fig,
+        f"{s.name}_smoothing.png",
+        "Smoothing (the paper's Heart figure)",
         "Laplacian smoothing (M - tL) u = M u0 of the screen positions xy for time t (top), of the exact "
         f"part z of zeta with omega kept for time {ZETA_TIME_FACTOR:g} t (middle; paper Eq. 6), and of "
         "both (bottom), for growing t (s: diagonal of the xy box; same camera in every panel). Under each "
         "panel, dL: the mean luminance change from the first column (0 = none, 1 = black to white). "
         "The harmonic part is in the kernel of the smoothing, so the periods do not move: largest "
-        f"change {max(drift.values()):.1e}.")  # fmt: skip
+        f"change {max(drift.values()):.1e}.",
+    )
 
 
 def relighting(job: ModelJob, s: Subject) -> None:
@@ -438,21 +485,30 @@ def relighting(job: ModelJob, s: Subject) -> None:
         notes.append([f"IoU {g['iou']:.3f}  dL {g['luminance_mae']:.3f}" for g in agree])
     job.record["relighting"] = rec
     cols = [f"light {i + 1}" for i in range(len(LIGHTS))]
-    fig = compose([ref, mes, bent], cols, ["cut model", "mescher", "bent"],
-                  [[""] * len(LIGHTS), *notes])  # fmt: skip
+    fig = compose(
+        [ref, mes, bent], cols, ["cut model", "mescher", "bent"], [[""] * len(LIGHTS), *notes]
+    )
     worst_m, worst_b = max(rec["mescher"]["luminance_mae"]), max(rec["bent"]["luminance_mae"])
     if s.m.is_impossible():
-        claim = (f"The mescher's normals are the cut model's (worst dL {worst_m:.3f}); the bent model's are "
-                 f"not (worst dL {worst_b:.3f}): bending cannot be relit (paper Fig. 10).")  # fmt: skip
+        claim = (
+            f"The mescher's normals are the cut model's (worst dL {worst_m:.3f}); the bent model's are "
+            f"not (worst dL {worst_b:.3f}): bending cannot be relit (paper Fig. 10)."
+        )
     else:
-        claim = (f"This figure has no harmonic part (all periods 0), so its bent embedding is the mescher "
-                 f"itself and both relight like the cut model (worst dL {worst_m:.3f} and {worst_b:.3f}); "
-                 "it is impossible through its depth order only.")  # fmt: skip
-    job.figure(fig, f"{s.name}_relight.png", "Relighting: mescher vs cut vs bent",
+        claim = (
+            f"This figure has no harmonic part (all periods 0), so its bent embedding is the mescher "
+            f"itself and both relight like the cut model (worst dL {worst_m:.3f} and {worst_b:.3f}); "
+            "it is impossible through its depth order only."
+        )
+    job.figure(
+        fig,
+        f"{s.name}_relight.png",
+        "Relighting: mescher vs cut vs bent",
         f"{s.reference_note[0].upper()}{s.reference_note[1:]} (z-buffered, the reference), the mescher "
         "(painter's order) and the bent embedding (harmonic part dropped) under the four lights, flat "
         "shading. Under each panel: silhouette IoU and dL, the mean luminance difference to the cut model "
-        f"on pixels covered by both (luminance from 0 = black to 1 = white). {claim}")  # fmt: skip
+        f"on pixels covered by both (luminance from 0 = black to 1 = white). {claim}",
+    )
 
 
 def comparison(job: ModelJob, s: Subject) -> None:
@@ -471,28 +527,49 @@ def comparison(job: ModelJob, s: Subject) -> None:
     cut = straight_cut_or_none(m, s.order)
     t_cut = time.perf_counter() - t0
     if cut is None:  # no straight cut alone on screen: the cut along mesh edges
-        res = compare(m, s.order, path=None, source=s.source, t_smooth=t,
-                      window_size=(st.cell, st.cell), solver=s.solver("standard"),
-                      smoothed=s.smoothed(t))  # fmt: skip
+        res = compare(
+            m,
+            s.order,
+            path=None,
+            source=s.source,
+            t_smooth=t,
+            window_size=(st.cell, st.cell),
+            solver=s.solver("standard"),
+            smoothed=s.smoothed(t),
+        )
         seam = "cut along mesh edges where integration disagrees"
     else:
         # the mescher with the faces under the cut line split (same picture, same periods): its
         # cut model has a straight seam, as an artist cuts a bar; the first vertices are m's
         order = None if s.order is None else s.order.follow(cut.mescher, cut.face_parent)
-        res = compare(cut.mescher, order, path=None, source=s.source, t_smooth=t,
-                      window_size=(st.cell, st.cell), cut_edges=cut.cut_edges)  # fmt: skip
+        res = compare(
+            cut.mescher,
+            order,
+            path=None,
+            source=s.source,
+            t_smooth=t,
+            window_size=(st.cell, st.cell),
+            cut_edges=cut.cut_edges,
+        )
         seam = "cut along one straight screen line across a bar, where nothing else is drawn"
     n = m.n_vertices  # m's vertices come first in the split mescher
-    rec: dict = {"t_smooth": t, "numbers": res.numbers, "seam": seam,
-                 "timings_s": {"seam_search": t_cut}}  # fmt: skip
+    rec: dict = {
+        "t_smooth": t,
+        "numbers": res.numbers,
+        "seam": seam,
+        "timings_s": {"seam_search": t_cut},
+    }
     vmap = res.vmap
     if s.exact is not None:
         # the cut model at its best: every copy of the source is a source, and a mescher
         # vertex gets the distance of its nearest copy (compare() reads the first copy)
         d_cut = np.full(int(vmap.max()) + 1, np.inf)
         np.minimum.at(d_cut, vmap, res.solvers["cut"].distance(np.flatnonzero(vmap == s.source)))
-        dist = {"mescher": res.distances["mescher"][:n], "cut": d_cut[:n],
-                "bent": res.distances["bent"][:n]}  # fmt: skip
+        dist = {
+            "mescher": res.distances["mescher"][:n],
+            "cut": d_cut[:n],
+            "bent": res.distances["bent"][:n],
+        }
         rec["geodesic_error_vs_exact"] = {k: distance_error(v, s.exact) for k, v in dist.items()}
     rec["seam_gap_after_smoothing"] = {
         "cut": seam_gap(res.smoothed["cut"].xy, vmap) / s.scale,
@@ -509,12 +586,17 @@ def comparison(job: ModelJob, s: Subject) -> None:
     ge = rec.get("geodesic_error_vs_exact")
     geo_txt = ""
     if ge:
-        geo_txt = (" Geodesic error against exact distances (mean, fraction of the largest "
-                   f"distance): mescher {ge['mescher']['mean']:.2%}, cut {ge['cut']['mean']:.2%}, bent "
-                   f"{ge['bent']['mean']:.2%}: paths cannot cross the cut model's seam, and the bent model's "
-                   "metric is not the object's.")  # fmt: skip
+        geo_txt = (
+            " Geodesic error against exact distances (mean, fraction of the largest "
+            f"distance): mescher {ge['mescher']['mean']:.2%}, cut {ge['cut']['mean']:.2%}, bent "
+            f"{ge['bent']['mean']:.2%}: paths cannot cross the cut model's seam, and the bent model's "
+            "metric is not the object's."
+        )
     mp = rec["max_period_after_smoothing"]
-    job.figure(res.figure(), f"{s.name}_compare.png", "Mescher vs cut vs bent (paper Fig. 10)",
+    job.figure(
+        res.figure(),
+        f"{s.name}_compare.png",
+        "Mescher vs cut vs bent (paper Fig. 10)",
         f"Rows: the mescher, its cut embedding ({seam}) and its bent embedding; "
         "columns: render, relit, smoothed with the same t (both xy and depth), heat-method geodesic distance "
         "from the same vertex. Numbers: dL, the mean luminance difference (0 = black to 1 = white) to the cut "
@@ -522,7 +604,8 @@ def comparison(job: ModelJob, s: Subject) -> None:
         "mescher's relative to its largest (geodesic). Smoothing the cut model as an ordinary mesh opens a "
         f"crack at the seam of {rec['seam_gap_after_smoothing']['cut']:.2%} of the object's size; the mescher "
         f"has no seam and keeps its period ({format_value(mp['mescher'], mp['before'])} of "
-        f"{format_value(mp['before'])}), the bent model has none to keep.{geo_txt}")  # fmt: skip
+        f"{format_value(mp['before'])}), the bent model has none to keep.{geo_txt}",
+    )
 
 
 def straight_cut_or_none(m: Any, order: Any = None) -> Any:
@@ -552,8 +635,9 @@ STEPS = (
 )
 
 
-def run_mescher_steps(job: ModelJob, name: str, m0: Any, order0: Any, reference: tuple | None,
-                      reference_note: str) -> None:  # fmt: skip
+def run_mescher_steps(
+    job: ModelJob, name: str, m0: Any, order0: Any, reference: tuple | None, reference_note: str
+) -> None:
     """Subdivide, then every step of :data:`STEPS` on the subdivided mescher."""
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)

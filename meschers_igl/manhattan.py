@@ -10,9 +10,14 @@ from .obtain.perceive import (
     perceive_manhattan,
     perceived_frame,
     snap_to_manhattan,
-)  # fmt: skip
+)
 
 __all__ = [
-    "CREASE", "FACING", "MAX_SNAP", "model_face_axes", "perceive_manhattan", "perceived_frame",
+    "CREASE",
+    "FACING",
+    "MAX_SNAP",
+    "model_face_axes",
+    "perceive_manhattan",
+    "perceived_frame",
     "snap_to_manhattan",
-]  # fmt: skip
+]

@@ -7,5 +7,9 @@ from .obtain.choose import PERIOD_RTOL, ROUTES, drop_small_periods
 from .obtain.route import cut_model_to_mescher, model_to_mescher
 
 __all__ = [
-    "PERIOD_RTOL", "ROUTES", "cut_model_to_mescher", "drop_small_periods", "model_to_mescher",
-]  # fmt: skip
+    "PERIOD_RTOL",
+    "ROUTES",
+    "cut_model_to_mescher",
+    "drop_small_periods",
+    "model_to_mescher",
+]

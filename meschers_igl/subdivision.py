@@ -156,9 +156,14 @@ def loop_matrix_on(F: np.ndarray, edges: np.ndarray, n_vertices: int) -> sp.csr_
 
 
 def crease_edges(
-    F: np.ndarray, xy: np.ndarray, edges: np.ndarray, face_edges: np.ndarray,
-    signs: np.ndarray, zeta: np.ndarray, angle: float = CREASE_ANGLE,
-) -> np.ndarray:  # fmt: skip
+    F: np.ndarray,
+    xy: np.ndarray,
+    edges: np.ndarray,
+    face_edges: np.ndarray,
+    signs: np.ndarray,
+    zeta: np.ndarray,
+    angle: float = CREASE_ANGLE,
+) -> np.ndarray:
     """(#E,) bool: boundary edges and edges whose dihedral angle exceeds ``angle`` degrees.
 
     The dihedral angle is the angle between the two faces' normals in their local frames
@@ -423,16 +428,26 @@ def check_levels(n_faces: int, levels, force: bool = False) -> int:
     """
     levels = as_count(levels, "levels")
     check_budget(
-        float(n_faces) * 4.0 ** min(levels, 200), BYTES_PER_FACE,
-        what=f"subdivide(levels={levels}) of {n_faces} faces", force=force,
-    )  # fmt: skip
+        float(n_faces) * 4.0 ** min(levels, 200),
+        BYTES_PER_FACE,
+        what=f"subdivide(levels={levels}) of {n_faces} faces",
+        force=force,
+    )
     return levels
 
 
 def subdivide_levels(
-    F, xy, edges, face_edges, signs, zeta, generators, levels: int, scheme: str = "midpoint",
+    F,
+    xy,
+    edges,
+    face_edges,
+    signs,
+    zeta,
+    generators,
+    levels: int,
+    scheme: str = "midpoint",
     force: bool = False,
-) -> Iterator[SubdividedLevel]:  # fmt: skip
+) -> Iterator[SubdividedLevel]:
     """Yield each level of ``levels`` subdivisions (checked against the memory budget first).
 
     A progress bar is shown when the output is large (:func:`meschers_igl.progress.track`).

@@ -11,7 +11,19 @@ from .obtain.see import see_model
 from .obtain.view import find_model_view
 
 __all__ = [
-    "FRONT_NZ", "REL_GRID", "REL_TOL", "BarEnds", "ConversionReport", "Junction", "VisibleModel",
-    "bar_end_pairs", "close_junctions", "drop_contact_faces", "find_model_view",
-    "orient_outward", "see_model", "solid_like_parts", "weld",
-]  # fmt: skip
+    "FRONT_NZ",
+    "REL_GRID",
+    "REL_TOL",
+    "BarEnds",
+    "ConversionReport",
+    "Junction",
+    "VisibleModel",
+    "bar_end_pairs",
+    "close_junctions",
+    "drop_contact_faces",
+    "find_model_view",
+    "orient_outward",
+    "see_model",
+    "solid_like_parts",
+    "weld",
+]

@@ -181,9 +181,16 @@ def model_to_mescher(
     else:
         V, F = _mesh_pair(path_or_V_F)
     m, order, report = core_model_to_mescher(
-        V, F, view=view, up=up, perceive=perceive, tol=tol, hidden=hidden,
-        view_start=view_start, route=route,
-    )  # fmt: skip
+        V,
+        F,
+        view=view,
+        up=up,
+        perceive=perceive,
+        tol=tol,
+        hidden=hidden,
+        view_start=view_start,
+        route=route,
+    )
     report.cleanup = cleanup
     report.repairs[:0] = pre
     if cleanup is not None:

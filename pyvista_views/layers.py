@@ -507,9 +507,14 @@ def add_embedding(
     fields = as_scalars(scalars, V.shape[0] if V.ndim == 2 else -1, np.asarray(F).shape[0])
     layout = _layout(shading, fields, False)
     mesh = embedding_polydata(
-        V, F, shading=shading, scalars=scalars, layout=layout, split_folds=False,
+        V,
+        F,
+        shading=shading,
+        scalars=scalars,
+        layout=layout,
+        split_folds=False,
         feature_angle=feature_angle,
-    )  # fmt: skip
+    )
     lift = 1e-4 * float(np.hypot(*np.ptp(np.asarray(mesh.points)[:, :2], axis=0)) or 1.0)
     return _add_layer(plotter, mesh, "embedding", shading, layout, isoline_lift=lift, **opts)
 

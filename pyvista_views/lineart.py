@@ -238,9 +238,14 @@ def draw(
             m, order, crease_angle=crease_angle, contours=contours, hidden=hidden == "dashed"
         )
     svg = to_svg(
-        lines, window_size=window_size, bounds=bounds, widths=widths, color=color,
-        hidden=hidden, background=background,
-    )  # fmt: skip
+        lines,
+        window_size=window_size,
+        bounds=bounds,
+        widths=widths,
+        color=color,
+        hidden=hidden,
+        background=background,
+    )
     if suffix == ".svg":
         Path(path).write_text(svg, encoding="utf-8")
     elif suffix == ".pdf":
@@ -289,9 +294,12 @@ def overlay(
     window_size = as_window_size(window_size)
     if lines is None:
         lines = line_drawing(
-            m, order, crease_angle=crease_angle, contours=contours,
+            m,
+            order,
+            crease_angle=crease_angle,
+            contours=contours,
             hidden=as_choice(hidden, "hidden", HIDDEN_MODES) == "dashed",
-        )  # fmt: skip
+        )
     b = default_bounds(lines.box, window_size) if bounds is None else as_bounds(bounds)
     if image is None:
         from .render import render
@@ -329,9 +337,13 @@ def picture(
     window_size = as_window_size(window_size)
     try:
         svg = to_svg(
-            lines, window_size=window_size, bounds=bounds, widths=widths, color=color,
+            lines,
+            window_size=window_size,
+            bounds=bounds,
+            widths=widths,
+            color=color,
             hidden=hidden,
-        )  # fmt: skip
+        )
         return rasterize(svg, window_size)[..., :3]
     except (ImportError, OSError):
         pass

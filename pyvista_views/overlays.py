@@ -307,8 +307,9 @@ def clip_polyline(
     # Along a silhouette the test flickers from pixel to pixel: gaps shorter than `reach`
     # pixels between visible runs are closed, then visible runs shorter than 2 `reach` + 1
     # pixels dropped (a dotted line along an outline says nothing).
-    visible = _runs_at_least(~_runs_at_least(~visible, piece_px, reach + 1e-9), piece_px,
-                             2 * reach + 1)  # fmt: skip
+    visible = _runs_at_least(
+        ~_runs_at_least(~visible, piece_px, reach + 1e-9), piece_px, 2 * reach + 1
+    )
     return p0, p1, visible, arc
 
 
@@ -466,8 +467,16 @@ def place_labels(
         best, best_cost = None, np.inf
         for reach in (1, 2, 3, 5):
             d = 6 * reach
-            for dx, dy in ((d, -h / 2), (-w - d, -h / 2), (-w / 2, -h - d), (-w / 2, d),
-                           (d, -h - d), (-w - d, -h - d), (d, d), (-w - d, d)):  # fmt: skip
+            for dx, dy in (
+                (d, -h / 2),
+                (-w - d, -h / 2),
+                (-w / 2, -h - d),
+                (-w / 2, d),
+                (d, -h - d),
+                (-w - d, -h - d),
+                (d, d),
+                (-w - d, d),
+            ):
                 x0 = min(max(c + dx, 0.0), max(W - w, 0.0))
                 y0 = min(max(r + dy, 0.0), max(H - h, 0.0))
                 box = (x0, y0, x0 + w, y0 + h)

@@ -518,9 +518,12 @@ def to_polydata(
     groups = None
     if shading == "smooth":
         groups, group_vertex, group_normals = corner_groups(
-            F, np.asarray(m.face_normals()), np.asarray(m.face_areas()),
-            as_feature_angle(feature_angle), vertex_normals=np.asarray(m.vertex_normals()),
-        )  # fmt: skip
+            F,
+            np.asarray(m.face_normals()),
+            np.asarray(m.face_areas()),
+            as_feature_angle(feature_angle),
+            vertex_normals=np.asarray(m.vertex_normals()),
+        )
     if layout != "soup":
         points = np.zeros((xy.shape[0], 3))
         points[:, :2] = xy
@@ -554,8 +557,9 @@ def to_polydata(
             normals = np.asarray(m.face_normals())[draw]
             mesh = soup(corners, F, draw, face_normals=normals, scalars=fields)
         else:
-            mesh = soup(corners, F, draw, corner_normals=group_normals[groups[draw]],
-                        scalars=fields)  # fmt: skip
+            mesh = soup(
+                corners, F, draw, corner_normals=group_normals[groups[draw]], scalars=fields
+            )
     mesh.field_data["painter_step"] = np.array([step])
     if embed:
         mesh.field_data[FIELD_EDGES] = np.asarray(m.edges, dtype=np.int64)
@@ -609,16 +613,25 @@ def embedding_polydata(
         return soup(V[F], F, draw, face_normals=normals, scalars=fields)
     face_normals = igl.per_face_normals(V, F, np.array([0.0, 0.0, 1.0]))
     groups, group_vertex, normals = corner_groups(
-        F, face_normals, igl.doublearea(V, F), as_feature_angle(feature_angle),
+        F,
+        face_normals,
+        igl.doublearea(V, F),
+        as_feature_angle(feature_angle),
         vertex_normals=igl.per_vertex_normals(V, F, igl.PER_VERTEX_NORMALS_WEIGHTING_TYPE_AREA),
-    )  # fmt: skip
+    )
     if layout != "soup":
         split = {
             k: ((v[group_vertex], loc) if loc == "vertex" else (v, loc))
             for k, (v, loc) in fields.items()
         }
-        mesh = indexed(V[group_vertex], groups, draw, vertex_normals=normals, scalars=split,
-                       split_folds=split_folds)  # fmt: skip
+        mesh = indexed(
+            V[group_vertex],
+            groups,
+            draw,
+            vertex_normals=normals,
+            scalars=split,
+            split_folds=split_folds,
+        )
         mesh.point_data["vertex_id"] = group_vertex[np.asarray(mesh.point_data["vertex_id"])]
         return mesh
     return soup(V[F], F, draw, corner_normals=normals[groups], scalars=fields)

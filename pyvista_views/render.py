@@ -273,11 +273,17 @@ def render_scene(
         else:
             scene.add_embedding(m, kind=representation, shading=shading, scalars=scalars, **kwargs)
         for spec in as_path_marks(paths, scene.layers[-1].source[1].shape[0]):
-            scene.add_path((spec.xy, spec.faces), color=spec.color, width=spec.width,
-                           hidden=spec.hidden, label=spec.label)  # fmt: skip
+            scene.add_path(
+                (spec.xy, spec.faces),
+                color=spec.color,
+                width=spec.width,
+                hidden=spec.hidden,
+                label=spec.label,
+            )
         for spec in as_point_marks(points, scene.layers[-1].source[0].shape[0]):
-            scene.add_points(spec.vertices, color=spec.color, radius=spec.radius,
-                             labels=spec.labels)  # fmt: skip
+            scene.add_points(
+                spec.vertices, color=spec.color, radius=spec.radius, labels=spec.labels
+            )
         if scalar_bar:
             scene.add_scalar_bar(bar_title)
         if bounds is None:

@@ -309,7 +309,7 @@ class MescherScene:
                     lighting=False,
                     show_scalar_bar=False,
                     reset_camera=False,
-                )  # fmt: skip
+                )
             )
         if mark.label is None or not visible.any():
             return []

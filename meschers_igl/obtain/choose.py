@@ -73,20 +73,32 @@ def _cut_route(V, F, view, up, tol):
         f"an open seam: {len(g['pairings'])} pair(s) of boundary loops coincide on screen and glue"
     )
     report.junctions = [
-        Junction("cut seam", g["xy"][g["vmap"][p.loop_a]].mean(axis=0), abs(p.depth_gap),
-                 int(p.loop_a.size))
+        Junction(
+            "cut seam",
+            g["xy"][g["vmap"][p.loop_a]].mean(axis=0),
+            abs(p.depth_gap),
+            int(p.loop_a.size),
+        )
         for p in g["pairings"]
-    ]  # fmt: skip
+    ]
     report.source_face = np.arange(F.shape[0])
     depths = camera_coordinates(V, view, up)[:, 2][F]
     return Obtained(arrays, None, depths, report), report.reason
 
 
 def obtain(
-    V: Any, F: Any, view: Any = (0.0, 0.0, 1.0), up: Any = (0.0, 1.0, 0.0),
-    perceive: str | None = None, *, tol: float | None = None, bridge: bool = True,
-    hidden: bool | str = "auto", view_start: Any = None, route: str = "auto",
-) -> Obtained:  # fmt: skip
+    V: Any,
+    F: Any,
+    view: Any = (0.0, 0.0, 1.0),
+    up: Any = (0.0, 1.0, 0.0),
+    perceive: str | None = None,
+    *,
+    tol: float | None = None,
+    bridge: bool = True,
+    hidden: bool | str = "auto",
+    view_start: Any = None,
+    route: str = "auto",
+) -> Obtained:
     """Pick the route for a model and obtain its arrays (see the module docstring).
 
     Parameters are those of :func:`meschers_igl.obtain.route.model_to_mescher`.
@@ -113,9 +125,16 @@ def obtain(
         why = "view='auto'" if auto_view else ("perceive=" + repr(perceive) if perceive else "")
         why = "hidden=False" if hidden is False and not why else why
     vm = see_model(
-        V, F, view=view, up=up, perceive=perceive, tol=tol, bridge=bridge, hidden=hidden,
+        V,
+        F,
+        view=view,
+        up=up,
+        perceive=perceive,
+        tol=tol,
+        bridge=bridge,
+        hidden=hidden,
         view_start=view_start,
-    )  # fmt: skip
+    )
     if why:
         vm.report.reason = f"{why}; {vm.report.reason}" if vm.report.reason else why
     return Obtained(None, vm, None, vm.report)

@@ -120,8 +120,12 @@ def solid_like_parts(V: np.ndarray, F: np.ndarray, comp: np.ndarray) -> np.ndarr
     quotient ``36 pi vol^2 / area^3`` above 0.05 (a cube: 0.52; a sheet or a relief: ~0)."""
     k = int(comp.max()) + 1
     T = V[F]
-    vol = (np.bincount(comp, weights=np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])),
-                       minlength=k) + _cap_volumes(V, F, comp, k)) / 6.0  # fmt: skip
+    vol = (
+        np.bincount(
+            comp, weights=np.einsum("ij,ij->i", T[:, 0], np.cross(T[:, 1], T[:, 2])), minlength=k
+        )
+        + _cap_volumes(V, F, comp, k)
+    ) / 6.0
     area = 0.5 * np.bincount(
         comp,
         weights=np.linalg.norm(np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0]), axis=1),

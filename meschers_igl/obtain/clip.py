@@ -114,8 +114,9 @@ def triangulate_pieces(pieces, grid: float):
     coords, ridx = shapely.get_coordinates(segs, return_index=True)
     same = ridx[1:] == ridx[:-1]
     seg_pts = np.stack([coords[:-1][same], coords[1:][same]], axis=1)
-    P, inv = np.unique(np.round(seg_pts.reshape(-1, 2) / grid).astype(np.int64), axis=0,
-                       return_inverse=True)  # fmt: skip
+    P, inv = np.unique(
+        np.round(seg_pts.reshape(-1, 2) / grid).astype(np.int64), axis=0, return_inverse=True
+    )
     P = P.astype(np.float64) * grid
     S = inv.reshape(-1, 2)
     S = S[S[:, 0] != S[:, 1]]

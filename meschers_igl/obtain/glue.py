@@ -87,9 +87,12 @@ def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None):
     return (
         Glue(h1, h2, glue, continuous),
         arcs.astype(np.int64),
-        FalseEdges(E[false_edge], 0.5 * (dp + dq)[false_edge],
-                   np.where(far1, h1, h2)[cut & ~np.where(far1, e1, e2)]),
-    )  # fmt: skip
+        FalseEdges(
+            E[false_edge],
+            0.5 * (dp + dq)[false_edge],
+            np.where(far1, h1, h2)[cut & ~np.where(far1, e1, e2)],
+        ),
+    )
 
 
 def reglue(glue: dict, Fb: np.ndarray, Z: np.ndarray, arcs: np.ndarray, tol: float):
@@ -177,8 +180,11 @@ def false_edge_junctions(xy, fe) -> list:
     for c in np.unique(comp).tolist():  # one per junction, few
         s = comp == c
         mid = 0.5 * (xy[E[s, 0]] + xy[E[s, 1]])
-        out.append(Junction("false edge", mid.mean(axis=0), float(np.median(np.abs(fe.gap[s]))),
-                            int(s.sum())))  # fmt: skip
+        out.append(
+            Junction(
+                "false edge", mid.mean(axis=0), float(np.median(np.abs(fe.gap[s]))), int(s.sum())
+            )
+        )
     return out
 
 
@@ -233,7 +239,9 @@ def depths_have_period(F: np.ndarray, Z: np.ndarray, tol: float) -> bool:
     zeta = np.bincount(inv, weights=sgn * dz) / np.bincount(inv)
     lo, hi = uk // n, uk % n
     m = uk.size
-    D = sp.csr_matrix((np.r_[-np.ones(m), np.ones(m)], (np.r_[np.arange(m), np.arange(m)],
-                       np.r_[lo, hi])), shape=(m, n))  # fmt: skip
+    D = sp.csr_matrix(
+        (np.r_[-np.ones(m), np.ones(m)], (np.r_[np.arange(m), np.arange(m)], np.r_[lo, hi])),
+        shape=(m, n),
+    )
     z = lsqr(D, zeta, atol=1e-14, btol=1e-14, iter_lim=10 * n)[0]
     return bool(np.abs(D @ z - zeta).max(initial=0.0) > tol)

@@ -30,8 +30,12 @@ from .choose import PERIOD_RTOL, ROUTES, drop_small_periods, obtain
 from .records import ConversionReport
 
 __all__ = [
-    "PERIOD_RTOL", "ROUTES", "cut_model_to_mescher", "drop_small_periods", "model_to_mescher",
-]  # fmt: skip
+    "PERIOD_RTOL",
+    "ROUTES",
+    "cut_model_to_mescher",
+    "drop_small_periods",
+    "model_to_mescher",
+]
 
 
 def cut_model_to_mescher(
@@ -134,9 +138,17 @@ def model_to_mescher(
         warnings, the view.
     """
     got = obtain(
-        V, F, view, up, perceive, tol=tol, bridge=bridge, hidden=hidden,
-        view_start=view_start, route=route,
-    )  # fmt: skip
+        V,
+        F,
+        view,
+        up,
+        perceive,
+        tol=tol,
+        bridge=bridge,
+        hidden=hidden,
+        view_start=view_start,
+        route=route,
+    )
     report = got.report
     if got.cut is not None:
         a = got.cut

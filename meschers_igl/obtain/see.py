@@ -18,7 +18,7 @@ from .cleanup import (
     pinch_warning,
     solid_like_parts,
     weld,
-)  # fmt: skip
+)
 from .clip import FRONT_NZ, REL_GRID, REL_TOL, plane_depth, visible_map
 from .glue import (
     classify,
@@ -28,7 +28,7 @@ from .glue import (
     reglue,
     split_cut_faces,
     stuck_cuts,
-)  # fmt: skip
+)
 from .junctions import closed_surface
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame
 from .records import ConversionReport, VisibleModel

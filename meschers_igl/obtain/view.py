@@ -208,9 +208,13 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
 
 
 def find_model_view(
-    V: Any, F: Any, tol: float | None = None, start: Any = None, judge: Any = None,
+    V: Any,
+    F: Any,
+    tol: float | None = None,
+    start: Any = None,
+    judge: Any = None,
     within: float = START_ANGLE,
-):  # fmt: skip
+):
     """``view="auto"`` for any model: the view from which its junctions line up.
 
     1. Coincidences (:func:`meschers_igl.autoview.find_view`, a vote over vertex pairs that
@@ -289,8 +293,7 @@ def find_model_view(
     if near and (seen(v) or (judge is not None and judge(v, up))):
         return v, up
     # hidden gaps: the bar ends nearest each other first, a bounded number of them
-    cand = [be for be in pairs
-            if be.d is not None and np.linalg.norm(np.cross(be.d, be.T)) > tol]  # fmt: skip
+    cand = [be for be in pairs if be.d is not None and np.linalg.norm(np.cross(be.d, be.T)) > tol]
     cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
     vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start, within)
     if vb is not None:
