@@ -224,7 +224,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="meschers inverse",
-        description="Recover a mescher from a picture by soft-rasterized inverse rendering.",
+        description="Recover a mescher from a picture (or a black-on-white line drawing) by "
+        "soft-rasterized inverse rendering.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="example:\n"
+        "  meschers inverse penrose --out fit --resolution 64 --iters 100\n"
+        "  meschers inverse picture.png --light -0.5,0.35,1 --out fit\n"
+        "  meschers inverse drawing.png --out fit    # a line drawing; the light is estimated",
     )
     return add_arguments(p)
 

@@ -557,3 +557,9 @@ def test_cli_smooth_refuses_a_collapsing_time_and_writes_nothing(tmp_path, capsy
     assert main(["smooth", "penrose_triangle", "-o", str(out), "--t-xy", "1e300"]) == 2
     assert "every vertex moved to one point" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_inverse_help_has_examples(capsys):
+    assert main(["inverse", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "example:" in out and "meschers inverse picture.png --light -0.5,0.35,1" in out
