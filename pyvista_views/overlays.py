@@ -44,6 +44,7 @@ __all__ = [
     "disc_on_figure",
     "place_labels",
     "polyline_pieces_mesh",
+    "refine_path",
     "visible_vertices",
 ]
 
@@ -311,6 +312,105 @@ def clip_polyline(
         ~_runs_at_least(~visible, piece_px, reach + 1e-9), piece_px, 2 * reach + 1
     )
     return p0, p1, visible, arc
+
+
+def refine_path(
+    xy: np.ndarray,
+    faces: np.ndarray,
+    child_xy: np.ndarray,
+    child_F: np.ndarray,
+    face_parent: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """A polyline on a mesh carried to a subdivision whose children tile their parents on screen.
+
+    Segment ``k`` lies in parent face ``faces[k]``; after midpoint subdivision it crosses the
+    children of that face.  Each segment is clipped against each child triangle
+    (Cyrus-Beck: the parameter interval where it is on the inner side of all three edges) and
+    split where it passes from one child to the next, so every piece of the result lies in the
+    child face it is given.  A piece running along an edge shared by two children goes to one of
+    them (both hold it).  A segment its children do not cover (its face edge-on on screen) is
+    kept whole, in the child nearest its midpoint.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64
+        Screen positions of the polyline's points.
+    faces : (n,) int64
+        Parent face of each segment (``faces[k]`` holds points ``k`` and ``k + 1``; the last
+        entry is ignored).
+    child_xy : (#V', 2) float64
+    child_F : (#F', 3) int64
+    face_parent : (#F',) int64
+        Parent face of each child (every parent has the same number of children).
+
+    Returns
+    -------
+    xy : (m, 2) float64
+    faces : (m,) int64
+        The same polyline with child faces (the last entry repeats the last piece's face).
+
+    Raises
+    ------
+    MescherError
+        When ``face_parent`` does not give every parent the same number of children.
+    """
+    xy = as_float_array(xy, "xy", (-1, 2))
+    child_F = np.asarray(child_F, dtype=np.int64)
+    face_parent = np.asarray(face_parent, dtype=np.int64)
+    n_parents = int(face_parent.max(initial=-1)) + 1
+    counts = np.bincount(face_parent, minlength=n_parents)
+    if counts.size == 0 or np.any(counts != counts[0]):
+        raise MescherError(
+            "face_parent: expected the same number of children for every parent face, found "
+            f"{np.unique(counts).tolist()}"
+        )
+    faces = as_index_array(faces, "faces", n_parents)
+    if xy.shape[0] < 2:
+        return xy.copy(), faces.copy()
+    kids = np.argsort(face_parent, kind="stable").reshape(n_parents, counts[0])[faces[:-1]]
+    a, d = xy[:-1], xy[1:] - xy[:-1]  # (n, 2)
+    T = np.asarray(child_xy, dtype=np.float64)[child_F[kids]]  # (n, c, 3, 2)
+    U, E = T, np.roll(T, -1, axis=2) - T  # edge k from corner k to corner k + 1
+    area = np.cross(E[:, :, 0], -E[:, :, 2])  # (n, c) signed, twice the area
+    normal = np.sign(area)[..., None, None] * np.stack([-E[..., 1], E[..., 0]], axis=-1)
+    normal /= np.maximum(np.linalg.norm(normal, axis=-1, keepdims=True), 1e-300)
+    scale = np.abs(T - T.mean(axis=2, keepdims=True)).max(axis=(2, 3))
+    tol = 1e-9 * np.maximum(scale, 1e-300)  # (n, c) distance tolerance
+    num = np.einsum("nckx,nckx->nck", normal, a[:, None, None, :] - U)  # >= 0 inside
+    den = np.einsum("nckx,nx->nck", normal, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = -(num + tol[..., None]) / den
+    t0 = np.where(den > 0, t, 0.0).max(axis=2)
+    t1 = np.where(den < 0, t, 1.0).min(axis=2)
+    parallel_out = ((den == 0) & (num < -tol[..., None])).any(axis=2)
+    t0, t1 = np.clip(t0, 0.0, 1.0), np.clip(t1, 0.0, 1.0)
+    keep = (t1 > t0) & ~parallel_out & (np.abs(area) > 0)
+    seg, child = np.nonzero(keep)
+    lo, hi = t0[seg, child], t1[seg, child]
+    # in order along the polyline; overlaps (a piece on a shared edge, tolerance) trimmed
+    ordering = np.lexsort((-(hi - lo), lo, seg))
+    seg, child, lo, hi = seg[ordering], child[ordering], lo[ordering], hi[ordering]
+    reach = np.maximum.accumulate(seg + hi)  # monotone across segments: seg + t in [seg, seg+1]
+    before = np.concatenate([[-1.0], reach[:-1]]) - seg
+    lo = np.maximum(lo, before)
+    ok = hi - lo > 1e-12
+    seg, child, lo, hi = seg[ok], child[ok], lo[ok], hi[ok]
+    # a segment not covered by its children (a face edge-on on screen, a segment off its face)
+    # keeps the child nearest its midpoint for the whole of it
+    short = np.bincount(seg, weights=hi - lo, minlength=a.shape[0]) < 1.0 - 1e-6
+    if short.any():
+        bad = np.flatnonzero(short)
+        mid = a[bad] + 0.5 * d[bad]
+        nearest = np.argmin(np.linalg.norm(T[bad].mean(axis=2) - mid[:, None], axis=-1), axis=1)
+        good = ~short[seg]
+        seg = np.concatenate([seg[good], bad])
+        child = np.concatenate([child[good], nearest])
+        lo = np.concatenate([lo[good], np.zeros(bad.size)])
+        ordering = np.lexsort((lo, seg))
+        seg, child, lo = seg[ordering], child[ordering], lo[ordering]
+    out_xy = np.vstack([a[seg] + lo[:, None] * d[seg], xy[-1:]])
+    out_faces = kids[seg, child]
+    return out_xy, np.concatenate([out_faces, out_faces[-1:]])
 
 
 def _runs_at_least(flags: np.ndarray, piece_px: np.ndarray, length: float) -> np.ndarray:

@@ -60,10 +60,12 @@ def _shares_corner(F, f, g):
     return (F[f][:, :, None] == F[g][:, None, :]).any(axis=(1, 2))
 
 
-def overlay_pixels_on_hidden_layers(m, paths, painter, bounds, image, plain):
-    """Overlay pixels not explained by a piece of a path on the face the painter shows there."""
+def overlay_pixels_on_hidden_layers(m, paths, painter, bounds, image, plain, levels=0):
+    """Overlay pixels not explained by a piece of a path on the face the painter shows there
+    (an overlay pixel: one differing from ``plain`` by more than ``levels`` in some channel)."""
     F = np.asarray(m.F)
-    drawn = np.any(image != plain, axis=-1)
+    diff = np.abs(image.astype(np.int16) - plain.astype(np.int16)).max(axis=-1)
+    drawn = diff > levels
     rows, cols = np.nonzero(drawn)
     if rows.size == 0:
         return 0, 0
@@ -147,3 +149,67 @@ def test_place_labels_never_overlap_and_stay_inside():
             w = min(boxes[i, 2], boxes[j, 2]) - max(boxes[i, 0], boxes[j, 0])
             h = min(boxes[i, 3], boxes[j, 3]) - max(boxes[i, 1], boxes[j, 1])
             assert w <= 0 or h <= 0, (i, j)
+
+
+def test_refine_path_puts_every_piece_in_a_child_of_its_face():
+    """Midpoint children tile their parent: each piece of the carried path lies in its child
+    (barycentric coordinates of its midpoint >= 0), that child's parent holds the original
+    segment, and the pieces add up to the original polyline."""
+    from pyvista_views.overlays import refine_path
+
+    m = get_model("penrose_triangle").mescher
+    p = m.shortest_path(0, 30)
+    xy0, f0 = np.asarray(p.xy), np.asarray(p.faces)
+    for levels in (1, 2):
+        mv, parent = m.subdivide(levels, return_face_parent=True)
+        xy, faces = refine_path(xy0, f0, mv.xy, mv.F, parent)
+        assert xy.shape[0] > xy0.shape[0]  # the path crosses children
+        T = np.asarray(mv.xy)[np.asarray(mv.F)[faces[:-1]]]
+        mid = 0.5 * (xy[:-1] + xy[1:])
+        e1, e2, r = T[:, 1] - T[:, 0], T[:, 2] - T[:, 0], mid - T[:, 0]
+        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+        b1 = (r[:, 0] * e2[:, 1] - r[:, 1] * e2[:, 0]) / det
+        b2 = (e1[:, 0] * r[:, 1] - e1[:, 1] * r[:, 0]) / det
+        assert min(b1.min(), b2.min(), (1 - b1 - b2).min()) >= -1e-9
+        # each piece lies in a child of the face holding its part of the original polyline
+        arc0 = np.cumsum(np.linalg.norm(np.diff(xy0, axis=0), axis=1))
+        step = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+        seg = np.searchsorted(arc0, np.cumsum(step) - 0.5 * step)
+        np.testing.assert_array_equal(parent[faces[:-1]], f0[seg])
+        np.testing.assert_allclose(step.sum(), arc0[-1], rtol=1e-12)
+
+
+def test_geodesic_cli_draws_its_path_only_on_visible_layers(tmp_path):
+    """``meschers geodesic -o``: the path's pixels in the written PNG all lie near a piece of
+    the path on the face the CPU painter shows (the coarse painter: midpoint children stay
+    inside their parents and keep their parents' order, so the visible coarse face is the
+    parent of the visible child).  The path 0 -> 35 on the triangle runs 172 px on the visible
+    surface and 71 px on hidden sheets (painter, 320 px): drawn on top, as a plain screen
+    polyline, 100+ of its pixels lie on hidden layers."""
+    from PIL import Image
+
+    from meschers.cli import geodesic_picture, main
+
+    g = get_model("penrose_triangle")
+    m, order = g.mescher, g.order
+    out = tmp_path / "geo.png"
+    size = f"{SIZE},{SIZE}"
+    args = ["geodesic", "penrose_triangle", "--source", "0", "--target", "35"]
+    assert main([*args, "-o", str(out), "--size", size]) == 0
+    image = np.array(Image.open(out).convert("RGB"))
+    path = m.shortest_path(0, 35)
+    d = m.geodesic_distance(0)
+    plain = geodesic_picture(m, order, d, path, (0, 35), (SIZE, SIZE), 12, draw_path=False)
+    bounds = default_bounds(xy_box(m.xy), (SIZE, SIZE))
+    painter = visible_faces(m, order, size=SIZE, bounds=bounds)
+    # the end dots are measured by test_point_discs_never_cover_the_background: left out
+    ends = np.asarray(path.xy)[[0, -1]]
+    rows, cols = np.mgrid[0:SIZE, 0:SIZE]
+    px = (bounds[1] - bounds[0]) / SIZE
+    for x, y in ends:
+        near = np.hypot(cols + 0.5 - (x - bounds[0]) / px, rows + 0.5 - (bounds[3] - y) / px) < 8
+        image[near] = plain[near]
+    # the CLI supersamples: its filter leaves +-1-level tails just past the line's half width
+    bad, total = overlay_pixels_on_hidden_layers(m, [path], painter, bounds, image, plain, 2)
+    assert total > 300  # the visible part is drawn (172 px long, 3 px wide)
+    assert bad == 0, f"{bad} of {total} path pixels on hidden layers"
