@@ -50,12 +50,21 @@ else:
     )
 
     # %%
-    # Target, the fitted render, and the loss per step.
+    # Target, the fitted render, and the loss per step. The fit is rendered again at 256 x 256
+    # (not its 32-pixel working render enlarged); the 32-pixel target is shown enlarged by whole
+    # pixels (nearest neighbour), as its title says.
+    from meschers.inverse_cli import enlarge_nearest
+    from meschers_igl.inverse import render_mescher
+
+    shown, k = enlarge_nearest(target, 256)
+    fitted = render_mescher(
+        result.mescher, result.offsets, lights=lights, resolution=256, sigma=1e-6
+    )
     fig, axes = plt.subplots(1, 3, figsize=(12, 4))
-    axes[0].imshow(target)
-    axes[0].set_title("target")
-    axes[1].imshow(np.clip(result.image, 0, 1))
-    axes[1].set_title(f"fit after {options.iters} steps")
+    axes[0].imshow(shown, interpolation="nearest")
+    axes[0].set_title(f"target ({target.shape[0]} px, shown {k}x, nearest)")
+    axes[1].imshow(np.clip(fitted, 0, 1))
+    axes[1].set_title(f"fit after {options.iters} steps (256 px)")
     for ax in axes[:2]:
         ax.axis("off")
     axes[2].semilogy(result.losses)
@@ -71,9 +80,9 @@ else:
     # ``meschers inverse drawing.png --out fit`` does this when it is given a drawing.
     from scipy import ndimage
 
-    from meschers_igl.inverse import mescher_from_picture, render_mescher, shade_drawing
+    from meschers_igl.inverse import mescher_from_picture, shade_drawing
 
-    picture = penrose_target(192, lights=lights)
+    picture = penrose_target(256, lights=lights)
     grey = np.round(picture.mean(axis=-1) * 255)
     edge = np.zeros(grey.shape, dtype=bool)  # a drawing: black where the shade changes
     edge[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 2
@@ -81,7 +90,7 @@ else:
     drawing = np.where(ndimage.binary_dilation(edge)[..., None], 0.0, 1.0) * np.ones(3)
     reading = shade_drawing(drawing)  # faces, their orientations, a light, the shaded picture
     m, _, _ = mescher_from_picture(reading.picture, reading.light)
-    lifted = render_mescher(m, None, lights=[reading.light], resolution=192, sigma=1e-6)
+    lifted = render_mescher(m, None, lights=[reading.light], resolution=256, sigma=1e-6)
     print("from the drawing: impossible", m.is_impossible(), "period", np.round(m.periods(), 3))
     fig, axes = plt.subplots(1, 3, figsize=(12, 4))
     for ax, img, title in zip(

@@ -274,11 +274,62 @@ def _save_png(path: Path, image: np.ndarray) -> None:
     Image.fromarray((np.clip(image, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)).save(path)
 
 
-def _figures(out: Path, target, before, after, losses, psnrs, init_name: str) -> None:
+#: Least side, in pixels, of each picture in ``before_after.png``: the start and the fitted
+#: mescher are rendered again at this size (the working resolution when larger), and the target,
+#: a picture of the working resolution, is enlarged by a whole factor, each pixel a block (no
+#: new shades), and labelled so.
+FIGURE_PIXELS = 256
+
+
+def enlarge_nearest(image: np.ndarray, size: int) -> tuple[np.ndarray, int]:
+    """``image`` enlarged by the least whole factor ``k`` that makes its shorter side at least
+    ``size`` pixels, each pixel repeated as a ``k x k`` block (nearest neighbour), and ``k``.
+
+    Returns
+    -------
+    (k H, k W, ...) ndarray and int
+        ``image`` itself and 1 when it is large enough.
+    """
+    k = max(1, -(-int(size) // int(min(image.shape[:2]))))
+    if k == 1:
+        return image, 1
+    return np.repeat(np.repeat(image, k, axis=0), k, axis=1), k
+
+
+def figure_panels(target, m0, off0, result, background, shade: dict, init_name: str):
+    """The three pictures of ``before_after.png`` and their titles: the target (enlarged by
+    :func:`enlarge_nearest` when smaller than :data:`FIGURE_PIXELS`), the start and the result
+    rendered at the enlarged target's size (nearly hard, ``sigma = 1e-6``), so no panel is
+    a low-resolution render scaled up.
+
+    Returns
+    -------
+    list of three (n, n, 3) float arrays in [0, 1], list of three str
+    """
+    from meschers_igl.inverse.rasterizer import render_mescher
+
+    shown, k = enlarge_nearest(np.asarray(target, dtype=np.float64), FIGURE_PIXELS)
+    n = int(shown.shape[0])
+    pictures = [
+        render_mescher(m, off, resolution=n, background=background, sigma=1e-6, **shade)
+        for m, off in ((m0, off0), (result.mescher, result.offsets))
+    ]
+    side = int(np.asarray(target).shape[0])
+    titles = [
+        f"target ({side} px" + (f", shown {k}x, nearest)" if k > 1 else ")"),
+        f"{init_name} init ({n} px)",
+        f"result ({n} px)",
+    ]
+    return [shown, *pictures], titles
+
+
+def _figures(out: Path, panels, titles, losses, psnrs) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from .figures import compose
 
     fig, ax = plt.subplots(figsize=(5.5, 3.2), dpi=120)
     steps = np.arange(len(losses))
@@ -298,15 +349,9 @@ def _figures(out: Path, target, before, after, losses, psnrs, init_name: str) ->
     fig.savefig(out / "loss.png")
     plt.close(fig)
 
-    fig, axes = plt.subplots(1, 3, figsize=(9, 3.3), dpi=120)
-    titles = ("target", f"{init_name} init", "result")
-    for ax, img, title in zip(axes, (target, before, after), titles):
-        ax.imshow(np.clip(img, 0, 1), interpolation="nearest")
-        ax.set_title(title)
-        ax.axis("off")
-    fig.tight_layout()
-    fig.savefig(out / "before_after.png")
-    plt.close(fig)
+    # the pictures pixel for pixel, side by side (no resampling by a plotting library)
+    cells = [(np.clip(p, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8) for p in panels]
+    compose([cells], col_labels=titles).save(out / "before_after.png")
 
 
 def _builtin_target(name: str, res: int, lights, colors, ambient: float):
@@ -327,7 +372,9 @@ def _builtin_target(name: str, res: int, lights, colors, ambient: float):
     return image, (model, scale)
 
 
-def _save_fit(out, args, target, bg, before, result, lights, drawing, model, iters, given) -> dict:
+def _save_fit(
+    out, args, target, bg, before, result, shade, drawing, model, iters, given, start
+) -> dict:
     """Write the fitted mescher (with its order), the pictures and the snapshots; the metrics."""
     from meschers_igl import save
     from meschers_igl.inverse.metrics import (
@@ -349,7 +396,8 @@ def _save_fit(out, args, target, bg, before, result, lights, drawing, model, ite
     renders.mkdir(exist_ok=True)
     for step, img in result.snapshots:
         _save_png(renders / f"step_{step:05d}.png", img)
-    _figures(out, target, before, result.image, result.losses, result.psnr, args.init)
+    panels, titles = figure_panels(target, *start, result, bg, shade, args.init)
+    _figures(out, panels, titles, result.losses, result.psnr)
     metrics = {
         "silhouette_iou": silhouette_iou(result.alpha > 0.5, target_mask(target, bg)),
         "psnr_db": image_psnr(result.image, target),
@@ -366,7 +414,7 @@ def _save_fit(out, args, target, bg, before, result, lights, drawing, model, ite
         "faces": int(m.n_faces),
         "iters": iters,
         "init": args.init,
-        "light": [list(v) for v in lights],
+        "light": [list(v) for v in shade["lights"]],
         "light_estimated": drawing is None and not given and args.init == "picture",
         "drawing": drawing is not None,
     }
@@ -471,7 +519,9 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         **shade,
     )
 
-    metrics = _save_fit(out, args, target, bg, before, result, lights, drawing, model, iters, given)
+    metrics = _save_fit(
+        out, args, target, bg, before, result, shade, drawing, model, iters, given, (m0, off0)
+    )
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2))
     print(
         f"silhouette IoU {metrics['silhouette_iou']:.4f}  PSNR {metrics['psnr_init_db']:.2f} -> "
