@@ -12,8 +12,8 @@ calls look up).
 Groups (each can be warmed in its own process, in parallel):
 
 ``"order"``
-    overlap tests, depth orders, topological sorts, refinement (:mod:`.overlap`,
-    :mod:`.order_graph`).
+    overlap tests, depth orders, topological sorts, refinement, line drawings
+    (:mod:`.overlap`, :mod:`.order_graph`, :mod:`.lines`).
 ``"geodesic"``
     exact geodesics, shortest paths, intrinsic Delaunay flips, the heap (:mod:`.geodesic`,
     :mod:`.intrinsic`, :mod:`.heap`).
@@ -28,7 +28,7 @@ __all__ = ["GROUPS", "cold_kernels", "is_cached", "kernels", "warm"]
 
 # module names of each group's kernels
 GROUPS: dict[str, tuple[str, ...]] = {
-    "order": ("meschers_igl.overlap", "meschers_igl.order_graph"),
+    "order": ("meschers_igl.overlap", "meschers_igl.order_graph", "meschers_igl.lines"),
     "geodesic": (
         "meschers_igl.geodesic.windows",
         "meschers_igl.geodesic.unfold",
@@ -130,6 +130,7 @@ def _warm_order() -> None:
     import numpy as np
 
     from .geometry2d import candidate_pairs, intersection_centroids, triangles_overlap
+    from .lines import line_drawing
     from .order import DepthOrder
 
     m = _tiny()
@@ -142,6 +143,7 @@ def _warm_order() -> None:
     triangles_overlap(T[:2], T[2:4])
     candidate_pairs(T.min(axis=1), T.max(axis=1))
     DepthOrder.from_embedding(m, m.corner_depths())
+    line_drawing(m, o, hidden=True)
     del fine
 
 

@@ -21,7 +21,7 @@ from numba import njit
 
 from .errors import MescherError
 from .heap import heap_pop, heap_push
-from .overlap import unique_sorted_pairs
+from .overlap import stable_argsort, unique_sorted_pairs
 from .validate import as_int_array
 
 __all__ = [
@@ -147,7 +147,21 @@ def _kahn_levels(indptr: np.ndarray, head: np.ndarray, n: int):
                 if indeg[w] == 0:
                     order[k] = w
                     k += 1
-        order[hi:k].sort()  # in place: no array-to-array slice assignment (see overlap._grow)
+        # sort the level in place: insertion sort when short, else a radix sort (plain loops:
+        # numba compiles its own sort slowly)
+        if k - hi <= 32:
+            for t in range(hi + 1, k):
+                v = order[t]
+                s = t
+                while s > hi and order[s - 1] > v:
+                    order[s] = order[s - 1]
+                    s -= 1
+                order[s] = v
+        else:
+            seg = order[hi:k].copy()
+            perm = stable_argsort(seg, n - 1)
+            for t in range(k - hi):
+                order[hi + t] = seg[perm[t]]
         lo = hi
     return order, k
 

@@ -40,6 +40,7 @@ __all__ = [
     "pair_centroids",
     "sat_overlap",
     "sort_pairs",
+    "stable_argsort",
 ]
 
 
@@ -215,6 +216,35 @@ def _grow(a: np.ndarray, need: int) -> np.ndarray:
 
 
 @njit(cache=True)
+def stable_argsort(key: np.ndarray, kmax: int) -> np.ndarray:
+    """The stable sorting permutation of ``key`` (int64, every value in ``[0, kmax]``).
+
+    ``np.argsort(key, kind="stable")``, by a least-significant-digit radix sort (8 bits a
+    pass, ``O(len(key))`` a pass): plain loops, which numba compiles in a fraction of the time
+    its sort implementations take.
+    """
+    n = key.shape[0]
+    perm = np.arange(n)
+    tmp = np.empty(n, dtype=np.int64)
+    cnt = np.empty(257, dtype=np.int64)
+    shift = 0
+    while shift < 63 and (kmax >> shift) > 0:
+        cnt[:] = 0
+        for q in range(n):
+            cnt[((key[perm[q]] >> shift) & 255) + 1] += 1
+        for c in range(256):
+            cnt[c + 1] += cnt[c]
+        for q in range(n):
+            p = perm[q]
+            d = (key[p] >> shift) & 255
+            tmp[cnt[d]] = p
+            cnt[d] += 1
+        perm, tmp = tmp, perm
+        shift += 8
+    return perm
+
+
+@njit(cache=True)
 def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndarray):
     """Entries (ids of boxes with ``ok``) of each occupied grid cell: ``(cells, start, owner)``,
     CSR by cell.  Counting sort when the grid is small enough (``ncell`` cells), else a sort of
@@ -261,7 +291,7 @@ def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndar
                 r += 1
         start[nocc] = total
         return cells, start, owner
-    srt = np.argsort(key, kind="mergesort")
+    srt = stable_argsort(key, ncell - 1)
     owner = own[srt]
     skey = key[srt]
     nocc = 0
@@ -343,9 +373,10 @@ def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, cent
                 t -= 1
             bid[t], blx[t], bly[t] = b, x, lo[b, 1]
             bhx[t], bhy[t] = hi[b, 0], hi[b, 1]
-        if narrow:
+        if narrow:  # element loops: an array-to-array assignment compiles numba's shape errors
             for q in range(m):
-                bt[q] = T[bid[q]]
+                for c in range(3):
+                    bt[q, c, 0], bt[q, c, 1] = T[bid[q], c, 0], T[bid[q], c, 1]
         cxc = cells[r] // ny
         cyc = cells[r] - cxc * ny
         for p in range(m - 1):
@@ -390,7 +421,6 @@ def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, cent
     return out, oc
 
 
-@njit(cache=True)
 def candidate_pairs_grid(
     lo: np.ndarray,
     hi: np.ndarray,
@@ -402,11 +432,29 @@ def candidate_pairs_grid(
     ncell: int,
     tol: float,
 ) -> np.ndarray:
-    """Broad phase only: pairs of boxes overlapping by more than ``tol`` on both axes (sorted)."""
+    """Broad phase only: pairs of boxes overlapping by more than ``tol`` on both axes (sorted).
+
+    Python, not compiled: called from compiled code with the constants ``False``,
+    :func:`grid_overlaps` would be compiled a second time for them (numba specialises on
+    literal arguments); called from here it reuses the compilation the narrow phase uses.
+    """
     T = np.zeros((lo.shape[0], 3, 2))
     ok = np.ones(lo.shape[0], dtype=np.bool_)
     pairs, _ = grid_overlaps(
-        T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, False, False, np.zeros(0, dtype=np.int64)
+        T,
+        ok,
+        lo,
+        hi,
+        origin,
+        h,
+        c0,
+        c1,
+        int(ny),
+        int(ncell),
+        float(tol),
+        False,
+        False,
+        np.zeros(0, dtype=np.int64),
     )
     return pairs
 
