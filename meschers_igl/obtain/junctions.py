@@ -146,6 +146,66 @@ def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
     return True
 
 
+#: A crossing bar's band along the broken bar may differ from the gap by this share of the
+#: gap (a person's view is approximate: a sliver of background beside the crossing bar).
+CROSSING_SLACK = 0.35
+
+
+def _own_bar_faces(V, F, be: BarEnds, tol) -> np.ndarray:
+    """(#F,) bool: the two caps and the planar patches of the side faces next to them (the
+    broken bar's own faces, which cover its gap on screen when it is seen along itself)."""
+    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+    patch = planar_patches(V, F, TT, tol)
+    caps = np.concatenate([be.first.faces, be.second.faces])
+    nbs = TT[caps].reshape(-1)
+    return np.isin(patch, patch[np.r_[caps, nbs[nbs >= 0]]])
+
+
+def crossing_behind(points, c0, span, C, F, front, R, tol, width) -> bool:
+    """Is the gap ``c0 -> c0 + span`` of a bar broken in line filled on screen by one bar
+    lying behind it (the impossible cube's crossing)?
+
+    Every sample ``points`` (3D, on the bridge) must be covered by front faces that are all
+    farther than the bridge by more than the bar's screen ``width`` (nothing nearer, no
+    background); and along the bridge's axis on screen the run of such far faces around the
+    gap's middle must be as long as the gap, within :data:`CROSSING_SLACK` of it -- a bar
+    crossing the gap, not a wall or floor behind everything (which covers far beyond it).
+    """
+    from ..geometry2d import barycentric
+
+    T = C[F[front]]
+    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
+
+    def far_cover(P):
+        """(k,) per camera-space point: 1 covered by a face farther than ``width`` and by
+        nothing nearer, 2 covered by such a far face and by something nearer (the pieces), 0
+        not covered by a far face, -1 covered only by nearer faces."""
+        out = np.zeros(P.shape[0], dtype=np.int64)
+        for k, (x, z) in enumerate(zip(P[:, :2], P[:, 2])):  # a few dozen samples
+            cand = np.flatnonzero(np.all((lo <= x + tol) & (hi >= x - tol), axis=1))
+            if cand.size == 0:
+                continue
+            B = barycentric(np.repeat(x[None], cand.size, 0), T[cand, :, :2])
+            inside = np.all(B >= -1e-9, axis=1)
+            zf = (B[inside] * T[cand[inside], :, 2]).sum(axis=1)
+            far, near = np.any(zf < z - width), np.any(zf > z + tol)
+            out[k] = (1 + near) if far else -int(near)
+        return out
+
+    if not np.all(far_cover(points @ R.T) == 1):
+        return False
+    s = np.linspace(-1.0, 2.0, 61)  # the axis from one gap length before to one after
+    cover = far_cover((c0[None] + s[:, None] * span[None]) @ R.T) >= 1
+    mid = int(np.argmin(np.abs(s - 0.5)))
+    a = b = mid
+    while a > 0 and cover[a - 1]:
+        a -= 1
+    while b < s.size - 1 and cover[b + 1]:
+        b += 1
+    run = s[b] - s[a] + (s[1] - s[0])
+    return bool(cover[mid] and abs(run - 1.0) <= CROSSING_SLACK)
+
+
 @dataclass(frozen=True)
 class BarEnds:
     """Two caps that may be the ends of one broken bar (view-independent).
@@ -260,9 +320,14 @@ def bar_end_pairs(
 
 def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
     """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
-    ("hidden gap", g, ell) or None.  Pieces in line in 3D (``g`` = 0) are no junction: joining
-    them behind an occluder would change the topology without a period (a grid of blocks
-    would be joined into a lattice)."""
+    ("hidden gap", g, ell), ("crossing", 0, ell) or None.
+
+    Pieces in line in 3D (``g`` = 0) hidden behind nearer faces are no junction: joining them
+    would change the topology without a period (a grid of blocks would be joined into a
+    lattice).  They are a **crossing** (the impossible cube's trick) when the gap between them
+    is filled on screen by one bar lying *behind* them, its band as wide as the gap
+    (:func:`crossing_behind`): a viewer completes the broken bar behind the crossing bar,
+    which contradicts the depths elsewhere (impossible through the depth order)."""
     v = R[2]
     gap = float(be.T @ v)
     if np.linalg.norm(be.T - gap * v) <= tol and abs(gap) > tol:
@@ -275,7 +340,7 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
         return None
     M = np.stack([d, v], axis=1)
     (ell, g), *_ = np.linalg.lstsq(M, be.T, rcond=None)
-    if ell <= tol or abs(g) <= tol or np.linalg.norm(M @ [ell, g] - be.T) > tol:
+    if ell <= tol or np.linalg.norm(M @ [ell, g] - be.T) > tol:
         return None
     P0 = V[be.first.loop]
     c0 = P0.mean(axis=0)
@@ -285,6 +350,12 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
     if np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5):
         return None
     S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
+    if abs(g) <= tol:
+        width = float(np.ptp(P0 @ R[:2].T, axis=0).max())
+        own = _own_bar_faces(V, F, be, tol)
+        if crossing_behind(np.vstack(S), c0, ell * d, C, F, front & ~own, R, tol, width):
+            return "crossing", 0.0, float(ell)
+        return None
     own = np.isin(part, part[[be.first.faces[0], be.second.faces[0]]])
     width = float(np.ptp(P0, axis=0).max())
     if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
@@ -340,7 +411,8 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     F2 : (#F2, 3) int64
         Faces of the opened model (caps removed, tubes added).
     source : (#F2,) int64
-        Face of ``F`` each face comes from, -1 for tube faces.
+        Face of ``F`` each face comes from, -1 for tube faces (-2 for the tube of a crossing,
+        which a viewer places behind the crossing bar).
     junctions : list of Junction
     """
     TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
@@ -348,7 +420,7 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
         pairs = bar_end_pairs(V, F, tol, TT, R)
     part, C, front = parts_and_front(V, F, TT, R)
     used, drop, junctions = set(), [], []
-    newV, newF = [], []
+    newV, newF, tube_code = [], [], []
     nV = V.shape[0]
     for be in pairs:  # a few candidate pairs
         ids = {id(be.first), id(be.second)}
@@ -361,13 +433,14 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
         used |= ids
         drop += [be.first.faces, be.second.faces]
         loop = be.first.loop
-        if kind == "hidden gap":
+        if kind != "false edge":
             ends = nV + np.arange(loop.size)
             nV += loop.size
             newV.append(V[loop] + ell * be.d)
             nxt = np.roll(np.arange(loop.size), -1)
             p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
             newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
+            tube_code += [-2 if kind == "crossing" else -1] * (2 * loop.size)
         pos = C[be.second.loop, :2].mean(axis=0)  # where the two sides are glued
         junctions.append(Junction(kind, pos, abs(gap), int(loop.size)))
     if not junctions:
@@ -377,7 +450,7 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     tubes = np.vstack(newF) if newF else np.zeros((0, 3), np.int64)
     V2 = np.vstack([V, *newV]) if newV else V
     F2 = np.vstack([F[keep], tubes]).astype(np.int64)
-    source = np.concatenate([np.flatnonzero(keep), np.full(tubes.shape[0], -1)])
+    source = np.concatenate([np.flatnonzero(keep), np.asarray(tube_code, np.int64)])
     return V2, F2, source, junctions
 
 
@@ -415,11 +488,27 @@ def closed_surface(V, F, R, tol, rel, bridge, report, strict):
     report.reason = (
         f"{len(junctions)} junction(s) found: the whole model opened there and glued crosswise"
     )
-    report.arcs = np.asarray(order.arcs)
-    report.n_arcs = order.n_arcs
-    report.source_face = source
+    report.arcs = behind_crossing(
+        np.asarray(order.arcs, np.int64).reshape(-1, 2), V2, F2, Z, source
+    )
+    report.n_arcs = int(report.arcs.shape[0])
+    report.source_face = np.maximum(source, -1)
     report.repairs.append(
         f"kept the hidden side: {len(junctions)} junction(s) opened and glued crosswise, "
         f"{int(np.count_nonzero(source < 0))} bridge face(s)"
     )
     return VisibleModel(F=g["F"], xy=g["xy"], Z=Z, arcs=report.arcs, report=report)
+
+
+def behind_crossing(arcs, V2, F2, Z, source):
+    """The depth-order arcs with each crossing's tube (``source == -2``) put behind the model
+    faces lying wholly behind it by more than its own width (the crossing bar a viewer sees
+    in front of it); other arcs unchanged."""
+    tube = source == -2
+    if not tube.any() or arcs.shape[0] == 0:
+        return arcs
+    T = V2[F2]
+    width = np.linalg.norm(T - T[:, [1, 2, 0]], axis=2).min(axis=1)
+    i, j = arcs[:, 0], arcs[:, 1]  # i behind j
+    flip = tube[j] & (source[i] >= 0) & (Z[i].max(axis=1) < Z[j].min(axis=1) - width[j])
+    return np.where(flip[:, None], arcs[:, ::-1], arcs)
