@@ -23,7 +23,7 @@ whose physical gaps are not the period read), and wall seconds.  A picture refus
 ``MescherError`` counts as failing every column.
 
 Run:  python benchmarks/bench_inverse_real.py [--models PATH] [--lights 6] [--iters 300]
-      [--resolution 128] [--only NAME,NAME] [--figures DIR] [--seed 0]
+      [--resolution 128] [--only NAME,NAME] [--cases NAME:K,...] [--figures DIR] [--seed 0]
 """
 
 from __future__ import annotations
@@ -242,6 +242,12 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default=None, help="comma-separated model names")
     ap.add_argument("--lights", type=int, default=6)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument(
+        "--cases",
+        default=None,
+        metavar="NAME:K,...",
+        help="only these (model, light index) pairs, e.g. tribar:3,cube:5 (rerun failures)",
+    )
     ap.add_argument("--iters", type=int, default=300)
     ap.add_argument("--resolution", type=int, default=128)
     ap.add_argument(
@@ -259,7 +265,12 @@ def main(argv=None) -> int:
         rows = [json.loads(t) for t in Path(args.table_from).read_text().splitlines() if t]
         print(table(rows))
         return 0
+    cases = None
+    if args.cases:
+        cases = {(c.rsplit(":", 1)[0], int(c.rsplit(":", 1)[1])) for c in args.cases.split(",")}
     only = set(args.only.split(",")) if args.only else None
+    if cases:
+        only = (only or set()) | {name for name, _ in cases}
     folder = Path(args.models)
     lights = hemisphere_lights(args.lights, args.seed)
     print(
@@ -269,6 +280,8 @@ def main(argv=None) -> int:
     rows = []
     for model, axes in load_models(folder if folder.is_dir() else None, only):
         for k, light in enumerate(lights):
+            if cases is not None and (model.name, k) not in cases:
+                continue
             try:
                 r = run_case(model, axes, light, args.resolution, args.iters)
             except Exception as exc:  # a crash is a result too: it fails every column

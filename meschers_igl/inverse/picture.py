@@ -1,10 +1,12 @@
 """Start from the picture: a mescher whose topology, faces and depths come from the target.
 
-Issue 14's initialization, in four steps, none of which renders:
+The initialization, in four steps, none of which renders:
 
 1. :func:`segment_picture`: the figure is every pixel unlike the background; its flat-shaded
    regions are the few grey levels that cover most of it (a z-buffered picture of a polyhedral
-   figure under one directional light has one level per face orientation).
+   figure under one directional light has one level per face orientation).  Two
+   orientations of one shade (both turned away from a given light) are told apart by the
+   figure's lines (:func:`.faces.split_shared_shade`).
 2. :func:`region_polygons`: each region as polygons (shapely), simplified as a *coverage* so
    that neighbouring regions keep one shared boundary; their union is the silhouette with its
    holes (a Penrose triangle is an annulus, an impossible cube frame has several holes).
@@ -34,6 +36,7 @@ import scipy.sparse as sp
 
 from ..errors import MescherError
 from ..mescher import Mescher
+from .faces import _three_means, _two_groups, split_shared_shade
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
 
@@ -50,11 +53,15 @@ class Segmentation:
         Region (shade) index per pixel, -1 on the background.
     shades : (K,) float64
         Grey level of each region (mean over its pixels, [0, 1]).
+    normals : (3, 3) float64 or None
+        Row ``k``: the normal of region ``k`` where the lines fixed it (a shade shared by two
+        orientations, :func:`.faces.split_shared_shade`); None where the shades will.
     """
 
     mask: np.ndarray
     labels: np.ndarray
     shades: np.ndarray
+    normals: np.ndarray | None = None
 
 
 def segment_picture(
@@ -63,6 +70,8 @@ def segment_picture(
     min_share: float = 0.04,
     tol: float = 0.05,
     line_step: float = 1.5 / 255.0,
+    light=None,
+    ambient: float = 0.2,
 ) -> Segmentation:
     """Figure, faces and face orientations of a flat-shaded picture.
 
@@ -85,6 +94,11 @@ def segment_picture(
         Largest per-channel difference to ``background`` still counted as background.
     line_step : float
         Grey difference across a line.
+    light : (3,) float, optional
+        Direction toward the light.  Given, a picture of two shades is read as three
+        orientations, two of one shade, told apart by the figure's lines
+        (:func:`.faces.split_shared_shade`).
+    ambient : float
 
     Returns
     -------
@@ -95,8 +109,9 @@ def segment_picture(
     ------
     MescherError
         No figure (fewer than 16 pixels unlike the background), or fewer than three groups
-        whose shades differ by more than ``line_step`` (two orientations under one shade, e.g.
-        two face directions turned away from the light: nothing in the picture separates them).
+        whose shades differ by more than ``line_step`` when no ``light`` is given (two
+        orientations under one shade, e.g. both turned away from the light: without the light
+        nothing says which shade is shared).
     """
     import scipy.sparse.csgraph as csgraph
 
@@ -152,47 +167,25 @@ def segment_picture(
     cut = np.diff(groups) > 0
     sep = float((v[1:] - v[:-1])[cut].min()) if len(v) >= 3 else 0.0
     if len(v) < 3 or not sep > line_step or share.min() < min_share:
+        two = None if light is None else _two_groups(cshade, size, mask.sum(), line_step, min_share)
+        if two is not None:  # two orientations of one shade: the lines tell them apart
+            cg = np.full(H * W, -1, dtype=np.int64)
+            cg[mask.ravel()] = two[cinv]
+            lab, sh, nr = split_shared_shade(mask, grey, cg.reshape(H, W), light, ambient)
+            return Segmentation(mask, lab, sh, nr)
         found = 1 + int(np.sum(np.diff(v) > line_step))
         raise MescherError(
             "target: expected three face orientations of distinct shades (a figure of boxes "
-            f"under one light), found {found} distinct shade(s) (two orientations of one shade, e.g. both turned "
-            "away from the light, cannot be told apart, nor a face as light as the ground; try "
-            "a picture lit from another side or on another ground)"
+            f"under one light), found {found} distinct shade(s) (two orientations of one shade, "
+            "e.g. both turned away from the light, are told apart by the lines only when the "
+            "light is given, and a face as light as the ground not at all; give the light, or "
+            "try a picture lit from another side or on another ground)"
         )
     labels = np.full(H * W, -1, dtype=np.int64)
     labels[mask.ravel()] = grp[cinv]
     labels = labels.reshape(H, W)
     shades = np.array([grey[labels == k].mean() for k in range(3)])
     return Segmentation(mask, labels, shades)
-
-
-def _three_means(v: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Group index (0, 1, 2) of sorted values ``v`` (weights ``w``): least weighted variance.
-
-    The optimal 1D k-means groups are contiguous in sorted order; with prefix sums every pair
-    of split points is tried at once (``O(n^2)``, ``n`` the number of distinct faces).
-    """
-    n = len(v)
-    if n < 3:
-        return np.minimum(np.arange(n), 2)
-    W1 = np.r_[0.0, np.cumsum(w)]
-    S1 = np.r_[0.0, np.cumsum(w * v)]
-    S2 = np.r_[0.0, np.cumsum(w * v * v)]
-
-    def cost(i, j):  # weighted sum of squares of v[i:j]
-        ww = np.maximum(W1[j] - W1[i], 1e-300)
-        with np.errstate(over="ignore", invalid="ignore"):
-            return S2[j] - S2[i] - (S1[j] - S1[i]) ** 2 / ww
-
-    a, b = np.meshgrid(np.arange(1, n), np.arange(1, n), indexing="ij")
-    ok = a < b
-    total = cost(0, a) + cost(a, b) + cost(b, n)
-    total = np.where(ok, total, np.inf)
-    i, j = np.unravel_index(int(np.argmin(total)), total.shape)
-    g = np.zeros(n, dtype=np.int64)
-    g[a[i, j] :] = 1
-    g[b[i, j] :] = 2
-    return g
 
 
 def _pixel_to_screen(res: int) -> float:
@@ -819,7 +812,7 @@ def mescher_from_picture(
     """
     import shapely
 
-    seg = segment_picture(target, background)
+    seg = segment_picture(target, background, light=light, ambient=ambient)
     if len(seg.shades) != 3:
         raise MescherError(
             "target: expected three flat shades (a figure of boxes under one light), found "
@@ -837,7 +830,10 @@ def mescher_from_picture(
         light = lights[0] if lights[0][1] >= lights[1][1] else lights[1]
     light = np.asarray(light, dtype=np.float64)
     light = light / np.linalg.norm(light)
-    normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
+    if seg.normals is None:
+        normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
+    else:
+        normals, misfit = seg.normals, float("nan")
     occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
     hidden = (
         hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
