@@ -23,8 +23,11 @@ surface to another, or turns a sharp corner:
   segment strictly inside, or has it on an edge and lies on that side (three half-planes: an
   interval of ``t``); where both sides are covered the line is hidden, so it stops exactly
   where it passes behind a face (a T-junction).  Faces of the two-ring of an interpolated
-  contour's face neither hide it nor count as beyond it: they fold under it, and a
+  contour's face (its fold) neither hide it nor count as beyond it: they fold under it, and a
   vertex-normal curve cannot be made consistent with them (the known limit of the method).
+  Its own rank is the last of its fold's faces under it on screen, and a face that a face of
+  its fold is drawn over nearby crosses the fold there and hides nothing
+  (:mod:`meschers_igl.line_folds`).
 
 * **kinds**, from what the picture shows on either side of a visible piece (the last face
   drawn just left and just right of its midpoint): ``"outline"`` where the background is on
@@ -52,6 +55,9 @@ from scipy.spatial import cKDTree
 
 from .errors import MescherError
 from .geometry2d import _grid_cells, default_tol, triangle_heights
+from .line_folds import NEAR_BASE as _NEAR_BASE
+from .line_folds import crossed, fold_ranks
+from .line_folds import is_near as _is_near
 from .painter import _draw_order
 from .topology import edge_faces
 from .validate import as_choice, as_positive
@@ -227,24 +233,6 @@ class _FaceGrid:
         return pa[keep], self.faces[pb[keep]]
 
 
-def _is_near(near: np.ndarray | None, anchor: np.ndarray, g: np.ndarray) -> np.ndarray:
-    """Is face ``g[k]`` near ``anchor[k]``?  ``near``: sorted keys ``anchor * #F + face``
-    (None: nothing is near); anchors < 0 have no neighbours."""
-    out = np.zeros(len(g), dtype=bool)
-    if near is None or len(near) == 0 or len(g) == 0:
-        return out
-    has = anchor >= 0
-    n = np.int64(_NEAR_BASE)
-    q = anchor[has] * n + g[has]
-    pos = np.minimum(np.searchsorted(near, q), len(near) - 1)
-    out[has] = near[pos] == q
-    return out
-
-
-# key base of the "near" relation (anchor * base + face): larger than any face count
-_NEAR_BASE = 1 << 31
-
-
 def _contains(T: np.ndarray, P: np.ndarray, area2: np.ndarray, tol: float) -> np.ndarray:
     """Barycentric coordinates of ``P[k]`` in ``T[k]`` all ``>= tol`` (orientation-free)."""
     s = np.sign(area2)
@@ -341,17 +329,18 @@ def _hidden_intervals(
     its own faces on that side (``len(rank)`` where it has none: that side never shows it).  A
     side is covered where a face ``g`` with ``rank[g] > thr`` holds the segment strictly
     inside, or has it on one of its edges (both ends within ``tol`` of the edge's line) and
-    lies on that side; for segments with an ``anchor`` face, faces ``near`` the anchor are
-    skipped.  The segment is hidden where both sides are covered: a line is seen wherever one
-    of its own faces shows beside it.
+    lies on that side.  For segments with an ``anchor`` face (interpolated contours) faces
+    ``near`` the anchor are skipped, ``thr`` is the last rank of those under the segment
+    (:func:`.line_folds.fold_ranks`) and a face crossed by the fold nearby hides nothing
+    (:func:`.line_folds.crossed`).  The segment is hidden where both sides are covered: a
+    line is seen wherever one of its own faces shows beside it.
     """
     A, B, thr, anchor, near = src.A, src.B, src.thr, src.anchor, src.near
     T, area2, rank, scale, grid = sc.T, sc.area2, sc.rank, sc.scale, sc.grid
     n = len(A)
     pad = tol + 1e-12 * scale  # faces whose edge lies within tol of a segment are met too
     s, g = grid.pairs(np.minimum(A, B) - pad, np.maximum(A, B) + pad)
-    drop = _is_near(near, anchor[s], g)
-    s, g = s[~drop], g[~drop]
+    is_near = _is_near(near, anchor[s], g)
     Tg, a, d = T[g], A[s], B[s] - A[s]
     inv = np.sign(area2[g]) / np.abs(area2[g])
     t0 = np.zeros(len(s))
@@ -384,6 +373,14 @@ def _hidden_intervals(
     strict = t1 > t0 + _MIN_PIECE  # touching at a point hides nothing
     on_edge = along & (c1 > c0)
     rg = rank[g]
+    under = is_near & (strict | on_edge)
+    thr = fold_ranks(thr, anchor, rank, area2, s[under], rg[under])
+    far = ~is_near
+    # a face the contour's fold passes in front of nearby crosses it there: it hides nothing
+    late = far & (strict | on_edge) & (anchor[s] >= 0) & (rg > thr[s, 0])
+    far[late] = ~crossed(near, anchor[s[late]], g[late], T, rank, area2)
+    s, g, rg, t0, t1, c0, c1 = s[far], g[far], rg[far], t0[far], t1[far], c0[far], c1[far]
+    strict, on_edge, side = strict[far], on_edge[far], side[far]
     none = np.arange(n)
     parts = []
     for k, this_side in ((0, side), (1, ~side)):
@@ -812,10 +809,11 @@ def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources
             r1 = ring1[cf].tocsr()
             r2 = (r1 @ ring1).tocoo()  # the two-ring of each contour face
             near = np.unique(cf[r2.row] * np.int64(_NEAR_BASE) + r2.col)
-            # the local fold is drawn up to the last face of the one-ring
-            seg_thr = np.maximum.reduceat(rank[r1.indices], r1.indptr[:-1])
+            # the fold's last rank under each segment is found with the visibility
+            # (line_folds.fold_ranks); until then its own face's
+            own_rank = np.stack([rank[cf], rank[cf]], axis=1)
             parts.append(
-                (CP[cedge[:, 0]], CP[cedge[:, 1]], np.stack([seg_thr, seg_thr], axis=1), cf,
+                (CP[cedge[:, 0]], CP[cedge[:, 1]], own_rank, cf,
                  np.full((len(cf), 2), -1, dtype=np.int64), np.zeros(len(cf), dtype=bool))
             )  # fmt: skip
     cat = [np.concatenate([p[i] for p in parts]) for i in range(6)]

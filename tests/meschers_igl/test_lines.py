@@ -333,3 +333,58 @@ def test_seam_across_a_strip_seen_edge_on_is_no_line():
     gt = visible_face_edges(faces, m, bounds)
     inner = ndimage.binary_erosion(faces >= 0, iterations=2)
     assert gt.any() and not gt[inner].any()
+
+
+@pytest.mark.parametrize("levels", [0, 1])
+def test_impossibagel_inner_contour_is_not_dashed(levels):
+    # the impossible order flips between neighbouring faces of the fold at the hole's right end;
+    # the interpolated contour must neither flicker into dashes where the painter shows no line
+    # nor break where it shows one
+    from meschers_igl.gallery import get_model
+
+    g = get_model("impossibagel")
+    m, order = g.mescher, g.order
+    if levels:
+        m, order = m.subdivide(levels, scheme="loop", order=order)
+    ld = line_drawing(m, order)
+    lo, hi = np.asarray(m.xy).min(0), np.asarray(m.xy).max(0)
+    c, half = 0.5 * (lo + hi), 0.55 * (hi - lo).max()
+    bounds = (c[0] - half, c[0] + half, c[1] - half, c[1] + half)
+    faces = visible_faces(m, order, size=512, bounds=bounds)
+    gt = visible_face_edges(faces, m, bounds)
+    drawn = _drawn_mask(ld, bounds, faces.shape)
+    # no dash: every drawn pixel lies within 1.5 px of a line pixel of the painter's picture
+    stray = drawn & (ndimage.distance_transform_edt(~gt) > 1.5)
+    assert not stray.any(), np.argwhere(stray)[:5]
+    # the contour up the right end of the hole, unbroken in the picture, is drawn unbroken
+    px = 2 * half / 512
+    x = bounds[0] + (np.arange(512) + 0.5) * px
+    y = bounds[3] - (np.arange(512) + 0.5) * px
+    band = ((x > 1.35) & (x < 1.5))[None, :] & ((y > -0.2) & (y < 0.1))[:, None]
+    assert (gt & band).sum() > 20
+    gap = ndimage.distance_transform_edt(~drawn)[gt & band]
+    assert gap.max() <= 2.0, gap.max()
+
+
+def test_triangles_overlap_and_crossing_rule():
+    from meschers_igl.line_folds import NEAR_BASE, crossed, triangles_overlap
+
+    a = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    T1 = np.stack([a, a, a, a, a])
+    T2 = np.stack(
+        [a + 0.5,  # overlapping
+         a[[1, 0, 2]] * 0.25 + 0.1,  # inside (either orientation)
+         np.array([[2.0, 0.0], [0.0, 2.0], [2.0, 2.0]]),  # sharing the hypotenuse only
+         a + [2.0, 0.0],  # touching at a corner
+         a + 5.0]  # far
+    )  # fmt: skip
+    assert triangles_overlap(T1, T2).tolist() == [True, True, False, False, False]
+    assert triangles_overlap(T2, T1).tolist() == [True, True, False, False, False]
+    # the fold of face 0 is {0, 1}; face 2 overlaps face 1 and is drawn before it: face 2
+    # crosses the fold (face 1 passes in front of it); face 3 is drawn after both: it does not
+    T = np.stack([a, a + 0.5, a + 1.0, a + 1.2])
+    rank = np.array([0, 3, 1, 4])
+    near = np.array([0, 1], dtype=np.int64)  # keys 0 * NEAR_BASE + face
+    assert NEAR_BASE > 4
+    got = crossed(near, np.array([0, 0]), np.array([2, 3]), T, rank, np.ones(4))
+    assert got.tolist() == [True, False]
