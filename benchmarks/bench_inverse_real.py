@@ -153,7 +153,7 @@ def run_case(model, axes, light, res: int, iters: int) -> dict:
         lights=[light],
         ambient=AMBIENT,
         background=GROUND,
-        options=fit_options(iters=iters),
+        options=fit_options(iters=iters, info=info),
     )
     m = r.mescher
     order = extract_order(m, r.offsets)

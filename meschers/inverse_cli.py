@@ -502,7 +502,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         lights = [tuple(float(v) for v in info["light"])]
         shade["lights"] = lights
         off0 = None
-        opts = fit_options(iters=iters, power=args.power, eval_every=every)
+        opts = fit_options(iters=iters, power=args.power, info=info, eval_every=every)
     else:
         m0, off0 = torus_for_target(target, bg, n_major=n_major, n_minor=n_minor)
         opts = InverseOptions(iters=iters, resolution=res, power=args.power, eval_every=every)

@@ -808,7 +808,8 @@ def mescher_from_picture(
         ``normals`` (3, 3) per region, ``shades`` (3,), ``misfit`` (frame fit),
         ``occlusion_length`` (screen units of cut boundary), ``labels`` (H, W),
         ``hidden_lines`` (list of (2, 2) segments, :func:`hidden_occlusions`), ``light``
-        (3,) the unit light used (given or estimated).
+        (3,) the unit light used (given or estimated), ``unseen_turn`` (two orientations both
+        at the ambient shade: the picture does not show how their faces turn).
     """
     import shapely
 
@@ -859,13 +860,14 @@ def mescher_from_picture(
     cut = np.union1d(_off_outline(F, xy, edges, ids[occl]), hidden_edges)
     xy, F = cut_along(xy, F, edges, cut)
     m = lift(xy, F, normals[region])
+    unseen = seg.normals is not None and int(np.sum(seg.shades - ambient < 2 / 255)) >= 2
     info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
             "occlusion_length": float(lens[occl].sum()), "labels": seg.labels,
-            "hidden_lines": hidden, "light": light}  # fmt: skip
+            "hidden_lines": hidden, "light": light, "unseen_turn": unseen}  # fmt: skip
     return m, region, info
 
 
-def fit_options(iters: int = 300, power: int = 1, **overrides):
+def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **overrides):
     """:class:`.optimize.InverseOptions` for refining a picture-made mescher.
 
     The start already has the right faces, so the SoftRas blur stays within a pixel or two
@@ -875,12 +877,17 @@ def fit_options(iters: int = 300, power: int = 1, **overrides):
     the best nearly-hard PSNR seen every 20 steps is kept.  The periods move at ``1e-2``
     depth units per step: where the lift met a step it could not see, the faces it bent shade
     wrongly, and the image pulls the periods toward the picture's (Penrose stairs: 1.14 from
-    the picture, 1.28 after 300 steps against the true 1.39; 1.18 at ``1e-3``).
+    the picture, 1.28 after 300 steps against the true 1.39; 1.18 at ``1e-3``).  Where
+    ``info`` (of :func:`mescher_from_picture`) says two orientations are both turned away from
+    the light, any turn of their faces shades them alike, the image cannot hold the periods
+    and they stay as the lines gave them (``lr_periods = 0``).
     """
     from .optimize import InverseOptions
 
     kw = dict(iters=iters, power=power, lam=1.0, laplacian="uniform", lr_xy=3e-3, lr_z=3e-3,
               lr_periods=1e-2, lr_offsets=0.0, sigma_xy=(2e-4, 1e-5), sigma_zeta=(1e-4, 1e-6),
               eval_every=20)  # fmt: skip
+    if info is not None and info.get("unseen_turn"):
+        kw["lr_periods"] = 0.0
     kw.update(overrides)
     return InverseOptions(**kw)

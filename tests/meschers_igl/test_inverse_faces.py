@@ -149,6 +149,10 @@ def test_zbuffered_box_model_with_two_faces_of_one_shade_is_read(make):
     m, _, info = pic.mescher_from_picture(image, light, AMBIENT, background=GROUND)
     assert _angles_deg(info["normals"], axes).max() < 1.5
     assert m.is_impossible()
+    # both shared faces turned away: no turn of theirs shows, the fit keeps the lines' periods
+    assert info["unseen_turn"]
+    assert pic.fit_options(info=info).lr_periods == 0.0
+    assert pic.fit_options(info=info, lr_periods=1e-3).lr_periods == 1e-3  # asked for, kept
     # per pixel, against the orientations read from a picture whose three shades differ
     good = axes.T @ np.array([0.3, 0.6, 0.9])
     good /= np.linalg.norm(good)
@@ -163,3 +167,12 @@ def test_zbuffered_box_model_with_two_faces_of_one_shade_is_read(make):
     share = np.mean(got[shared] == truth[shared])
     print(f"{model.name}: {share:.3f} of the shared shade's pixels on their face")
     assert share > 0.8
+
+
+def test_three_shades_leave_the_periods_free_in_the_fit():
+    model = mdl.penrose_tribar()
+    light = np.array([0.19, -0.2, 0.96])
+    image, _ = _zbuffer(model, light)
+    _, _, info = pic.mescher_from_picture(image, light, AMBIENT, background=GROUND)
+    assert not info["unseen_turn"]
+    assert pic.fit_options(info=info).lr_periods == pic.fit_options().lr_periods > 0
