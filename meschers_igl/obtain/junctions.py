@@ -151,11 +151,18 @@ def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
 CROSSING_SLACK = 0.35
 
 
+#: The last model's adjacency and planar patches (its arrays are kept, so their ids stay its).
+_PATCHES: dict = {}
+
+
 def _own_bar_faces(V, F, be: BarEnds, tol) -> np.ndarray:
     """(#F,) bool: the two caps and the planar patches of the side faces next to them (the
     broken bar's own faces, which cover its gap on screen when it is seen along itself)."""
-    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
-    patch = planar_patches(V, F, TT, tol)
+    key = (id(V), id(F), F.shape[0], tol)
+    if _PATCHES.get("key") != key:  # one model's pairs are judged in a row: computed once
+        TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+        _PATCHES.update(key=key, arrays=(V, F), TT=TT, patch=planar_patches(V, F, TT, tol))
+    TT, patch = _PATCHES["TT"], _PATCHES["patch"]
     caps = np.concatenate([be.first.faces, be.second.faces])
     nbs = TT[caps].reshape(-1)
     return np.isin(patch, patch[np.r_[caps, nbs[nbs >= 0]]])
