@@ -196,73 +196,6 @@ def _cmd_render(args: argparse.Namespace) -> int:
     return 0
 
 
-def geodesic_picture(
-    m: Any,
-    order: Any,
-    d: np.ndarray,
-    path: Any,
-    ends: tuple[int, int] | None,
-    size: tuple[int, int],
-    isolines: int,
-    draw_path: bool = True,
-) -> np.ndarray:
-    """The ``geodesic -o`` picture: the distance with isolines, the path and its two ends.
-
-    Drawn on a midpoint-subdivided copy, as the study does: on a coarse model (the gallery's
-    104-face triangle) smooth shading interpolates the vertex normals across whole bar faces and
-    the flat faces came out blotched dark to light; subdivided, the blend stays in a narrow band
-    at the creases.  The distances are interpolated linearly, so the isolines are those of the
-    coarse field.  The path (on ``m``) is carried to the children of its faces
-    (:func:`pyvista_views.overlays.refine_path`) and drawn, like the dots on its ``ends``
-    (source, target), only where it lies on the visible surface
-    (``render(..., paths=..., points=...)``); ``draw_path=False`` leaves out the path but keeps
-    the dots (the picture the path is measured against).
-    """
-    from pyvista_views.camera import default_bounds, xy_box
-    from pyvista_views.overlays import refine_path
-
-    from .settings import study_settings
-    from .steps import subdivision_levels
-
-    pvv = headless_views()
-    bounds = default_bounds(xy_box(np.asarray(m.xy)), size)
-    st = study_settings()  # the study's levels and face budget
-    levels = subdivision_levels(m.n_faces, st.levels, st.max_faces)
-    mv, order_v, dv, parent = m, order, d, np.arange(m.n_faces)
-    if levels:
-        if order is None:
-            mv, S, parent = m.subdivide(levels, return_matrix=True, return_face_parent=True)
-        else:
-            mv, order_v, S, parent = m.subdivide(
-                levels, order=order, return_matrix=True, return_face_parent=True
-            )
-        finite = np.isfinite(d)
-        dv = S @ np.where(finite, d, 0.0)
-        dv[(S @ (~finite).astype(float)) > 0] = np.inf  # a vertex next to an unreached one
-    marks, dots = None, None
-    if path is not None:
-        xy, faces = refine_path(path.xy, path.faces, mv.xy, mv.F, parent)
-        if draw_path:
-            marks = {"path": (xy, faces), "color": "#ff2020", "width": 3}
-    if ends is not None:  # vertex ids: original vertices keep their indices in the subdivision
-        dots = [
-            {"vertices": [ends[0]], "color": "white"},
-            {"vertices": [ends[1]], "color": "#ff2020"},
-        ]
-    return pvv.render(
-        mv,
-        order=order_v,
-        shading="smooth",
-        scalars=dv,
-        isolines=isolines,
-        window_size=size,
-        bounds=bounds,
-        anti_aliasing=True,
-        paths=marks,
-        points=dots,
-    )
-
-
 def _cmd_geodesic(args: argparse.Namespace) -> int:
     from meschers_igl.geodesic import geodesic_solver
     from meschers_igl.validate import as_index_array
@@ -291,6 +224,8 @@ def _cmd_geodesic(args: argparse.Namespace) -> int:
         print(f"wrote {out}")
     if args.output:
         out = out_path(args.output, (".png",), "-o")
+        from .figures import geodesic_picture
+
         image = geodesic_picture(
             m,
             order,

@@ -188,7 +188,8 @@ def test_geodesic_cli_draws_its_path_only_on_visible_layers(tmp_path):
     polyline, 100+ of its pixels lie on hidden layers."""
     from PIL import Image
 
-    from meschers.cli import geodesic_picture, main
+    from meschers.cli import main
+    from meschers.figures import geodesic_picture
 
     g = get_model("penrose_triangle")
     m, order = g.mescher, g.order
