@@ -146,6 +146,9 @@ def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
     return True
 
 
+#: The ends of a bar broken at a crossing are seen edge-on (their planes hold the view, up to
+#: this |cos|: a person's view is approximate); an end face seen shows that the bar stops.
+CROSSING_EDGE_ON = 0.05
 #: A crossing bar's band along the broken bar may differ from the gap by this share of the
 #: gap (a person's view is approximate: a sliver of background beside the crossing bar).
 CROSSING_SLACK = 0.35
@@ -331,8 +334,9 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
 
     Pieces in line in 3D (``g`` = 0) hidden behind nearer faces are no junction: joining them
     would change the topology without a period (a grid of blocks would be joined into a
-    lattice).  They are a **crossing** (the impossible cube's trick) when the gap between them
-    is filled on screen by one bar lying *behind* them, its band as wide as the gap
+    lattice).  They are a **crossing** (the impossible cube's trick) when both ends are seen
+    edge-on (:data:`CROSSING_EDGE_ON`) and the gap between them is filled on screen by one bar
+    lying *behind* them, its band as wide as the gap
     (:func:`crossing_behind`): a viewer completes the broken bar behind the crossing bar,
     which contradicts the depths elsewhere (impossible through the depth order)."""
     v = R[2]
@@ -358,6 +362,8 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
         return None
     S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
     if abs(g) <= tol:
+        if max(abs(be.first.normal @ v), abs(be.second.normal @ v)) > CROSSING_EDGE_ON:
+            return None  # an end face seen: the bar visibly stops there
         width = float(np.ptp(P0 @ R[:2].T, axis=0).max())
         own = _own_bar_faces(V, F, be, tol)
         if crossing_behind(np.vstack(S), c0, ell * d, C, F, front & ~own, R, tol, width):

@@ -3,8 +3,8 @@ bar is broken *in line* exactly where a farther bar crosses it on screen.  The f
 shows through the gap, so a viewer completes the broken bar behind it -- which contradicts
 the frame's depths: impossible through the depth order, with no period.
 
-Controls: the same frame with a wider gap (background shows beside the crossing bar), seen
-from another view, a broken bar in front of a wall, and a crossing bar that is a separate
+Controls: the same frame cut square (an end face is seen: the bar visibly stops), with a
+wider gap (background shows beside the crossing bar), seen from another view, a broken bar in front of a wall, and a crossing bar that is a separate
 part (its depth is free: the completed reading is realisable) all stay possible.
 """
 
@@ -14,7 +14,14 @@ import warnings
 
 import numpy as np
 import pytest
-from visible_models import AXES, box_block, separate_blocks, triangulate, weld_blocks
+from visible_models import (
+    AXES,
+    box_block,
+    convex_block,
+    separate_blocks,
+    triangulate,
+    weld_blocks,
+)
 
 from meschers_igl.obtain import model_to_mescher
 from meschers_igl.obtain.junctions import CROSSING_SLACK
@@ -33,10 +40,21 @@ def _box_along(P0, P1, d, t):
     return box_block(np.minimum(P0, P1) - side, np.maximum(P0, P1) + side)
 
 
-def _frame(view, L=6.0, t=1.0, widen=0.0, broken=True):
+def _slanted_piece(A, d, t, start, n, X):
+    """A square bar on the axis through A along d, from ``start`` (square end) to the plane
+    through X with normal n (n . d > 0), as a convex block."""
+    o = [k for k in range(3) if abs(d[k]) < 0.5]
+    hs = [np.r_[s * AXES[k], -s * (A @ AXES[k]) - t / 2] for k in o for s in (1.0, -1.0)]
+    hs += [np.r_[-d, d @ start], np.r_[n, -(n @ X)]]
+    return convex_block(np.asarray(hs), 0.5 * (start + X))
+
+
+def _frame(view, L=6.0, t=1.0, widen=0.0, broken=True, square=False):
     """Corner cubes and 12 bars over {0, L}^3, welded; the nearer of two bars whose axes cross
     on screen (within 0.3 to 0.7 of each, more than 2 t apart in depth) is cut in line where its
-    axis crosses the farther bar's band (widened by ``widen`` on each side); with
+    axis crosses the farther bar's band (widened by ``widen`` on each side), by planes holding
+    the view (the ends are seen edge-on, as the impossible cube is built; ``square``: cut
+    square, so that an end face is seen); with
     ``broken=False`` the frame stays whole.
 
     Returns (V, F, R, crossing) with R the view frame (rows right, up, view); ``crossing`` is
@@ -77,8 +95,14 @@ def _frame(view, L=6.0, t=1.0, widen=0.0, broken=True):
         off = [(R[:2] @ (x * AXES[o[0]] + y * AXES[o[1]])) @ nrm for x in (-h, h) for y in (-h, h)]
         base = (R[:2] @ (A - P)) @ nrm
         xs = sorted((c - base) / ((R[:2] @ d) @ nrm) for c in (min(off) - widen, max(off) + widen))
-        blocks.append(_box_along(A + h * d, A + xs[0] * d, d, t))
-        blocks.append(_box_along(A + xs[1] * d, B - h * d, d, t))
+        # cut by planes holding the view and the far bar's direction: each end is seen edge-on
+        # and its screen trace is an edge of the far bar's band
+        n = np.cross(v, e)
+        n *= np.sign(n @ d) / np.linalg.norm(n)
+        if square:
+            n = d
+        blocks.append(_slanted_piece(A, d, t, A + h * d, n, A + xs[0] * d))
+        blocks.append(_slanted_piece(A, -d, t, B - h * d, -n, A + xs[1] * d))
     V, polys = weld_blocks(blocks)
     return V, np.asarray(triangulate(polys), np.int64), R, best is not None
 
@@ -115,6 +139,11 @@ def test_crossing_controls_stay_possible(view):
     assert not crossed
     m, order, report = _convert(V0, F0, R0[2], R0[1])
     assert all(j.depth_gap == 0.0 or j.kind == "occluded continuation" for j in report.junctions)
+    assert not any(j.kind == "crossing" for j in report.junctions)
+    assert not m.is_impossible(order=order)
+    # square ends: an end face is seen, the bar visibly stops
+    Vs, Fs, Rs, _ = _frame(view, square=True)
+    m, order, report = _convert(Vs, Fs, Rs[2], Rs[1])
     assert not any(j.kind == "crossing" for j in report.junctions)
     assert not m.is_impossible(order=order)
     # a wider gap shows background beside the crossing bar
