@@ -607,7 +607,7 @@ def _parser_geodesic(sub: Any) -> None:
         formatter_class=_RAW,
         description="Geodesic distance from source vertices (heat method, or exact), optionally a shortest "
         "path to a target, a PNG with isolines and the path, and the distances as .npy.",
-        epilog=examples("geodesic penrose_triangle --source 0 --target 30 -o distance.png"),
+        epilog=examples("geodesic penrose_triangle --source 0 --target 35 -o distance.png"),
     )
     add_input(p)
     add(
