@@ -21,12 +21,28 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["DL_NOTE", "TABLES", "embedded_images", "referenced_images", "write_report"]
+__all__ = [
+    "DL_NOTE",
+    "NO_SEAM_NOTE",
+    "TABLES",
+    "embedded_images",
+    "referenced_images",
+    "write_report",
+]
 
 #: The one explanation of dL, used by the page (the figures' captions say the same).
 DL_NOTE = (
     "<b>dL</b>: mean absolute difference of luminance between two renders with one camera, "
     "luminance from 0 (black) to 1 (white) (Rec. 709; <code>pyvista_views.compare.luminance</code>)"
+)
+
+#: Why a model without a harmonic part has no mescher / cut / bent comparison (the summary's
+#: footnote and its geodesic section's caption say the same).
+NO_SEAM_NOTE = (
+    "no harmonic part (not impossible, or impossible through its depth order only): its cut "
+    "model needs no seam and its bent model is the mescher itself, so both have the mescher's "
+    "geodesic error and no seam to crack; the study draws no mescher / cut / bent comparison "
+    "for it"
 )
 
 _STYLE = """
@@ -103,6 +119,7 @@ def _gallery_table(models: dict) -> str:
         "<th>seam crack (cut)</th><th>runtime s</th></tr>"
     )
     rows = []
+    no_seam = False
     for name, r in models.items():
         drift = [_get(r, "subdivision", "period_drift")]
         sm = _get(r, "smoothing", "period_drift")
@@ -110,6 +127,11 @@ def _gallery_table(models: dict) -> str:
         periods = _get(r, "hodge", "periods") or _get(r, "input", "periods") or []
         scale = max([abs(p) for p in periods] + [1.0])
         ge = _get(r, "comparison", "geodesic_error_vs_exact") or {}
+        mescher_err = _get(ge, "mescher", "mean")
+        same = _get(r, "comparison", "skipped") is not None  # no seam: cut = bent = mescher
+        if same:
+            mescher_err = _get(r, "geodesic", "heat_error", "mean")  # its geodesic section's
+            no_seam = True
         rows.append(
             _tr(
                 (
@@ -122,15 +144,28 @@ def _gallery_table(models: dict) -> str:
                     " / ".join(_drift(d, scale) for d in drift),
                     _num(_max(_get(r, "relighting", "mescher", "luminance_mae")), fixed=3),
                     _num(_max(_get(r, "relighting", "bent", "luminance_mae")), fixed=3),
-                    _num(_get(ge, "mescher", "mean"), pct=True),
-                    _num(_get(ge, "cut", "mean"), pct=True),
-                    _num(_get(ge, "bent", "mean"), pct=True),
-                    _num(_get(r, "comparison", "seam_gap_after_smoothing", "cut"), pct=True),
+                    _num(mescher_err, pct=True),
+                    *(
+                        (_SAME, _SAME, _NO_SEAM)
+                        if same
+                        else (
+                            _num(_get(ge, "cut", "mean"), pct=True),
+                            _num(_get(ge, "bent", "mean"), pct=True),
+                            _num(
+                                _get(r, "comparison", "seam_gap_after_smoothing", "cut"), pct=True
+                            ),
+                        )
+                    ),
                     _num(r.get("runtime_s"), digits=3),
                 )
             )
         )
-    return f"<table>{head}{''.join(rows)}</table>"
+    note = f"<p><sup>*</sup> {_e(NO_SEAM_NOTE)}.</p>" if no_seam else ""
+    return f"<table>{head}{''.join(rows)}</table>{note}"
+
+
+_SAME = "= mescher<sup>*</sup>"
+_NO_SEAM = "no seam<sup>*</sup>"
 
 
 def _impossible_cell(r: dict) -> str:

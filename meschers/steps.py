@@ -42,6 +42,7 @@ from .metrics import (
     seam_gap,
 )
 from .settings import ENV_MAP, GEODESIC_CMAP, HEAT_CMAP, LIGHTS
+from .warmup import wait_compiled
 
 __all__ = ["STEPS", "Subject", "run_mescher_steps", "subdivide", "subdivision_levels"]
 
@@ -393,6 +394,10 @@ def geodesic(job: ModelJob, s: Subject) -> None:
                 else ""
             )
         )
+    if not m.is_impossible():  # what the summary's footnote says for such a model
+        from .report import NO_SEAM_NOTE
+
+        err += f" The cut and bent models: {NO_SEAM_NOTE}."
     job.figure(
         fig,
         f"{s.name}_geodesic.png",
@@ -641,6 +646,7 @@ def run_mescher_steps(
     """Subdivide, then every step of :data:`STEPS` on the subdivided mescher."""
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)
+    wait_compiled()  # on a first run: the kernels the next steps use (geodesics, ...)
     s = Subject(name, m, order, reference, reference_note, coarse=(m0, order0))
     for key, label, fn in STEPS:
         job.step(key, label, fn, job, s)

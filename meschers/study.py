@@ -180,7 +180,12 @@ def study_model(
 
     from pyvista_views.headless import configure_headless
 
+    from .warmup import FIRST_NEEDED, wait_compiled
+
     configure_headless()  # a fresh worker process has no pyvista settings yet
+    # kernels still compiling on a first run (meschers.warmup.start_compiling): a mescher's
+    # steps wait for the rest after subdividing (steps.run_mescher_steps), other models now
+    wait_compiled(FIRST_NEEDED if spec.kind in ("gallery", "mescher") else None)
     # the same BLAS/OpenMP threads in this process and in every worker: sums are then done in
     # the same order and a parallel study gives the serial one's numbers to the last digit
     with threadpool_limits(limits=STUDY_THREADS):
@@ -324,7 +329,7 @@ def run_study(
     from meschers_igl.validate import as_count
 
     from .report import write_report
-    from .warmup import ensure_compiled
+    from .warmup import start_compiling
 
     jobs = as_count(jobs, "jobs", minimum=1)
     specs = default_models(other_tools) if models is None else expand_models(list(models))
@@ -337,12 +342,17 @@ def run_study(
     st = study_settings(quick)
     keys = _keys(specs)
     t_start = time.perf_counter()
-    # compiled once here, in parallel, before any worker starts (they then load the cache)
-    ensure_compiled(lambda line: print(line, file=sys.stderr))
-    if scheduler or jobs > 1:
-        results = _run_parallel(specs, keys, st, jobs, scheduler, progress)
-    else:
-        results = _run_serial(specs, keys, st, progress)
+    # missing kernels compiled once, in processes of their own, while the workers start; a model
+    # waits for the groups it needs (study_model), so no kernel is compiled twice
+    compiling = start_compiling(lambda line: print(line, file=sys.stderr))
+    try:
+        if scheduler or jobs > 1:
+            results = _run_parallel(specs, keys, st, jobs, scheduler, progress)
+        else:
+            results = _run_serial(specs, keys, st, progress)
+    finally:
+        if compiling is not None:
+            compiling.close()
     metrics: dict[str, Any] = {
         "citation": CITATION,
         "doi": DOI_URL,

@@ -1,20 +1,26 @@
-"""Compiling the numba kernels once per machine, up front, in parallel, and saying so.
+"""Compiling the numba kernels once per machine, in parallel, beside the work, and saying so.
 
 A fresh installation has no compiled kernels: the first call of each compiles it (tens of
 seconds in all) and numba caches the machine code for every later process.  Left alone, a
 parallel study would compile in every worker at once and a serial one inside its first model,
-silently.  :func:`ensure_compiled` runs before the work starts: when kernels are missing from
+silently.  :func:`start_compiling` runs before the work starts: when kernels are missing from
 the cache it prints ``compiling kernels (first run only, about N s)`` and compiles the groups
-in parallel processes (one core each), so the workers only load the cache.
+in fresh processes (one core each), the groups a model needs first first.  The work does not
+wait for all of them: workers start meanwhile and each model waits (:func:`wait_compiled`) only
+for the groups its next steps use, which then load from the cache; so every kernel is compiled
+once, by one process, while the other cores start the workers and the first models.
+:func:`ensure_compiled` is the same, waiting for everything.
 """
 
 from __future__ import annotations
 
 import os
 import pkgutil
+import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterable
 from typing import Any
@@ -23,9 +29,13 @@ from meschers_igl import compiled
 
 __all__ = [
     "COMPILE_SECONDS",
+    "FIRST_NEEDED",
+    "Compiling",
     "announce_compilation",
     "cold_groups",
     "ensure_compiled",
+    "start_compiling",
+    "wait_compiled",
     "warm_group",
 ]
 
@@ -36,7 +46,11 @@ RENDER_PACKAGE = "pyvista_views"
 COMPILE_SECONDS = {"order": 14.0, "geodesic": 16.0, "render": 3.0}
 
 
+#: The groups a model's first steps use (building and ordering it, then drawing it), in order.
+FIRST_NEEDED = ("order", "render")
+
 _WARM = "from meschers.warmup import warm_group; warm_group({group!r})"
+_ENV = "MESCHERS_COMPILING"
 
 
 def _modules(group: str) -> tuple[str, ...]:
@@ -77,6 +91,175 @@ def warm_group(group: str) -> float:
     return time.perf_counter() - t
 
 
+class Compiling:
+    """Kernel groups compiling in fresh interpreters (one core each), started by
+    :func:`start_compiling`; the work that needs a group waits for it (:func:`wait_compiled`).
+
+    While it runs, the environment variable ``MESCHERS_COMPILING`` names a folder of markers
+    (``GROUP.done`` once a group's process ended, ``owner`` this process's id), so worker
+    processes started meanwhile (they inherit the environment) wait for the groups they need
+    instead of compiling them a second time.
+    """
+
+    def __init__(self, cold: list[str], processes: int, say: Callable[[str], None] | None):
+        self.cold, self.say, self.failed = cold, say, []
+        self.t0 = time.perf_counter()
+        self.took = 0.0
+        self.folder = tempfile.mkdtemp(prefix="meschers-compiling-")
+        with open(os.path.join(self.folder, "owner"), "w") as f:
+            f.write(str(os.getpid()))
+        self._previous = os.environ.get(_ENV)
+        os.environ[_ENV] = self.folder
+        # the groups a model needs first go first (it is built and ordered, then drawn); with
+        # two processes or more the longest other group starts beside the first of them; a
+        # new process starts as soon as one ends
+        first = [g for g in FIRST_NEEDED if g in cold]
+        rest = sorted((g for g in cold if g not in first), key=_seconds, reverse=True)
+        if rest and len(first) >= processes >= 2:  # the longest group beside the first ones
+            first, rest = first[: processes - 1], rest + first[processes - 1 :]
+        pending = first + rest
+        self._thread = threading.Thread(
+            target=self._run, args=(pending, processes), name="meschers-compile", daemon=True
+        )
+        self._thread.start()
+
+    def _run(self, pending: list[str], processes: int) -> None:
+        try:
+            self._schedule(list(pending), processes)
+        finally:  # whatever happened, nobody waits any longer (the work compiles what is missing)
+            for g in self.cold:
+                with open(os.path.join(self.folder, f"{g}.done"), "w"):
+                    pass
+            self.took = time.perf_counter() - self.t0
+
+    def _schedule(self, pending: list[str], processes: int) -> None:
+        running: list[tuple[str, subprocess.Popen, Any]] = []
+        while pending or running:
+            while pending and len(running) < processes:
+                g = pending.pop(0)
+                log = tempfile.TemporaryFile(mode="w+")
+                cmd = [sys.executable, "-c", _WARM.format(group=g)]
+                running.append((g, subprocess.Popen(cmd, stdout=log, stderr=log, text=True), log))
+            time.sleep(0.02)
+            for item in [r for r in running if r[1].poll() is not None]:
+                g, proc, log = item
+                running.remove(item)
+                if proc.returncode != 0:
+                    log.seek(0)
+                    self.failed.append(f"{g}: {(log.read().strip().splitlines() or ['?'])[-1]}")
+                log.close()
+                with open(os.path.join(self.folder, f"{g}.done"), "w"):
+                    pass
+
+    def wait(self, groups: Iterable[str] | None = None) -> None:
+        """Wait until ``groups`` (default: all) are compiled (their processes ended)."""
+        if groups is None:
+            self._thread.join()
+        else:
+            _wait_markers(self.folder, groups, os.getpid())
+
+    def close(self) -> float:
+        """Wait for every group, report, remove the markers; the wall seconds compiling took."""
+        self._thread.join()
+        if os.environ.get(_ENV) == self.folder:
+            if self._previous is None:
+                del os.environ[_ENV]
+            else:
+                os.environ[_ENV] = self._previous
+        shutil.rmtree(self.folder, ignore_errors=True)
+        if self.say is not None:
+            self.say(f"kernels compiled in {self.took:.0f} s (cached for every later run)")
+            for line in self.failed:  # the work then compiled what it needed as it went
+                self.say(f"compiling kernels failed for {line}")
+        return self.took
+
+    def __enter__(self) -> Compiling:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def _seconds(group: str) -> float:
+    return COMPILE_SECONDS.get(group, 10.0)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # someone else's process of that id: alive
+        return True
+    return True
+
+
+def _wait_markers(folder: str, groups: Iterable[str], owner: int, timeout: float = 900.0) -> None:
+    end = time.monotonic() + timeout
+    for g in groups:
+        done = os.path.join(folder, f"{g}.done")
+        while not os.path.exists(done) and os.path.isdir(folder):
+            if not _alive(owner) or time.monotonic() > end:
+                return  # nobody will finish it: the work compiles what it needs itself
+            time.sleep(0.02)
+
+
+def start_compiling(
+    say: Callable[[str], None] | None = print,
+    groups: Iterable[str] = (*compiled.GROUPS, "render"),
+    processes: int | None = None,
+) -> Compiling | None:
+    """Start compiling the missing kernel groups in parallel processes; do not wait.
+
+    Says ``compiling kernels (first run only, about N s)`` when some are missing.  The work can
+    start meanwhile: it calls :func:`wait_compiled` (here or in a worker process started after
+    this call) before it needs a group, so each kernel is compiled once, by one process, while
+    the other cores start the workers and the first models.
+
+    Parameters
+    ----------
+    say : callable(str), optional
+        Where the notices go (``None``: silent).
+    groups : iterable of str
+        The groups the coming work uses.
+    processes : int, optional
+        At most this many compiling processes (default: the cores available).
+
+    Returns
+    -------
+    Compiling or None
+        ``None`` when everything was cached; else the running compilation (``close()`` it, or
+        use it as a context manager, when the work is done).
+    """
+    cold = cold_groups(groups)
+    if not cold:
+        return None
+    ncpu = processes or len(os.sched_getaffinity(0))
+    n = max(1, min(len(cold), ncpu))
+    estimate = max(sum(_seconds(g) for g in cold) / n, 1.0)
+    if say is not None:
+        say(f"compiling kernels (first run only, about {estimate:.0f} s): {', '.join(cold)}")
+    return Compiling(cold, n, say)
+
+
+def wait_compiled(groups: Iterable[str] | None = None) -> None:
+    """Wait until the kernel groups ``groups`` (default: all) that :func:`start_compiling` is
+    compiling, in this process or the one that started this worker, are compiled.
+
+    Returns at once when nothing is compiling.  Stops waiting (and lets the work compile what
+    it needs) if the process that started the compilation is gone.
+    """
+    folder = os.environ.get(_ENV)
+    if not folder or not os.path.isdir(folder):
+        return
+    try:
+        with open(os.path.join(folder, "owner")) as f:
+            owner = int(f.read())
+    except (OSError, ValueError):
+        return
+    _wait_markers(folder, (*compiled.GROUPS, "render") if groups is None else groups, owner)
+
+
 def ensure_compiled(
     say: Callable[[str], None] | None = print,
     groups: Iterable[str] = (*compiled.GROUPS, "render"),
@@ -98,41 +281,8 @@ def ensure_compiled(
     float
         Wall seconds spent compiling (0 when everything was cached).
     """
-    cold = cold_groups(groups)
-    if not cold:
-        return 0.0
-    ncpu = processes or len(os.sched_getaffinity(0))
-    n = max(1, min(len(cold), ncpu))
-    estimate = max(sum(COMPILE_SECONDS.get(g, 10.0) for g in cold) / n, 1.0)
-    if say is not None:
-        say(f"compiling kernels (first run only, about {estimate:.0f} s): {', '.join(cold)}")
-    t = time.perf_counter()
-    # fresh interpreters (not multiprocessing): they import nothing of the caller's script, which
-    # may have no ``if __name__ == "__main__"`` guard, and hold no GL context or Dask thread;
-    # the longest groups first, a new one started as soon as one ends
-    pending = sorted(cold, key=lambda g: COMPILE_SECONDS.get(g, 10.0))
-    running: list[tuple[str, subprocess.Popen, Any]] = []
-    failed = []
-    while pending or running:
-        while pending and len(running) < n:
-            g = pending.pop()
-            log = tempfile.TemporaryFile(mode="w+")
-            cmd = [sys.executable, "-c", _WARM.format(group=g)]
-            running.append((g, subprocess.Popen(cmd, stdout=log, stderr=log, text=True), log))
-        time.sleep(0.05)
-        for item in [r for r in running if r[1].poll() is not None]:
-            g, proc, log = item
-            running.remove(item)
-            if proc.returncode != 0:
-                log.seek(0)
-                failed.append(f"{g}: {(log.read().strip().splitlines() or ['?'])[-1]}")
-            log.close()
-    took = time.perf_counter() - t
-    if say is not None:
-        say(f"kernels compiled in {took:.0f} s (cached for every later run)")
-        for line in failed:  # the work then compiles what it needs as it goes
-            say(f"compiling kernels failed for {line}")
-    return took
+    running = start_compiling(say, groups, processes)
+    return 0.0 if running is None else running.close()
 
 
 _announced: list[object] = []

@@ -248,3 +248,59 @@ def test_summary_prints_luminance_differences_to_their_resolution():
     assert _num(3.71e-05, fixed=3) == "0.000"
     assert _num(0.0658, fixed=3) == "0.066"
     assert _num(float("nan"), fixed=3) == "&ndash;"
+
+
+def test_summary_geodesic_errors_of_a_model_without_seam():
+    """No harmonic part: the summary gives the mescher's error its geodesic section measured, and
+    says in words (with the footnote) why the cut and bent columns have no numbers of their own;
+    a model with a comparison keeps its numbers."""
+    from meschers.report import NO_SEAM_NOTE, _gallery_table
+
+    no_seam = {
+        "geodesic": {"heat_error": {"mean": 0.0123}},
+        "comparison": {"skipped": "no harmonic part: cut and bent embeddings equal the mescher"},
+    }
+    seam = {
+        "geodesic": {"heat_error": {"mean": 0.5}},  # not the comparison's: not shown
+        "comparison": {
+            "geodesic_error_vs_exact": {
+                "mescher": {"mean": 0.01},
+                "cut": {"mean": 0.02},
+                "bent": {"mean": 0.03},
+            },
+            "seam_gap_after_smoothing": {"cut": 0.04},
+        },
+    }
+    rows = _gallery_table({"cube": no_seam, "penrose": seam}).split("<tr>")[2:]
+    cells = [re.findall(r"<td>(.*?)</td>", row) for row in rows]
+    assert cells[0][9:13] == [
+        "1.23%",
+        "= mescher<sup>*</sup>",
+        "= mescher<sup>*</sup>",
+        "no seam<sup>*</sup>",
+    ]
+    assert cells[1][9:13] == ["1.00%", "2.00%", "3.00%", "4.00%"]
+    html = _gallery_table({"cube": no_seam})
+    assert "<sup>*</sup> no harmonic part" in html and NO_SEAM_NOTE.split(":")[0] in html
+    assert "<sup>*</sup>" not in _gallery_table({"penrose": seam})  # no footnote without need
+
+
+@requires_gl
+def test_a_model_without_seam_says_so_in_its_section_and_summary(tmp_path):
+    """The cube (impossible through its depth order only): no comparison is drawn; its geodesic
+    section and the summary say why, and the summary gives the section's own error."""
+    from meschers.report import NO_SEAM_NOTE
+
+    res = run_study(["impossible_cube"], out=tmp_path, quick=True, progress=False)
+    assert res.errors == []
+    r = res.metrics["models"]["impossible_cube"]
+    assert "skipped" in r["comparison"]
+    sec = res.sections[0]
+    caps = {f.title: f.caption for f in sec.figures}
+    assert "Mescher vs cut vs bent (paper Fig. 10)" not in caps
+    assert NO_SEAM_NOTE in caps["Geodesic distance and shortest path"]
+    html = (tmp_path / "index.html").read_text()
+    err = f"{100 * r['geodesic']['heat_error']['mean']:.2f}%"
+    assert err in caps["Geodesic distance and shortest path"]
+    row = re.search(r"<tr><td>impossible_cube</td>(.*?)</tr>", html).group(1)
+    assert f"<td>{err}</td><td>= mescher<sup>*</sup></td>" in row

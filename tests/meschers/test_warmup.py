@@ -112,3 +112,37 @@ def test_a_command_announces_compilation_once_and_only_when_it_compiles(tmp_path
     assert bad.returncode == 2 and bad.stderr.strip().splitlines() == [
         ln for ln in bad.stderr.strip().splitlines() if ln.startswith("meschers: error: -o")
     ]
+
+
+def test_wait_compiled_waits_for_the_groups_named_and_never_for_a_dead_owner(tmp_path, monkeypatch):
+    import threading
+    import time
+
+    from meschers.warmup import wait_compiled
+
+    monkeypatch.delenv("MESCHERS_COMPILING", raising=False)
+    t = time.perf_counter()
+    wait_compiled(["order"])  # nothing compiling: at once
+    assert time.perf_counter() - t < 0.5
+    monkeypatch.setenv("MESCHERS_COMPILING", str(tmp_path))
+    (tmp_path / "owner").write_text(str(os.getpid()))
+    (tmp_path / "render.done").write_text("")
+    t = time.perf_counter()
+    wait_compiled(["render"])  # done already
+    assert time.perf_counter() - t < 0.5
+    timer = threading.Timer(0.6, (tmp_path / "order.done").write_text, args=("",))
+    timer.start()
+    t = time.perf_counter()
+    wait_compiled(["render", "order"])
+    assert time.perf_counter() - t >= 0.5 and (tmp_path / "order.done").exists()
+    # the process that compiles is gone: stop waiting (the work compiles what it needs)
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    (tmp_path / "owner").write_text(dead.stdout.strip())
+    t = time.perf_counter()
+    wait_compiled(["geodesic"])
+    assert time.perf_counter() - t < 0.5
