@@ -70,6 +70,7 @@ def penrose_stairs(
     long_side: int = 5,
     short_side: int = 3,
     resolution: int = 2,
+    steepness: float = 1.0,
 ):
     """A closed loop of steps (Penrose & Penrose 1958) as one solid ribbon of blocks.
 
@@ -79,9 +80,20 @@ def penrose_stairs(
     ``[i s - thickness, i s]``.  After ``N`` steps the walk has moved by ``m step (1, 1, 1)``,
     along the view, so the last block hides exactly where the first one was.
 
+    ``steepness`` ``c`` looks along ``(1, 1, c)`` instead: the walk then rises ``c m step`` per
+    turn, ``s = c m step / N`` a step, and ends moved by ``m step (1, 1, c)``, again along the
+    view.  Which flights show their risers is fixed by the climb, not by ``c``: a turn's net
+    horizontal move is the view's horizontal part times ``m step``, toward the viewer, so the
+    flights along +x and +y climb toward the viewer and their risers (normals -x, -y) face
+    away, under any view along the period; on those two flights a step shows only as a jog of
+    height ``s`` in the wall that faces the viewer (the near flight's outer wall, the far
+    flight's courtyard wall), ``c`` times taller, relative to the step, in a steeper view.
+    ``thickness`` must be a whole number of rises: the blocks' bottoms then lie on the levels
+    of the treads, so the two cut ends (translates by the period) are meshed alike.
+
     Returns
     -------
-    V, F, view, up, expected_period (``sqrt(3) * m * step``)
+    V, F, view, up, expected_period (``sqrt(2 + c^2) * m * step``)
     """
     p = as_positive(step, "step")
     n_long = as_count(long_side, "long_side", minimum=3)
@@ -93,12 +105,19 @@ def penrose_stairs(
         )
     N = 2 * (n_long + n_short)
     m = n_long - n_short
-    s = m * p / N
+    c = as_positive(steepness, "steepness")
+    view = (1.0, 1.0, c)
+    s = c * m * p / N
     T = as_positive(thickness, "thickness")
     if not s < T < 3 * p + s:
         raise MescherError(
             f"thickness: expected more than the rise per step {s:.4g} and less than "
             f"3 step + rise {3 * p + s:.4g} (room for the slanted cut), found {T}"
+        )
+    if abs(T / s - round(T / s)) > 1e-9 * (T / s):
+        raise MescherError(
+            f"thickness: expected a whole number of rises ({s:.6g} each, steepness {c:g}), so "
+            f"both cut ends are meshed alike, found {T} = {T / s:.4g} rises"
         )
     moves = np.repeat(
         np.array([[1, 0], [0, 1], [-1, 0], [0, -1]]), [n_long, n_long, n_short, n_short], axis=0
@@ -129,8 +148,8 @@ def penrose_stairs(
     # two cut blocks (their neighbours along the walk are straight on, so nothing else moves)
     for (axis, value, lo, hi), side, i in ((first, +1, j + 1), (last, -1, j + N)):
         block = ((lo[0], z[i] - T), (hi[0], z[i]))  # the cut block's whole end face
-        V = slant_cut(V, axis, value, lo, hi, side, p, VIEW, region=block)
-    return CutModel(V, F, VIEW, UP, float(np.sqrt(3.0) * m * p))
+        V = slant_cut(V, axis, value, lo, hi, side, p, view, region=block)
+    return CutModel(V, F, view, UP, float(np.sqrt(2.0 + c * c) * m * p))
 
 
 def reutersvard_triangle(

@@ -436,3 +436,31 @@ def test_impossible_cube_period_variant_shears_a_visible_stretch():
     np.testing.assert_array_equal(seen["sheared"][0], seen["straight"][0])  # the same outline
     assert seen["straight"][1] == 0.0
     assert seen["sheared"][1] > 0.02  # 4.7% of the figure
+
+
+@pytest.mark.parametrize(("c", "thickness"), [(1.0, 1.0), (2.0, 1.0), (1.5, 0.9375)])
+def test_penrose_stairs_seen_steeper_keep_their_period_and_climb(c, thickness):
+    """Stairs seen along (1, 1, c): the rise per step is c m step / N and the walk ends moved by
+    m step (1, 1, c), along the view, so the period -- the depth gap on the cut model and the
+    mescher's only nonzero period -- is sqrt(2 + c^2) m step, and the figure stays impossible."""
+    step, n_long, n_short = 1.0, 5, 3
+    g = get_model("penrose_stairs", steepness=c, thickness=thickness, resolution=1)
+    m = g.mescher
+    expected = np.sqrt(2.0 + c * c) * (n_long - n_short) * step
+    assert g.expected_period == pytest.approx(expected, rel=1e-15)
+    assert m.is_impossible() and m.euler_characteristic() == 0
+    assert np.abs(m.periods()).max() == pytest.approx(expected, rel=1e-9)
+    gaps = [abs(p.depth_gap) for p in glue_cut_mesh(g.V, g.F, view=g.view, up=g.up)["pairings"]]
+    assert gaps == pytest.approx([expected], rel=1e-12)
+    # the treads (faces with normal +z) lie at heights i s: consecutive levels one rise apart
+    V, F = np.asarray(g.V), np.asarray(g.F)
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    up = (n[:, 2] > 0) & (np.abs(n[:, :2]).max(axis=1) <= 1e-9 * np.abs(n).max())
+    levels = np.unique(np.round(V[F[up]][:, :, 2].mean(axis=1), 9))
+    rise = c * (n_long - n_short) * step / (2 * (n_long + n_short))
+    np.testing.assert_allclose(np.diff(levels), rise, rtol=1e-9)
+
+
+def test_penrose_stairs_thickness_is_a_whole_number_of_rises():
+    with pytest.raises(MescherError, match="thickness: expected a whole number of rises"):
+        get_model("penrose_stairs", steepness=1.5)  # rise 0.1875: 1.0 is 5.33 rises
