@@ -17,7 +17,9 @@ class Junction:
     ----------
     kind : str
         ``"false edge"`` (visible junction), ``"hidden gap"`` (amodal bridge across a depth
-        offset) or ``"occluded continuation"`` (amodal bridge without offset).
+        offset), ``"occluded continuation"`` (amodal bridge without offset) or ``"crossing"``
+        (a bar broken in line, completed behind the bar seen through its gap: no offset, an
+        order a viewer cannot realise).
     position : (2,) float
         Screen position (middle of the chain).
     depth_gap : float
