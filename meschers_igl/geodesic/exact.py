@@ -103,7 +103,7 @@ class _State:
     in the next step it returns, and :meth:`grow` doubles it (see :func:`propagate`).
     """
 
-    def __init__(self, nv: int, n_edges: int, sources: np.ndarray) -> None:
+    def __init__(self, nv: int, n_edges: int, sources: np.ndarray, mdeg: int) -> None:
         cap = _FIRST_SIZE
         self.dist = np.full(nv, np.inf)
         self.dist[sources] = 0.0
@@ -113,7 +113,7 @@ class _State:
         self.vimg = np.zeros((nv, 2), np.float64)
         self.wh = np.empty(cap, np.int64)  # window table: half-edge
         self.wb = np.empty((cap, 5), np.float64)  # b0, b1, sx, sy, sigma
-        self.state = np.empty(cap, np.int8)  # 0 queued (and in its edge's block), 2 dead
+        self.state = np.empty(cap, np.int8)  # QUEUED (and in its edge's block) or DEAD
         self.pos = np.empty(cap, np.int64)  # its index in its edge's block
         self.free = np.empty(cap, np.int64)  # slots of popped windows, reused
         # edge blocks: capacity 4 << bcls[e] at bstart[e] of the arena (aw: window id; alo, ahi:
@@ -130,6 +130,10 @@ class _State:
         self.hk = np.zeros(max(cap, 2 * k), np.float64)
         self.hv = np.empty(self.hk.size, np.int64)
         self.hv[:k] = -(sources + 1)
+        # the children of one step (at most two per corner of a vertex): half-edge; b0, b1, sx,
+        # sy, sigma
+        self.kids_h = np.empty(2 * mdeg, np.int64)
+        self.kids_b = np.empty((2 * mdeg, 5), np.float64)
         self.ctr = np.zeros(7, dtype=np.int64)  # indexed by the C_* names
         self.ctr[C_HEAP], self.ctr[C_MAX_BLOCK] = k, 4
 
@@ -328,7 +332,7 @@ class ExactGeodesicSolver:
         tgt = np.empty(0, np.int64)
         if targets is not None:
             tgt = np.array(np.unique(as_index_array(targets, "targets", self.n_vertices)), np.int64)
-        st = _State(self.n_vertices, self._n_edges, src)
+        st = _State(self.n_vertices, self._n_edges, src, int(self._mesh.mdeg))
         # the vertices the query reaches: those of the sources' components
         reach = int(np.isin(self._label, self._label[src]).sum()) if src.size else 0
         with progress.Meter("exact geodesics", total=reach) as bar:
