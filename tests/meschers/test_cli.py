@@ -495,11 +495,12 @@ def test_study_models_select_exactly_what_they_name(monkeypatch, tmp_path):
 
     monkeypatch.setattr(study, "_run_serial", fake)
     monkeypatch.setattr(study, "write_report", lambda *a, **k: None, raising=False)
-    assert main(["study", "--quick", "--jobs", "1", "--no-progress", "--models",
-                 "penrose_triangle", "--out", str(tmp_path / "s")]) == 0  # fmt: skip
+    out = str(tmp_path / "s")
+    argv = ["study", "--quick", "--jobs", "1", "--no-progress", "--models", "penrose_triangle"]
+    assert main([*argv, "--out", out]) == 0
     assert [(s.kind, s.name) for s in seen["specs"]] == [("gallery", "penrose_triangle")]
-    assert main(["study", "paradox:penrose_stair", "impossibagel", "--jobs", "1", "--no-progress",
-                 "--out", str(tmp_path / "s")]) == 0  # fmt: skip
+    argv = ["study", "paradox:penrose_stair", "impossibagel", "--jobs", "1", "--no-progress"]
+    assert main([*argv, "--out", out]) == 0
     assert [(s.kind, s.name) for s in seen["specs"]] == [
         ("artist", "penrose_stair"),
         ("gallery", "impossibagel"),

@@ -206,8 +206,12 @@ def _start(cwd: Path, *args: str) -> tuple[subprocess.Popen, int]:
     log = tempfile.TemporaryFile("w+")  # outside cwd, where nothing may be written; closed by _stop
     proc = subprocess.Popen(
         [sys.executable, "-m", "meschers", "studio", *args, "--port", str(port)],
-        cwd=cwd, env=env, stdout=log, stderr=subprocess.STDOUT, text=True,
-    )  # fmt: skip
+        cwd=cwd,
+        env=env,
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     proc.log = log
     deadline = time.time() + 600  # an empty kernel cache compiles first (a minute or more)
     while time.time() < deadline:
@@ -272,9 +276,14 @@ def test_page_in_headless_chromium(tmp_path):
         with sync_api.sync_playwright() as p:
             browser = p.chromium.launch(
                 executable_path=_chromium(),
-                args=["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                      "--disable-component-update", "--disable-sync"],
-            )  # fmt: skip
+                args=[
+                    "--no-sandbox",
+                    "--disable-gpu",
+                    "--disable-background-networking",
+                    "--disable-component-update",
+                    "--disable-sync",
+                ],
+            )
             page = browser.new_page(viewport={"width": 1000, "height": 780})
             page.goto(f"http://127.0.0.1:{port}/")
             page.wait_for_function(

@@ -67,10 +67,7 @@ def test_penrose_triangle_period_and_order(penrose):
     assert rep.polygons_triangulated == meta["verification"]["F"]  # 28 quads
     assert m.euler_characteristic() == meta["verification"]["glued_chi"]
     # the order is DepthOrder.from_embedding with the cut model's own depths V . view_dir
-    V = np.loadtxt(
-        [ln[2:] for ln in pm.obj.read_text().splitlines()
-         if ln.startswith("v ")]
-    )  # fmt: skip
+    V = np.loadtxt([ln[2:] for ln in pm.obj.read_text().splitlines() if ln.startswith("v ")])
     view = np.asarray(meta["camera"]["view_dir"])
     # the loader keeps the file's vertices here (nothing to clean), so F indexes V
     assert rep.vertex_map.tolist() == list(range(V.shape[0]))

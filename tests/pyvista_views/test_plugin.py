@@ -205,8 +205,9 @@ def test_accessor_on_a_cut_model_read_with_pv_read(tmp_path):
     assert out["flat_z"] == 0.0 and out["n_points"] == 28  # indexed: the mescher's own vertices
 
 
-@pytest.mark.parametrize("layout, front_to_back", [("soup", False), ("indexed", False),
-                                                   ("indexed", True)])  # fmt: skip
+@pytest.mark.parametrize(
+    "layout, front_to_back", [("soup", False), ("indexed", False), ("indexed", True)]
+)
 @pytest.mark.parametrize("shading", ["flat", "smooth"])
 def test_flattened_polydata_recovers_the_mescher_bit_for_bit(layout, shading, front_to_back):
     V, F = sphere(10)
