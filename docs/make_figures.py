@@ -6,8 +6,9 @@ python docs/make_figures.py gallery          # only the named ones (gallery, clo
                                              # hidden_gap_cube, reutersvard_relief,
                                              # exact_geodesic, concepts)
 
-``gallery.png``: every gallery model under two lights and its depth potential ``z`` (the exact
-part of its Hodge decomposition). ``closed_solid.png``: a closed U-shaped solid (an artist's
+``gallery.png``: every gallery model under two lights, with its line drawing over the shading
+(the lines say where each step and bar ends when two faces share a shade), and its depth
+potential ``z`` (the exact part of its Hodge decomposition). ``closed_solid.png``: a closed U-shaped solid (an artist's
 Penrose tribar, sphere topology) before and after :meth:`Mescher.from_model`.
 ``hidden_gap_cube.png`` and ``reutersvard_relief.png``: a real model seen obliquely, its
 z-buffer from its view, and its mescher (a hidden gap glued; perceived right angles).
@@ -32,11 +33,13 @@ from meschers_igl import Mescher, gallery
 from meschers_igl.obtain import model_to_mescher
 from meschers_igl.operators import view_frame
 from pyvista_views import render
+from pyvista_views.lineart import overlay
 
 OUT = Path(__file__).resolve().parent / "images"
 CONCEPTS = Path(__file__).resolve().parent / "_static" / "concepts"
 LIGHTS = [(0.4, 0.6, 1.0), (-0.8, 0.3, 0.6)]
 TILE = 320
+GALLERY_WIDTHS = {"outline": 1.2, "occlusion": 1.0, "crease": 0.6}
 
 
 def _solid(name: str) -> tuple[np.ndarray, np.ndarray, dict]:
@@ -60,8 +63,11 @@ def gallery_figure() -> Path:
     for name in gallery.list_models():
         gm = gallery.get_model(name)
         m, order = gm.mescher, gm.order
+        # A treads-toward-the-viewer flight of the stairs shows its steps only as lines: treads
+        # of one height and the next share a shade, as in Penrose's drawing.
         tiles = [
-            render(m, order=order, lights=[light], window_size=(TILE, TILE)) for light in LIGHTS
+            overlay(m, order, window_size=(TILE, TILE), lights=[light], widths=GALLERY_WIDTHS)
+            for light in LIGHTS
         ]
         tiles.append(
             render(
