@@ -317,8 +317,7 @@ def geodesic_picture(
     from pyvista_views.overlays import refine_path
 
     from .cli_args import headless_views
-    from .settings import study_settings
-    from .steps import subdivision_levels
+    from .settings import study_settings, subdivision_levels
 
     pvv = headless_views()
     bounds = default_bounds(xy_box(np.asarray(m.xy)), size)

@@ -80,3 +80,11 @@ def study_settings(quick: bool = False) -> StudySettings:
     if quick:
         return StudySettings(quick=True, cell=192, levels=1)
     return StudySettings(quick=False, cell=320, levels=2)
+
+
+def subdivision_levels(n_faces: int, levels: int, max_faces: int) -> int:
+    """The most levels, up to ``levels``, whose result has at most ``max_faces`` faces
+    (each level multiplies the faces by 4)."""
+    while levels > 0 and n_faces * 4**levels > max_faces:
+        levels -= 1
+    return levels

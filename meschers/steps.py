@@ -41,7 +41,7 @@ from .metrics import (
     one_source_per_component,
     seam_gap,
 )
-from .settings import ENV_MAP, GEODESIC_CMAP, HEAT_CMAP, LIGHTS
+from .settings import ENV_MAP, GEODESIC_CMAP, HEAT_CMAP, LIGHTS, subdivision_levels
 from .warmup import wait_compiled
 
 __all__ = ["STEPS", "Subject", "run_mescher_steps", "subdivide", "subdivision_levels"]
@@ -135,14 +135,6 @@ def subdivide(job: ModelJob, m0: Any, order0: Any) -> tuple:
         "max_integrability_residual": float(np.abs(m.integrability_residual()).max()),
     }
     return m, order
-
-
-def subdivision_levels(n_faces: int, levels: int, max_faces: int) -> int:
-    """The most levels, up to ``levels``, whose result has at most ``max_faces`` faces
-    (each level multiplies the faces by 4)."""
-    while levels > 0 and n_faces * 4**levels > max_faces:
-        levels -= 1
-    return levels
 
 
 def _loop_marks(s: Subject, periods: np.ndarray, all_loops: bool, prefix: bool) -> list:

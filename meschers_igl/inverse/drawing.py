@@ -193,7 +193,7 @@ def shade_drawing(
     """
     from scipy import ndimage
 
-    from .picture import region_polygons
+    from .regions import region_polygons
     from .shading import frames_from_creases
 
     t = np.asarray(target, dtype=np.float64)

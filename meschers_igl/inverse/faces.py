@@ -288,7 +288,7 @@ def split_shared_shade(
     normals : (3, 3) float64
         Row ``k``: unit normal of orientation ``k`` (camera frame, ``n_z > 0``).
     """
-    from .picture import region_polygons
+    from .regions import region_polygons
     from .shading import frames_from_creases
 
     lvec = np.asarray(light, dtype=np.float64)

@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 from .faces import _three_means, _two_groups, split_shared_shade
+from .regions import region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
 
@@ -113,7 +114,6 @@ def segment_picture(
         orientations under one shade, e.g. both turned away from the light: without the light
         nothing says which shade is shared).
     """
-    import scipy.sparse.csgraph as csgraph
 
     target = np.asarray(target, dtype=np.float64)
     if target.ndim != 3 or target.shape[2] != 3:
@@ -127,21 +127,7 @@ def segment_picture(
         )
     grey = target.mean(axis=-1)
     H, W = grey.shape
-    idx = np.arange(H * W).reshape(H, W)
-    # 4-neighbour pairs inside the figure that no line separates
-    pairs = []
-    for a, b, ga, gb in (
-        (idx[:, :-1], idx[:, 1:], grey[:, :-1], grey[:, 1:]),
-        (idx[:-1], idx[1:], grey[:-1], grey[1:]),
-    ):
-        same = mask.ravel()[a] & mask.ravel()[b] & (np.abs(ga - gb) <= line_step)
-        pairs.append(np.stack([a[same], b[same]], axis=1))
-    pr = np.concatenate(pairs)
-    G = sp.coo_matrix((np.ones(len(pr)), (pr[:, 0], pr[:, 1])), shape=(H * W, H * W))
-    _, comp = csgraph.connected_components(G, directed=False)
-    comp = np.where(mask.ravel(), comp, -1)
-    ids, cinv, size = np.unique(comp[mask.ravel()], return_inverse=True, return_counts=True)
-    cshade = np.bincount(cinv, weights=grey[mask]) / size
+    cinv, size, cshade = _faces_between_lines(grey, mask, line_step)
     # the shades of the faces that matter (each at least a quarter of min_share) in three
     # groups: exact weighted 1D 3-means; smaller faces join the nearest group
     big = np.nonzero(size >= 0.25 * min_share * mask.sum())[0]
@@ -158,8 +144,7 @@ def segment_picture(
             break
         v, w = v[keep], w[keep]
         groups = _three_means(v, w)
-    centre = np.array([v[groups == k].mean() if np.any(groups == k) else np.nan
-                       for k in range(3)])  # fmt: skip
+    centre = np.array([v[groups == k].mean() if np.any(groups == k) else np.nan for k in range(3)])
     grp = np.argmin(np.abs(cshade[:, None] - np.nan_to_num(centre, nan=9.0)[None]), axis=1)
     share = np.bincount(grp, weights=size, minlength=3) / mask.sum()
     # groups are distinct where a jump of more than line_step parts them: shades running on
@@ -188,96 +173,27 @@ def segment_picture(
     return Segmentation(mask, labels, shades)
 
 
-def _pixel_to_screen(res: int) -> float:
-    return 2.0 / res
+def _faces_between_lines(grey: np.ndarray, mask: np.ndarray, line_step: float):
+    """The figure's pieces that no line crosses (4-neighbours whose grey levels differ by at
+    most ``line_step`` are joined): per figure pixel its piece, and per piece its size and mean
+    grey level."""
+    import scipy.sparse.csgraph as csgraph
 
-
-def _pixel_boxes(mask: np.ndarray):
-    """The pixels of a mask as shapely boxes, one per run along a row (screen units)."""
-    import shapely
-
-    H, W = mask.shape
-    px = _pixel_to_screen(W)
-    ii, jj = np.nonzero(mask)
-    start = np.r_[True, (np.diff(jj) != 1) | (np.diff(ii) != 0)]
-    run_id = np.cumsum(start) - 1
-    j0 = jj[start]
-    j1 = np.bincount(run_id).astype(np.int64) + j0
-    r = ii[start]
-    return shapely.box(-1.0 + j0 * px, 1.0 - (r + 1) * px, -1.0 + j1 * px, 1.0 - r * px)
-
-
-def region_polygons(labels: np.ndarray, tolerance_px: float = 0.75, extra_lines=()):
-    """The regions of a label image as polygons with straight, shared boundaries.
-
-    The pixel boundaries between regions (and the background) are merged into lines between
-    junctions (``shapely.line_merge``), each line is simplified on its own with its ends kept
-    (Douglas-Peucker, ``tolerance_px``: pixel staircases become straight), and the lines are
-    polygonized again.  Neighbours thus share one simplified boundary.
-
-    Parameters
-    ----------
-    labels : (H, W) int
-        Region index per pixel, -1 for the background; the image spans ``[-1, 1]^2``.
-    tolerance_px : float
-    extra_lines : sequence of shapely LineString
-        More boundaries inside regions (hidden occlusion lines, :func:`hidden_occlusions`):
-        they split the pieces they cross and become constraints too.
-
-    Returns
-    -------
-    polygons : list of shapely Polygon
-        The pieces, each inside one region.
-    region : (P,) int64
-        Each piece's region: the majority label of the pixel centres it holds.
-    lines : list of shapely LineString
-        The simplified boundary lines (constraints of the triangulation).
-    """
-    import shapely
-
-    H, W = labels.shape
-    if H != W:
-        raise MescherError(f"labels: expected a square image, found {labels.shape}")
-    px = _pixel_to_screen(W)
-    K = int(labels.max()) + 1
-    regions = [shapely.union_all(_pixel_boxes(labels == k)) for k in range(K)]
-    edges = shapely.union_all([shapely.boundary(r) for r in regions])
-    merged = shapely.line_merge(edges)
-    lines = [g for g in getattr(merged, "geoms", [merged])]
-    lines = [_straighten(g, px, tolerance_px) for g in lines] + list(extra_lines)
-    # straightened neighbours may cross: node them again so that every piece closes
-    lines = list(shapely.get_parts(shapely.union_all(lines)))
-    pieces = list(shapely.get_parts(shapely.polygonize(lines)))
-    # the label of each piece: majority of the pixel centres inside it
-    c = -1.0 + (2.0 * np.arange(W) + 1.0) / W
-    X, Y = np.meshgrid(c, -c)
-    region = np.full(len(pieces), -1, dtype=np.int64)
-    for i, poly in enumerate(pieces):
-        x0, y0, x1, y1 = poly.bounds
-        sel = (X >= x0) & (X <= x1) & (Y >= y0) & (Y <= y1)
-        inside = shapely.contains_xy(poly, X[sel], Y[sel])
-        lab = labels[sel][inside]
-        if lab.size:  # background counts too: a hole stays a hole
-            region[i] = np.bincount(lab + 1).argmax() - 1
-    keep = region >= 0
-    return [p for p, k in zip(pieces, keep) if k], region[keep], lines
-
-
-def _straighten(line, px: float, tolerance_px: float):
-    """A pixel staircase made straight: midpoints of its unit steps, then Douglas-Peucker.
-
-    The corners of a digital line stray up to a pixel from it; the midpoints of its unit
-    steps stray at most half a pixel and alternate around it, so a tolerance under a pixel
-    leaves one segment per straight boundary.  The ends (junctions) are kept.
-    """
-    import shapely
-
-    c = np.asarray(shapely.segmentize(line, px * 1.0001).coords)
-    closed = bool(np.allclose(c[0], c[-1]))
-    if len(c) > 3:
-        mid = 0.5 * (c[1:] + c[:-1])
-        c = np.vstack([mid, mid[:1]]) if closed else np.vstack([c[:1], mid, c[-1:]])
-    return shapely.simplify(shapely.LineString(c), tolerance_px * px, preserve_topology=False)
+    H, W = grey.shape
+    idx = np.arange(H * W).reshape(H, W)
+    pairs = []
+    for a, b, ga, gb in (
+        (idx[:, :-1], idx[:, 1:], grey[:, :-1], grey[:, 1:]),
+        (idx[:-1], idx[1:], grey[:-1], grey[1:]),
+    ):
+        same = mask.ravel()[a] & mask.ravel()[b] & (np.abs(ga - gb) <= line_step)
+        pairs.append(np.stack([a[same], b[same]], axis=1))
+    pr = np.concatenate(pairs)
+    G = sp.coo_matrix((np.ones(len(pr)), (pr[:, 0], pr[:, 1])), shape=(H * W, H * W))
+    _, comp = csgraph.connected_components(G, directed=False)
+    _, cinv, size = np.unique(comp[mask.ravel()], return_inverse=True, return_counts=True)
+    cshade = np.bincount(cinv, weights=grey[mask]) / size
+    return cinv, size, cshade
 
 
 def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: float = 12.0,
