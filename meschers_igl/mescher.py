@@ -709,12 +709,14 @@ class Mescher:
 
         The harmonic part and so every period is unchanged; ``smooth(0, 0)`` is the identity.
         See :func:`meschers_igl.smoothing.smooth`.  With a :class:`DepthOrder`, returns
-        ``(mescher, order.follow(mescher))`` (smoothing xy moves overlaps).
+        ``(mescher, follow_sheets(order, mescher))``: smoothing xy moves overlaps, and a new
+        overlap continues the order of the two sheets next to it
+        (:func:`meschers_igl.smoothing.follow_sheets`), so a crossing keeps its order.
         """
-        from .smoothing import smooth
+        from .smoothing import follow_sheets, smooth
 
         m = smooth(self, t_xy=t_xy, t_zeta=t_zeta, iterations=iterations)
-        return m if order is None else (m, order.follow(m))
+        return m if order is None else (m, follow_sheets(order, m))
 
     def rotated(self, degrees: float, axis="y", order=None):
         """The mescher turned by ``degrees`` about ``axis`` ("x", "y", "z" or a direction).
