@@ -96,7 +96,8 @@ class Compiling:
     :func:`start_compiling`; the work that needs a group waits for it (:func:`wait_compiled`).
 
     While it runs, the environment variable ``MESCHERS_COMPILING`` names a folder of markers
-    (``GROUP.done`` once a group's process ended, ``owner`` this process's id), so worker
+    (``GROUP.wait`` for each group it compiles, ``GROUP.done`` once that group's process
+    ended, ``owner`` this process's id), so worker
     processes started meanwhile (they inherit the environment) wait for the groups they need
     instead of compiling them a second time.
     """
@@ -108,6 +109,9 @@ class Compiling:
         self.folder = tempfile.mkdtemp(prefix="meschers-compiling-")
         with open(os.path.join(self.folder, "owner"), "w") as f:
             f.write(str(os.getpid()))
+        for g in cold:  # the groups to wait for; the others are cached already
+            with open(os.path.join(self.folder, f"{g}.wait"), "w"):
+                pass
         self._previous = os.environ.get(_ENV)
         os.environ[_ENV] = self.folder
         # the groups a model needs first go first (it is built and ordered, then drawn); with
@@ -197,6 +201,8 @@ def _alive(pid: int) -> bool:
 def _wait_markers(folder: str, groups: Iterable[str], owner: int, timeout: float = 900.0) -> None:
     end = time.monotonic() + timeout
     for g in groups:
+        if not os.path.exists(os.path.join(folder, f"{g}.wait")):
+            continue  # not compiling: cached already
         done = os.path.join(folder, f"{g}.done")
         while not os.path.exists(done) and os.path.isdir(folder):
             if not _alive(owner) or time.monotonic() > end:

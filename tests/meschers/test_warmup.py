@@ -126,9 +126,14 @@ def test_wait_compiled_waits_for_the_groups_named_and_never_for_a_dead_owner(tmp
     assert time.perf_counter() - t < 0.5
     monkeypatch.setenv("MESCHERS_COMPILING", str(tmp_path))
     (tmp_path / "owner").write_text(str(os.getpid()))
+    for g in ("render", "order", "geodesic"):  # compiling these three
+        (tmp_path / f"{g}.wait").write_text("")
     (tmp_path / "render.done").write_text("")
     t = time.perf_counter()
     wait_compiled(["render"])  # done already
+    assert time.perf_counter() - t < 0.5
+    t = time.perf_counter()
+    wait_compiled(["render", "another"])  # a group not compiling (cached): no wait for it
     assert time.perf_counter() - t < 0.5
     timer = threading.Timer(0.6, (tmp_path / "order.done").write_text, args=("",))
     timer.start()
