@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MescherError
+from .faces import line_directions
 from .targets import target_mask
 
 #: the frame's Lambertian terms n_k . l of the light painting a drawing: three distinct shades
@@ -95,7 +96,7 @@ def is_line_drawing(
     return bool((filled & ~mask).sum() > 0.5 * mask.sum())
 
 
-def _line_directions(lines, polys, piece_region, n_regions: int, min_sep_deg: float = 20.0):
+def _directions_and_outlines(lines, polys, piece_region, n_regions: int, min_sep_deg: float = 20.0):
     """The three main orientations of the lines, and each region's outline along each.
 
     Parameters
@@ -111,36 +112,16 @@ def _line_directions(lines, polys, piece_region, n_regions: int, min_sep_deg: fl
     Returns
     -------
     dirs : (3, 2) float64
-        Unit directions: peaks of the length-weighted histogram of segment orientations
-        (1 degree bins, smoothed over 5), each refined by the weighted mean of the doubled
-        angles within 5 degrees.
+        Unit directions (:func:`.faces.line_directions`).
     along : (R, 3) float64
         Length of each region's outline within 10 degrees of each direction.
     total : (R,) float64
         Length of each region's outline.
     """
-    segs = np.concatenate([np.diff(np.asarray(g.coords), axis=0) for g in lines])
-    ln = np.linalg.norm(segs, axis=1)
-    ang = np.mod(np.arctan2(segs[:, 1], segs[:, 0]), np.pi)
-    hist = np.bincount(np.floor(np.degrees(ang)).astype(np.int64) % 180, ln, minlength=180)
-    smooth = sum(np.roll(hist, s_) for s_ in range(-2, 3))
-    centre = np.arange(180) + 0.5
-    dirs = []
-    for _ in range(3):
-        k = int(np.argmax(smooth))
-        if smooth[k] <= 0:
-            raise MescherError(
-                f"target: expected lines along three directions (a drawing of boxes), found "
-                f"{len(dirs)}"
-            )
-        pk = math.radians(centre[k])
-        near = np.abs(np.angle(np.exp(2j * (ang - pk)))) < 2.0 * math.radians(5.0)
-        z = (ln[near] * np.exp(2j * ang[near])).sum()
-        th = 0.5 * math.atan2(z.imag, z.real)
-        dirs.append((math.cos(th), math.sin(th)))
-        gap = np.abs((centre - centre[k] + 90.0) % 180.0 - 90.0)
-        smooth = np.where(gap < min_sep_deg, 0.0, smooth)
-    dirs = np.asarray(dirs)
+    pts = [np.asarray(g.coords) for g in lines]
+    starts = np.concatenate([c[:-1] for c in pts])
+    ends = np.concatenate([c[1:] for c in pts])
+    dirs = line_directions(starts, ends, k=3, apart_deg=min_sep_deg)
     along = np.zeros((n_regions, 3))
     total = np.zeros(n_regions)
     cos10 = math.cos(math.radians(10.0))
@@ -222,7 +203,7 @@ def shade_drawing(
     near = np.where(seeds, lab, lab[ii, jj])
     reg = np.where(np.isin(near, border), -1, region_of[near])
     polys, preg, lines = region_polygons(reg)
-    dirs, along, total = _line_directions(lines, polys, preg, len(regions))
+    dirs, along, total = _directions_and_outlines(lines, polys, preg, len(regions))
     share = along / np.maximum(total[:, None], 1e-300)
     k_min = np.argmin(share, axis=1)
     own = share[np.arange(len(regions)), k_min]
