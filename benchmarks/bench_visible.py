@@ -7,7 +7,11 @@ opened and glued crosswise, order from the model's depths) and the visible surfa
 (hidden-surface removal, visible map, gluing) -- and, as a yardstick measured in the same
 run on the same mesh, ``igl.cotmatrix``.
 
-    python benchmarks/bench_visible.py [--resolution 128] [--repeat 3]
+A scene of many parts: ``--grid n`` separate 2 x 2 x 1 boxes, 1 apart (a city block), on a
+ground quad 20 times the block's size, seen from (1, 2, 3); it must come out possible (no
+period) and fast (the steps comparing parts with parts grow about linearly with the parts).
+
+    python benchmarks/bench_visible.py [--resolution 128] [--repeat 3] [--grid 10]
 """
 
 from __future__ import annotations
@@ -15,6 +19,7 @@ from __future__ import annotations
 import argparse
 import os
 import time
+import warnings
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "2")
 os.environ.setdefault("OMP_NUM_THREADS", "2")
@@ -22,6 +27,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "2")
 import igl  # noqa: E402
 import numpy as np  # noqa: E402
 
+from meschers_igl.errors import MescherWarning  # noqa: E402
 from meschers_igl.gallery import get_model  # noqa: E402
 from meschers_igl.obtain import model_to_mescher  # noqa: E402
 from meschers_igl.topology import boundary_loops  # noqa: E402
@@ -38,6 +44,32 @@ def capped_tribar(resolution: int):
     return V, np.vstack([F, *caps]), g.view, g.up, g.expected_period
 
 
+def block_grid(n: int, ground: float = 20.0):
+    """``n x n`` separate boxes on a ground quad ``ground`` times the grid's size."""
+    f = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])  # fmt: skip
+    unit = np.array([[x, y, z] for z in (0, 1) for y in (0, 2) for x in (0, 2)], np.float64)
+    ij = np.stack(np.divmod(np.arange(n * n), n), axis=1)
+    V = (unit[None] + 3.0 * np.c_[ij, np.zeros(n * n)][:, None]).reshape(-1, 3)
+    F = (f[None] + 8 * np.arange(n * n)[:, None, None]).reshape(-1, 3)
+    c, h = 1.5 * n - 0.5, ground * 3.0 * n
+    G = np.array([[c - h, c - h, 0], [c + h, c - h, 0], [c + h, c + h, 0], [c - h, c + h, 0]])
+    k = V.shape[0]
+    return np.vstack([V, G]), np.vstack([F, [[k, k + 1, k + 2], [k, k + 2, k + 3]]])
+
+
+def bench_grid(n: int, repeat: int) -> float:
+    V, F = block_grid(n)
+    model_to_mescher(*block_grid(2), view=(1, 2, 3))  # warm-up
+    t, (m, order, report) = best(lambda: model_to_mescher(V, F, view=(1, 2, 3)), repeat)
+    p = float(np.abs(m.periods()).max(initial=0.0))
+    print(
+        f"block grid {n}x{n} on a ground plane: {F.shape[0]} faces, {n * n + 1} parts -> "
+        f"{t:7.3f} s, route {report.route}, {m.n_faces} faces, largest period {p:.3g}"
+    )
+    return t
+
+
 def best(fn, repeat):
     times = []
     for _ in range(repeat):
@@ -51,7 +83,11 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--resolution", type=int, default=128)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--grid", type=int, nargs="*", default=[6, 10])
     a = ap.parse_args(argv)
+    warnings.simplefilter("ignore", MescherWarning)  # "the result is possible": expected
+    for n in a.grid:
+        bench_grid(n, a.repeat)
     V, F, view, up, gap = capped_tribar(a.resolution)
     t_cot, _ = best(lambda: igl.cotmatrix(V, F), a.repeat)
     print(f"closed capped tribar: {F.shape[0]} faces, {V.shape[0]} vertices")

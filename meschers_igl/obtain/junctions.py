@@ -88,15 +88,42 @@ def find_caps(V, F, TT, patch, tol) -> list:
     return out
 
 
-def _match_loops(A: np.ndarray, B: np.ndarray, tol: float):
-    """Correspondence ``B[perm] == A + T`` of two loops congruent by a translation, or None."""
-    if A.shape != B.shape:
-        return None
-    T = B.mean(axis=0) - A.mean(axis=0)
-    d, perm = cKDTree(B).query(A + T)
-    if np.max(d) > tol or np.unique(perm).size != perm.size:
-        return None
-    return perm, T
+#: Most distances (pairs x loop size^2) compared at once by :func:`_match_loop_pairs`.
+_MATCH_CHUNK = 1 << 22
+
+
+def _match_loop_pairs(V, caps, size, ij, tol):
+    """Which pairs of caps ``ij`` (equal loop sizes) have loops congruent by a translation.
+
+    Loops ``A``, ``B`` match when ``B[perm] == A + T`` to ``tol`` for the translation ``T``
+    between their centroids and ``perm`` (each point of ``A + T``'s nearest in ``B``) a
+    permutation; vectorized over the pairs of one loop size.
+
+    Returns
+    -------
+    ok : (k,) bool
+    T : (k, 3) float64
+        The translations from ``ij[:, 0]``'s loop to ``ij[:, 1]``'s.
+    """
+    ok = np.zeros(ij.shape[0], dtype=bool)
+    Ts = np.zeros((ij.shape[0], 3))
+    for n in np.unique(size[ij[:, 0]]).tolist() if ij.size else []:  # a few loop sizes
+        rows = np.flatnonzero(size[ij[:, 0]] == n)
+        L = np.array([c.loop for c in caps if c.loop.size == n] or [np.zeros(n, np.int64)])
+        at = np.cumsum(size == n) - 1  # cap -> row of L
+        step = max(1, _MATCH_CHUNK // (n * n))
+        for s in range(0, rows.size, step):  # chunks of pairs
+            r = rows[s : s + step]
+            A, B = V[L[at[ij[r, 0]]]], V[L[at[ij[r, 1]]]]
+            T = B.mean(axis=1) - A.mean(axis=1)
+            D = np.linalg.norm((A + T[:, None])[:, :, None] - B[:, None], axis=3)
+            perm = np.argmin(D, axis=2)
+            d = np.take_along_axis(D, perm[:, :, None], axis=2)[:, :, 0]
+            ps = np.sort(perm, axis=1)
+            uniq = np.all(ps[:, 1:] != ps[:, :-1], axis=1)
+            ok[r] = (d.max(axis=1) <= tol) & uniq
+            Ts[r] = T
+    return ok, Ts
 
 
 def _side_direction(V, F, TT, cap: Cap, tol: float):
@@ -313,14 +340,13 @@ def bar_end_pairs(
             lp = cKDTree(K).query_pairs(10 * tol, output_type="ndarray")
             cand += np.asarray(rows)[lp].tolist()
     out = []
-    for i, j in sorted({(min(p), max(p)) for p in cand}):  # the candidate pairs
+    ij = np.asarray(sorted({(min(p), max(p)) for p in cand}), np.int64).reshape(-1, 2)
+    nrm = np.array([c.normal for c in caps])
+    ij = ij[size[ij[:, 0]] == size[ij[:, 1]]]
+    ij = ij[np.einsum("ij,ij->i", nrm[ij[:, 0]], nrm[ij[:, 1]]) <= -1.0 + CAP_NORMAL_TOL]
+    ok, Ts = _match_loop_pairs(V, caps, size, ij, tol)
+    for (i, j), T in zip(ij[ok].tolist(), Ts[ok]):  # the pairs of congruent caps
         a, b = caps[i], caps[j]
-        if size[i] != size[j] or a.normal @ b.normal > -1.0 + CAP_NORMAL_TOL:
-            continue
-        match = _match_loops(V[a.loop], V[b.loop], tol)
-        if match is None:
-            continue
-        T = match[1]
         da, db = side(i), side(j)
         facing = da is not None and db is not None and da @ db <= -1.0 + 1e-9
         out.append(BarEnds(a, b, T, da if facing else None))
@@ -328,7 +354,46 @@ def bar_end_pairs(
     return out
 
 
-def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
+def bridges_blocked(V: np.ndarray, F: np.ndarray, R: np.ndarray, pairs: list) -> np.ndarray:
+    """Does the bridge :func:`junction_at` would build for each pair from view ``R`` run
+    through a solid?
+
+    The bridge's axis, ``c0 + s l d`` for ``s`` in (1/4, 1/2, 3/4) with ``c0`` the first cap's
+    centroid and ``T = l d + g v`` solved in least squares, is blocked where libigl's
+    generalized winding number exceeds 1/2.  One winding-number call for all pairs: its
+    set-up is what a call costs, so judging a scene's thousands of pairs one by one grew
+    with pairs times faces.
+
+    Parameters
+    ----------
+    V : (#V, 3) float64, F : (#F, 3) int64
+    R : (3, 3) float64
+        ``view_frame(view, up)``.
+    pairs : list of BarEnds
+
+    Returns
+    -------
+    (#pairs,) bool
+        False for pairs with no bar direction (no bridge to build).
+    """
+    v = R[2]
+    out = np.zeros(len(pairs), dtype=bool)
+    k = [i for i, be in enumerate(pairs) if be.d is not None and be.first.normal @ be.d > 0]
+    if not k:
+        return out
+    d = np.array([pairs[i].d for i in k])
+    T = np.array([pairs[i].T for i in k])
+    M = np.stack([d, np.broadcast_to(v, d.shape)], axis=2)  # (k, 3, 2)
+    # lstsq's solution, batched: the same cut-off of small singular values (3 eps)
+    ell = (np.linalg.pinv(M, 3.0 * np.finfo(np.float64).eps) @ T[:, :, None])[:, 0, 0]
+    c0 = np.array([V[pairs[i].first.loop].mean(axis=0) for i in k])
+    axis = c0[:, None] + np.array([0.25, 0.5, 0.75])[None, :, None] * (ell[:, None] * d)[:, None]
+    w = igl.winding_number(V, F, axis.reshape(-1, 3)).reshape(-1, 3)
+    out[k] = np.any(np.abs(w) > 0.5, axis=1)
+    return out
+
+
+def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None):
     """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
     ("hidden gap", g, ell), ("crossing", 0, ell) or None.
 
@@ -338,7 +403,9 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
     edge-on (:data:`CROSSING_EDGE_ON`) and the gap between them is filled on screen by one bar
     lying *behind* them, its band as wide as the gap
     (:func:`crossing_behind`): a viewer completes the broken bar behind the crossing bar,
-    which contradicts the depths elsewhere (impossible through the depth order)."""
+    which contradicts the depths elsewhere (impossible through the depth order).
+
+    ``blocked``: :func:`bridges_blocked` for ``be``, when computed for many pairs at once."""
     v = R[2]
     gap = float(be.T @ v)
     if np.linalg.norm(be.T - gap * v) <= tol and abs(gap) > tol:
@@ -358,7 +425,9 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge):
     axis = c0 + np.array([[0.25], [0.5], [0.75]]) * ell * d
     # the bridge must run through empty space (not through a block in between) and be hidden
     # (libigl's generalized winding number: ~1 inside a solid)
-    if np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5):
+    if blocked is None:
+        blocked = bool(np.any(np.abs(igl.winding_number(V, F, axis)) > 0.5))
+    if blocked:
         return None
     S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
     if abs(g) <= tol:
@@ -435,11 +504,12 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     used, drop, junctions = set(), [], []
     newV, newF, tube_code = [], [], []
     nV = V.shape[0]
-    for be in pairs:  # a few candidate pairs
+    blocked = bridges_blocked(V, F, R, pairs) if bridge else np.zeros(len(pairs), bool)
+    for be, bl in zip(pairs, blocked.tolist()):  # the candidate pairs
         ids = {id(be.first), id(be.second)}
         if ids & used:
             continue
-        found = junction_at(V, F, C, R, be, tol, front, part, bridge)
+        found = junction_at(V, F, C, R, be, tol, front, part, bridge, bl)
         if found is None:
             continue
         kind, gap, ell = found

@@ -26,7 +26,7 @@ from ..operators import view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
 from .clip import REL_TOL
-from .junctions import BarEnds, bar_end_pairs, junction_at, parts_and_front
+from .junctions import BarEnds, bar_end_pairs, bridges_blocked, junction_at, parts_and_front
 
 #: Vertices taking part in the vote (all pairs among them are tried).
 MAX_VOTERS = 1500
@@ -56,6 +56,40 @@ def _voters(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> np.ndarra
     if S.size > MAX_VOTERS:
         S = np.sort(rng.choice(S, MAX_VOTERS, replace=False))
     return S
+
+
+def _unique_rows(X: np.ndarray):
+    """Exactly equal rows of ``X`` (n, 3): (distinct rows, (n,) row -> distinct, counts)."""
+    o = np.lexsort(X.T[::-1])
+    new = np.r_[True, np.any(X[o[1:]] != X[o[:-1]], axis=1)][: X.shape[0]]
+    inv = np.empty(X.shape[0], dtype=np.int64)
+    inv[o] = np.cumsum(new) - 1
+    return X[o[new]], inv, np.bincount(inv)
+
+
+def _votes(U: np.ndarray, angle: float):
+    """How many of the unit directions ``U`` and ``-U`` lie within ``angle`` (chord length) of
+    each ``U[k]``, itself included.
+
+    Directions that repeat exactly (a model on a lattice: many vertex pairs along one
+    direction) are counted once with their multiplicity, so the cost grows with the pairs of
+    *distinct* directions that agree, not with the square of a cluster's size.
+
+    Returns
+    -------
+    counts : (#U,) int64
+    W : (k, 3) float64
+        The distinct directions of ``U``.
+    inv : (#U,) int64
+        ``U[i] == W[inv[i]]``.
+    """
+    W, inv, mult = _unique_rows(U)
+    k = W.shape[0]
+    pq = cKDTree(np.vstack([W, -W])).query_pairs(angle, output_type="ndarray")
+    m2 = np.r_[mult, mult].astype(np.float64)
+    near = np.bincount(pq[:, 0], weights=m2[pq[:, 1]], minlength=2 * k)
+    near += np.bincount(pq[:, 1], weights=m2[pq[:, 0]], minlength=2 * k)
+    return (mult + np.rint(near[:k]).astype(np.int64))[inv], W, inv
 
 
 def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 1):
@@ -97,19 +131,15 @@ def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 
     pos = np.full(V.shape[0], -1)
     pos[S] = np.arange(S.size)
     Fs = pos[F]
-    on_face = set()
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        e = np.sort(Fs[:, [a, b]], axis=1)
-        e = e[(e >= 0).all(axis=1)]
-        on_face.update((e[:, 0] * S.size + e[:, 1]).tolist())
+    e = np.sort(Fs[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    e = e[(e >= 0).all(axis=1)]
     key = i * S.size + j
-    ok &= ~np.isin(key, np.fromiter(on_face, dtype=np.int64, count=len(on_face)))
+    ok &= ~np.isin(key, np.unique(e[:, 0] * S.size + e[:, 1]))
     D, L, i, j = D[ok], L[ok], i[ok], j[ok]
     U = D / L[:, None]
     U *= np.where(U @ np.array([1e-3, 1e-2, 1.0]) < 0, -1.0, 1.0)[:, None]  # one hemisphere
-    tree = cKDTree(np.vstack([U, -U]))
     # votes: pairs whose directions agree within VOTE_ANGLE (either sign), longer pairs first
-    counts = np.array([len(c) for c in tree.query_ball_point(U, VOTE_ANGLE)])
+    counts, W, inv = _votes(U, VOTE_ANGLE)
     if counts.size == 0 or counts.max() < 2:
         raise MescherError(
             "V: expected vertex pairs that line up along a common direction (a view in which "
@@ -123,15 +153,15 @@ def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 
     nu = n / np.maximum(area, 1e-300)[:, None]
     order = np.lexsort((-L, -counts))
     found = []
-    tried = np.zeros(U.shape[0], dtype=bool)  # pairs whose direction was already judged
+    tried = np.zeros(W.shape[0], dtype=bool)  # directions already judged
     n_tried = 0
     for c in order.tolist():  # the best-supported distinct directions first, few tried
-        if tried[c]:
+        if tried[inv[c]]:
             continue
         if counts[c] < 2 or n_tried >= MAX_DIRECTIONS or len(found) >= max_views:
             break
         n_tried += 1
-        tried |= np.abs(U @ U[c]) >= np.cos(VOTE_ANGLE)
+        tried |= np.abs(W @ U[c]) >= np.cos(VOTE_ANGLE)
         edge_on = float(area[np.abs(nu @ U[c]) < 1e-3].sum() / area.sum())
         if edge_on <= MAX_EDGE_ON:
             found.append(c)
@@ -275,7 +305,11 @@ def find_model_view(
     def seen(v):
         R = view_frame(v, up_for_view(v))
         _, C, front = parts_and_front(V, F, TT, R)
-        return any(junction_at(V, F, C, R, be, tol, front, part, True) for be in pairs)
+        blocked = bridges_blocked(V, F, R, pairs).tolist()
+        return any(
+            junction_at(V, F, C, R, be, tol, front, part, True, bl)
+            for be, bl in zip(pairs, blocked)
+        )
 
     err = None
     try:
