@@ -393,6 +393,32 @@ def bridges_blocked(V: np.ndarray, F: np.ndarray, R: np.ndarray, pairs: list) ->
     return out
 
 
+def may_be_junctions(pairs: list, R: np.ndarray, tol: float, bridge: bool) -> np.ndarray:
+    """(#pairs,) bool, False only for pairs :func:`junction_at` surely finds no junction for
+    from view ``R``: the caps do not coincide on screen, and ``T = l d + g v`` has no solution
+    with ``l > 0`` (or no bar direction ``d``).  Vectorized over the pairs, with twice the
+    tolerance (a superset: :func:`junction_at` decides), so that a scene's many pairs on one
+    screen line are not each solved on their own."""
+    out = np.zeros(len(pairs), dtype=bool)
+    if not pairs:
+        return out
+    v = R[2]
+    T = np.array([be.T for be in pairs])
+    gap = T @ v
+    out |= (np.linalg.norm(T - gap[:, None] * v, axis=1) <= 2 * tol) & (np.abs(gap) > 0.5 * tol)
+    if not bridge:
+        return out
+    k = [i for i, be in enumerate(pairs) if be.d is not None and be.first.normal @ be.d > 0]
+    if not k:
+        return out
+    d = np.array([pairs[i].d for i in k])
+    M = np.stack([d, np.broadcast_to(v, d.shape)], axis=2)  # (k, 3, 2)
+    x = (np.linalg.pinv(M, 3.0 * np.finfo(np.float64).eps) @ T[k, :, None])[:, :, 0]
+    res = np.linalg.norm((M @ x[:, :, None])[:, :, 0] - T[k], axis=1)
+    out[k] |= (x[:, 0] > 0.5 * tol) & (res <= 2 * tol)
+    return out
+
+
 def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None):
     """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
     ("hidden gap", g, ell), ("crossing", 0, ell) or None.
@@ -504,6 +530,8 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     used, drop, junctions = set(), [], []
     newV, newF, tube_code = [], [], []
     nV = V.shape[0]
+    may = may_be_junctions(pairs, R, tol, bridge)
+    pairs = [be for be, m in zip(pairs, may.tolist()) if m]
     blocked = bridges_blocked(V, F, R, pairs) if bridge else np.zeros(len(pairs), bool)
     for be, bl in zip(pairs, blocked.tolist()):  # the candidate pairs
         ids = {id(be.first), id(be.second)}

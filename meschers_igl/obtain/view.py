@@ -26,7 +26,14 @@ from ..operators import view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
 from .clip import REL_TOL
-from .junctions import BarEnds, bar_end_pairs, bridges_blocked, junction_at, parts_and_front
+from .junctions import (
+    BarEnds,
+    bar_end_pairs,
+    bridges_blocked,
+    junction_at,
+    may_be_junctions,
+    parts_and_front,
+)
 
 #: Vertices taking part in the vote (all pairs among them are tried).
 MAX_VOTERS = 1500
@@ -305,10 +312,10 @@ def find_model_view(
     def seen(v):
         R = view_frame(v, up_for_view(v))
         _, C, front = parts_and_front(V, F, TT, R)
-        blocked = bridges_blocked(V, F, R, pairs).tolist()
+        may = [be for be, m in zip(pairs, may_be_junctions(pairs, R, tol, True).tolist()) if m]
+        blocked = bridges_blocked(V, F, R, may).tolist()
         return any(
-            junction_at(V, F, C, R, be, tol, front, part, True, bl)
-            for be, bl in zip(pairs, blocked)
+            junction_at(V, F, C, R, be, tol, front, part, True, bl) for be, bl in zip(may, blocked)
         )
 
     err = None

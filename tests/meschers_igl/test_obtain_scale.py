@@ -145,3 +145,29 @@ def test_find_view_on_a_lattice_is_quick_and_lines_up_pairs():
     s = V @ R[:2].T
     assert pairs.shape[0] >= 2
     assert np.abs(s[pairs[:, 0]] - s[pairs[:, 1]]).max() <= 1e-9 * np.ptp(s)
+
+
+def test_pair_gate_keeps_every_junction():
+    """The vectorized gate drops only pairs that :func:`junction_at` finds no junction for:
+    on the U-tribar (a false edge from its view) and on a grid of boxes of three heights."""
+    from visible_models import ISO_UP, ISO_VIEW, triangulate, u_tribar
+
+    from meschers_igl.obtain import weld
+    from meschers_igl.obtain.junctions import junction_at, may_be_junctions, parts_and_front
+
+    Vt, P, _ = u_tribar()
+    Vt, Ft, _ = weld(Vt, triangulate(P), 1e-9)
+    Vg, Fg = block_grid(4, heights=np.arange(16) % 3 + 1.0)
+    n_found = n_dropped = 0
+    for V, F, view, up in ((Vt, Ft, ISO_VIEW, ISO_UP), (Vg, Fg, (1.0, 2.0, 3.0), (0, 0, 1.0))):
+        R = view_frame(view, up)
+        TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
+        pairs = bar_end_pairs(V, F, 1e-6, TT)
+        part, C, front = parts_and_front(V, F, TT, R)
+        may = may_be_junctions(pairs, R, 1e-6, True)
+        for be, m in zip(pairs, may.tolist()):
+            found = junction_at(V, F, C, R, be, 1e-6, front, part, True)
+            assert m or found is None
+            n_found += found is not None
+        n_dropped += int((~may).sum())
+    assert n_found >= 1 and n_dropped >= 1, (n_found, n_dropped)
