@@ -651,8 +651,9 @@ class Mescher:
             original vertices keep their indices.
         order : DepthOrder, optional
             Carried to the children and returned: parents' arcs where children overlap
-            (``order.refine`` for midpoint subdivision; ``order.follow`` for Loop, which also
-            orders from local depth the overlaps that Loop's moved xy create).
+            (``order.refine`` for midpoint subdivision; for Loop, whose moved xy create
+            overlaps, :func:`meschers_igl.smoothing.follow_sheets`: a new overlap continues the
+            order of the sheets next to it, local depth only where none reaches).
         return_matrix : bool
             Also return the (#V_child, #V) 0-form subdivision matrix.
         return_face_parent : bool
@@ -665,6 +666,8 @@ class Mescher:
         -------
         Mescher, followed by the order, the matrix and the face parents when asked for.
         """
+        from .smoothing import follow_sheets
+
         m = self
         S_total = sp.identity(self.n_vertices, format="csr")
         parent_total = np.arange(self.n_faces)
@@ -686,11 +689,12 @@ class Mescher:
             if order is not None:
                 # Midpoint children lie inside their parents on screen, so the parents' arcs
                 # are all there is to carry (refine, 4x faster than follow at 1M faces); Loop
-                # moves xy and may create overlaps that only follow orders.
+                # moves xy and creates overlaps, which continue the order of the sheets next
+                # to them (follow_sheets; local depth would flip it inside a sheet).
                 order = (
                     order.refine(lvl.face_parent, m)
                     if scheme == "midpoint"
-                    else order.follow(m, lvl.face_parent)
+                    else follow_sheets(order, m, lvl.face_parent)
                 )
             if return_matrix:
                 S_total = (lvl.S @ S_total).tocsr()

@@ -98,31 +98,37 @@ def smooth(m, t_xy: float = 0.0, t_zeta: float = 0.0, iterations: int = 1):
     return m
 
 
-def follow_sheets(order, m_new, *, max_rings: int = 32, tol: float | None = None):
-    """The depth order carried to a mescher whose screen positions were smoothed, sheet by sheet.
+def follow_sheets(order, m_new, face_parent=None, *, max_rings: int = 32, tol: float | None = None):
+    """The depth order carried to a mescher whose screen positions moved, sheet by sheet.
 
     :meth:`DepthOrder.follow` carries the arcs of pairs that still overlap and orders the pairs
     that start to overlap from local depth.  Where an impossible figure crosses itself (a back
     bar drawn over a front bar, the bars at equal depth) local depth says the opposite of the
     figure's order, or nothing at all (a tie leaves the pair unordered and the painter draws
     either face first), so the faces that smoothing slides into a crossing's edge came out on
-    the wrong side: specks of the hidden bar inside the front one.
+    the wrong side: specks of the hidden bar inside the front one.  Loop subdivision moves
+    screen positions too: children of faces that did not overlap come to overlap.
 
     The rule here: an overlap that appears continues the overlap of the same two sheets next to
-    it.  A new pair ``(a, b)`` (overlapping now, no arc before) takes the direction of the arcs
-    between faces next to ``a`` (sharing a vertex) and faces next to ``b`` -- the old arcs, and
-    the pairs already settled this way -- by majority, repeated until no pair changes, so the
-    order spreads from the old overlap over the new one, one ring per round (at most
-    ``max_rings`` rounds).  Only pairs the spreading never reaches keep local depth.  Arcs that
-    would close a cycle with the carried ones are reconciled as in :meth:`DepthOrder.follow`
-    (the carried arcs win, then the spread ones).
+    it.  A new pair ``(a, b)`` (overlapping now, no arc between their parents before) takes the
+    direction of the arcs between faces next to ``a`` (sharing a vertex) and faces next to
+    ``b`` -- the carried arcs (of pairs that still overlap) and the pairs already settled this
+    way -- by majority, repeated until no pair changes, so the order spreads from the old
+    overlap over the new one, one ring per round (at most ``max_rings`` rounds).  Only pairs
+    the spreading never reaches keep local depth, and so do new pairs of faces sharing a vertex
+    (a fold of one sheet: one chart of the lift holds both, so their local depth is their
+    order).  Arcs that would close a cycle with the carried ones are reconciled as in
+    :meth:`DepthOrder.follow` (the carried arcs win, then the spread ones).
 
     Parameters
     ----------
     order : DepthOrder
-        The order of the mescher before the move (same faces as ``m_new``).
+        The order of the mescher before the move.
     m_new : Mescher
         The mescher after the move.
+    face_parent : (#F_new,) array_like of int, optional
+        Face of ``order``'s mescher each face of ``m_new`` comes from (subdivision), as in
+        :meth:`DepthOrder.follow`; default: the same faces.
     max_rings : int, default: 32
         Rounds of spreading.
     tol : float, optional
@@ -138,19 +144,22 @@ def follow_sheets(order, m_new, *, max_rings: int = 32, tol: float | None = None
     from .order_graph import reconcile_arcs
 
     max_rings = as_count(max_rings, "max_rings", minimum=1)
-    followed = order.follow(m_new, tol=tol)
-    n = int(m_new.n_faces)
+    followed = order.follow(m_new, face_parent, tol=tol)
+    n, n_old = int(m_new.n_faces), int(order.n_faces)
     old = np.asarray(order.arcs, dtype=np.int64).reshape(-1, 2)
     if old.shape[0] == 0:
         return followed
+    parent = np.arange(n) if face_parent is None else np.asarray(face_parent, dtype=np.int64)
     F = np.asarray(m_new.F, dtype=np.int64)
     T = np.ascontiguousarray(np.asarray(m_new.xy, dtype=np.float64)[F])
     pairs = overlapping_pairs(T, default_tol(T) if tol is None else float(tol), centroids=True)[0]
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
-    old_keys = np.unique(np.concatenate((old[:, 0] * n + old[:, 1], old[:, 1] * n + old[:, 0])))
-    new = pairs[~np.isin(pairs[:, 0] * n + pairs[:, 1], old_keys)]
+    old_keys = np.unique(
+        np.concatenate((old[:, 0] * n_old + old[:, 1], old[:, 1] * n_old + old[:, 0]))
+    )
+    new = pairs[~np.isin(parent[pairs[:, 0]] * n_old + parent[pairs[:, 1]], old_keys)]
     arcs = np.asarray(followed.arcs, dtype=np.int64).reshape(-1, 2)
-    carried = arcs[np.isin(arcs[:, 0] * n + arcs[:, 1], old_keys)]
+    carried = arcs[np.isin(parent[arcs[:, 0]] * n_old + parent[arcs[:, 1]], old_keys)]
     if new.shape[0] == 0:
         return followed
     nv = int(F.max()) + 1
@@ -158,9 +167,12 @@ def follow_sheets(order, m_new, *, max_rings: int = 32, tol: float | None = None
         (np.ones(F.size), (np.repeat(np.arange(n), 3), F.reshape(-1))), shape=(n, nv)
     )
     near = ((incidence @ incidence.T) > 0).astype(np.float64).tocsr()  # faces sharing a vertex
+    # two faces sharing a vertex lie in one chart of the lift: their local depth is their order
+    own = np.asarray(near[new[:, 0], new[:, 1]]).ravel() > 0
     near_a, near_b = near[new[:, 0]], near[new[:, 1]]
     direction = np.zeros(new.shape[0], dtype=np.int8)  # +1: a -> b, -1: b -> a, 0: open
-    R = sp.csr_matrix((np.ones(old.shape[0]), (old[:, 0], old[:, 1])), shape=(n, n))
+    direction[own] = 2  # settled by local depth below
+    R = sp.csr_matrix((np.ones(carried.shape[0]), (carried[:, 0], carried[:, 1])), shape=(n, n))
     for _ in range(max_rings):
         open_ = np.flatnonzero(direction == 0)
         if open_.size == 0:
@@ -177,6 +189,7 @@ def follow_sheets(order, m_new, *, max_rings: int = 32, tol: float | None = None
         R = R + sp.csr_matrix(
             (np.ones(settled.shape[0]), (settled[:, 0], settled[:, 1])), shape=(n, n)
         )
+    direction[own] = 0
     spread = np.concatenate((new[direction > 0], new[direction < 0][:, ::-1]))
     spread = reconcile_arcs(n, carried, spread)
     hard = np.concatenate((carried, spread))

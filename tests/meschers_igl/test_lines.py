@@ -335,7 +335,27 @@ def test_seam_across_a_strip_seen_edge_on_is_no_line():
     assert gt.any() and not gt[inner].any()
 
 
-@pytest.mark.parametrize("levels", [0, 1])
+def _inner_contour_misses(m, order):
+    """Stray drawn pixels (over 1.5 px from any line pixel of the painter's picture) and the
+    largest distance from a line pixel of the picture up the right end of the hole to the
+    drawing, at 512 px."""
+    ld = line_drawing(m, order)
+    lo, hi = np.asarray(m.xy).min(0), np.asarray(m.xy).max(0)
+    c, half = 0.5 * (lo + hi), 0.55 * (hi - lo).max()
+    bounds = (c[0] - half, c[0] + half, c[1] - half, c[1] + half)
+    faces = visible_faces(m, order, size=512, bounds=bounds)
+    gt = visible_face_edges(faces, m, bounds)
+    drawn = _drawn_mask(ld, bounds, faces.shape)
+    stray = drawn & (ndimage.distance_transform_edt(~gt) > 1.5)
+    px = 2 * half / 512
+    x = bounds[0] + (np.arange(512) + 0.5) * px
+    y = bounds[3] - (np.arange(512) + 0.5) * px
+    band = ((x > 1.35) & (x < 1.5))[None, :] & ((y > -0.2) & (y < 0.1))[:, None]
+    assert (gt & band).sum() > 20
+    return stray, ndimage.distance_transform_edt(~drawn)[gt & band].max()
+
+
+@pytest.mark.parametrize("levels", [0, 1, 2])
 def test_impossibagel_inner_contour_is_not_dashed(levels):
     # the impossible order flips between neighbouring faces of the fold at the hole's right end;
     # the interpolated contour must neither flicker into dashes where the painter shows no line
@@ -346,24 +366,24 @@ def test_impossibagel_inner_contour_is_not_dashed(levels):
     m, order = g.mescher, g.order
     if levels:
         m, order = m.subdivide(levels, scheme="loop", order=order)
-    ld = line_drawing(m, order)
-    lo, hi = np.asarray(m.xy).min(0), np.asarray(m.xy).max(0)
-    c, half = 0.5 * (lo + hi), 0.55 * (hi - lo).max()
-    bounds = (c[0] - half, c[0] + half, c[1] - half, c[1] + half)
-    faces = visible_faces(m, order, size=512, bounds=bounds)
-    gt = visible_face_edges(faces, m, bounds)
-    drawn = _drawn_mask(ld, bounds, faces.shape)
     # no dash: every drawn pixel lies within 1.5 px of a line pixel of the painter's picture
-    stray = drawn & (ndimage.distance_transform_edt(~gt) > 1.5)
+    stray, gap = _inner_contour_misses(m, order)
     assert not stray.any(), np.argwhere(stray)[:5]
+    if levels == 2:
+        # Loop's overlaps ordered from local depth instead of the sheets beside them: the
+        # painter shows the figure's order flipping inside a sheet there, and the drawing
+        # dashes (the test can fail)
+        m1, o1, parent = g.mescher.subdivide(1, scheme="loop", order=g.order,
+                                             return_face_parent=True)  # fmt: skip
+        m2, parent = m1.subdivide(1, scheme="loop", return_face_parent=True)
+        assert _inner_contour_misses(m2, o1.follow(m2, parent))[0].sum() >= 3
+        if gap > 2.0:
+            # the edited order's seam (back half in front of the front half) runs beside the
+            # contour there: Loop moves the contour across it into faces behind the front
+            # sheet, and the painter shows the seam, which no line source draws
+            pytest.xfail(f"contour broken by {gap:.2f} px where it crosses the order's seam")
     # the contour up the right end of the hole, unbroken in the picture, is drawn unbroken
-    px = 2 * half / 512
-    x = bounds[0] + (np.arange(512) + 0.5) * px
-    y = bounds[3] - (np.arange(512) + 0.5) * px
-    band = ((x > 1.35) & (x < 1.5))[None, :] & ((y > -0.2) & (y < 0.1))[:, None]
-    assert (gt & band).sum() > 20
-    gap = ndimage.distance_transform_edt(~drawn)[gt & band]
-    assert gap.max() <= 2.0, gap.max()
+    assert gap <= 2.0, gap
 
 
 def test_triangles_overlap_and_crossing_rule():
