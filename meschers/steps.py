@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from meschers_igl.smoothing import follow_sheets
 from pyvista_views.camera import default_bounds, xy_box
 from pyvista_views.render import hide_back_faces
 
@@ -423,14 +424,17 @@ def smoothing(job: ModelJob, s: Subject) -> None:
         t = factor * s.scale * s.scale
         both = m.smooth(t_xy=t, t_zeta=ZETA_TIME_FACTOR * t)
         versions = {"xy": m.with_xy(both.xy), "zeta": m.with_zeta(both.zeta), "both": both}
+        followed = None  # the rows "xy" and "both" share their screen positions, so their order
         for i, (row, ms) in enumerate(versions.items()):
             change = np.abs(loop_periods(m, ms.zeta) - p0).max(initial=0.0)
             drift[row] = max(drift[row], float(change))
-            # moved xy: overlaps appear and vanish, so the order follows (else back faces and
-            # see-through specks where the smoothed bars slide over each other)
+            # moved xy: overlaps appear and vanish, so the order follows sheet by sheet (else
+            # back faces, and specks where the smoothed bars slide over each other at a crossing)
             moved = row != "zeta" and factor > 0 and s.order is not None
+            if moved and followed is None:
+                followed = follow_sheets(s.order, ms)
             # where the surface turns edge-on, back faces go behind the front faces
-            order = hide_back_faces(ms, s.order.follow(ms)) if moved else s.order
+            order = hide_back_faces(ms, followed) if moved else s.order
             img = job.renderer.shoot([("mescher", ms, order, {"shading": "smooth"})], bounds)
             rows[i].append(img)
             first = rows[i][0].astype(np.float64)
