@@ -54,7 +54,9 @@ from numba import njit
 from scipy.spatial import cKDTree
 
 from .errors import MescherError
-from .geometry2d import _grid_cells, default_tol, triangle_heights
+from .face_grid import FaceGrid as _FaceGrid
+from .face_grid import ranges as _ranges
+from .geometry2d import default_tol, triangle_heights
 from .line_folds import NEAR_BASE as _NEAR_BASE
 from .line_folds import crossed, fold_ranks
 from .line_folds import is_near as _is_near
@@ -149,15 +151,6 @@ class LineDrawing:
 
 
 # ------------------------------------------------------------------------------- small helpers
-def _ranges(n: np.ndarray) -> np.ndarray:
-    """``concatenate([arange(k) for k in n])`` without a loop."""
-    n = np.asarray(n, dtype=np.int64)
-    total = int(n.sum())
-    if total == 0:
-        return np.zeros(0, dtype=np.int64)
-    return np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(n) - n, n)
-
-
 def _double_area(T: np.ndarray) -> np.ndarray:
     """Twice the signed screen areas of triangles ``T`` (k, 3, 2), 0 for triangles thinner
     than the overlap tolerance (seen edge-on: they cover nothing, as for the depth order)."""
@@ -166,71 +159,6 @@ def _double_area(T: np.ndarray) -> np.ndarray:
     if len(T):
         a2[triangle_heights(T) <= default_tol(T.reshape(-1, 2))] = 0.0
     return a2
-
-
-class _FaceGrid:
-    """The faces that cover something, binned once into a uniform grid (cell size by
-    :func:`meschers_igl.geometry2d.candidate_pairs`' rule), for box queries."""
-
-    def __init__(self, T: np.ndarray, area2: np.ndarray):
-        self.faces = np.flatnonzero(area2 != 0)
-        Tf = T[self.faces]
-        self.lo, self.hi = Tf.min(axis=1), Tf.max(axis=1)
-        if len(self.faces) == 0:
-            return
-        self.origin = self.lo.min(axis=0)
-        self.h = self._cell()
-        c0, c1 = _grid_cells(self.lo, self.hi, self.origin, self.h)
-        self.n = c1.max(axis=0) + 1  # cells along x and y
-        item, cell = self._entries(c0, c1)
-        o = np.argsort(cell)
-        self.item, self.cell = item[o], cell[o]
-
-    def _cell(self) -> float:
-        """Half the median face box: queries (thin segments, points) meet few faces per cell
-        even where several sheets overlap; doubled while faces would fill > 16 cells each."""
-        ext = (self.hi - self.lo).max(axis=1)
-        span = float((self.hi.max(axis=0) - self.lo.min(axis=0)).max())
-        if span == 0.0:
-            return 1.0
-        h = max(0.5 * float(np.median(ext)), span / (4.0 * len(ext) + 1.0))
-        for _ in range(16):
-            c0, c1 = _grid_cells(self.lo, self.hi, self.origin, h)
-            if float(np.prod(c1 - c0 + 1, axis=1, dtype=np.float64).sum()) <= 16.0 * len(ext):
-                break
-            h *= 2.0
-        return h
-
-    def _entries(self, c0: np.ndarray, c1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        nx_, ny_ = c1[:, 0] - c0[:, 0] + 1, c1[:, 1] - c0[:, 1] + 1
-        k = nx_ * ny_
-        item = np.repeat(np.arange(len(c0)), k)
-        local = _ranges(k)
-        cx = c0[item, 0] + local // ny_[item]
-        cy = c0[item, 1] + local % ny_[item]
-        return item, cx * self.n[1] + cy
-
-    def pairs(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``(i, face)`` for every query box ``[lo_i, hi_i]`` meeting a face's box, once each
-        (a pair is kept in the cell of the lower-left corner of the two boxes' intersection)."""
-        if len(lo) == 0 or len(self.faces) == 0:
-            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-        top = self.n - 1
-        c0, c1 = (
-            np.clip(c, 0, top) for c in _grid_cells(lo, hi, self.origin, self.h)
-        )  # cells outside the grid hold no face
-        ia, ca = self._entries(c0, np.maximum(c1, c0))
-        start = np.searchsorted(self.cell, ca, "left")
-        k = np.searchsorted(self.cell, ca, "right") - start
-        pa = np.repeat(ia, k)
-        cell = np.repeat(ca, k)
-        pb = self.item[np.repeat(start, k) + _ranges(k)]
-        ilo = np.maximum(lo[pa], self.lo[pb])
-        ihi = np.minimum(hi[pa], self.hi[pb])
-        meet = np.all(ilo <= ihi, axis=1)
-        c = np.clip(np.floor((ilo - self.origin) / self.h).astype(np.int64), 0, top)
-        keep = meet & ((c[:, 0] * self.n[1] + c[:, 1]) == cell)
-        return pa[keep], self.faces[pb[keep]]
 
 
 def _contains(T: np.ndarray, P: np.ndarray, area2: np.ndarray, tol: float) -> np.ndarray:
@@ -753,10 +681,18 @@ class _Scene:
         area2 = _double_area(T)
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         return cls(
-            F, xy, E, T, area2, draw, rank, edge_faces(np.asarray(m.face_edges), len(E)),
-            float(max(hi - lo)) or 1.0, (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])),
+            F,
+            xy,
+            E,
+            T,
+            area2,
+            draw,
+            rank,
+            edge_faces(np.asarray(m.face_edges), len(E)),
+            float(max(hi - lo)) or 1.0,
+            (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])),
             _FaceGrid(T, area2),
-        )  # fmt: skip
+        )
 
 
 @dataclass(frozen=True)
@@ -793,9 +729,15 @@ def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources
     src &= np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) > _MIN_PIECE * sc.scale
     e = np.flatnonzero(src)
     parts = [
-        (xy[E[e, 0]], xy[E[e, 1]], _side_ranks(xy, F, E[e], f1[e], f2[e], rank, area2),
-         np.full(len(e), -1, dtype=np.int64), np.stack([f1[e], f2[e]], axis=1), crease[e])
-    ]  # fmt: skip
+        (
+            xy[E[e, 0]],
+            xy[E[e, 1]],
+            _side_ranks(xy, F, E[e], f1[e], f2[e], rank, area2),
+            np.full(len(e), -1, dtype=np.int64),
+            np.stack([f1[e], f2[e]], axis=1),
+            crease[e],
+        )
+    ]
     near = None
     if contours == "interpolated":
         cf, cedge, CP = interpolated_contours(m)
@@ -813,9 +755,15 @@ def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources
             # (line_folds.fold_ranks); until then its own face's
             own_rank = np.stack([rank[cf], rank[cf]], axis=1)
             parts.append(
-                (CP[cedge[:, 0]], CP[cedge[:, 1]], own_rank, cf,
-                 np.full((len(cf), 2), -1, dtype=np.int64), np.zeros(len(cf), dtype=bool))
-            )  # fmt: skip
+                (
+                    CP[cedge[:, 0]],
+                    CP[cedge[:, 1]],
+                    own_rank,
+                    cf,
+                    np.full((len(cf), 2), -1, dtype=np.int64),
+                    np.zeros(len(cf), dtype=bool),
+                )
+            )
     cat = [np.concatenate([p[i] for p in parts]) for i in range(6)]
     return _Sources(*cat, near)
 

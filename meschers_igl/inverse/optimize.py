@@ -194,8 +194,9 @@ def fit_mescher(
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {target.shape}")
     res = target.shape[0]
     # the soft rasterizer holds a few (face, pixel) pairs per pixel: ~2 kB per pixel
-    check_budget(float(res) * res, bytes_per_face=2048.0, what=f"fit_mescher at {res}^2",
-                 force=force)  # fmt: skip
+    check_budget(
+        float(res) * res, bytes_per_face=2048.0, what=f"fit_mescher at {res}^2", force=force
+    )
     if not np.all(np.isfinite(target)):
         raise MescherError("target: expected finite values in [0, 1], found non-finite values")
     if device is not None and torch.device(device).type == "cuda" and not torch.cuda.is_available():
@@ -208,8 +209,19 @@ def fit_mescher(
         torch.set_num_threads(opt.threads)
     try:
         if not progress:
-            return _fit(target, res, init, offsets, lights, light_colors, ambient, background,
-                        opt, callback, device)  # fmt: skip
+            return _fit(
+                target,
+                res,
+                init,
+                offsets,
+                lights,
+                light_colors,
+                ambient,
+                background,
+                opt,
+                callback,
+                device,
+            )
         from rich.console import Console
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -231,14 +243,26 @@ def fit_mescher(
                 if callback is not None:
                     callback(it, state)
 
-            return _fit(target, res, init, offsets, lights, light_colors, ambient, background,
-                        opt, tick, device)  # fmt: skip
+            return _fit(
+                target,
+                res,
+                init,
+                offsets,
+                lights,
+                light_colors,
+                ambient,
+                background,
+                opt,
+                tick,
+                device,
+            )
     finally:
         torch.set_num_threads(old_threads)
 
 
-def _fit(target, res, init, offsets, lights, light_colors, ambient, background, opt, callback,
-         device):  # fmt: skip
+def _fit(
+    target, res, init, offsets, lights, light_colors, ambient, background, opt, callback, device
+):
     t0, c0 = time.perf_counter(), time.process_time()
     f32 = torch.float32
     par = MescherParametrization(
@@ -261,22 +285,26 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
 
     def render(xy, zeta, sigma, gamma=opt.gamma, dtype=f32):
         colors = lambertian(par.normals(xy, zeta), lights, light_colors, ambient).to(dtype)
-        return soft_rasterize(par.F, xy.to(dtype), colors, par.offsets.to(dtype), res, sigma,
-                              gamma, background, return_alpha=True)  # fmt: skip
+        rest = (par.offsets.to(dtype), res, sigma, gamma, background)
+        return soft_rasterize(par.F, xy.to(dtype), colors, *rest, return_alpha=True)
 
     def hard():
         with torch.no_grad():
             img, alpha = render(par.xy(), par.zeta(), opt.final_sigma, 1e-3, torch.float64)
         return img.cpu().numpy(), alpha.cpu().numpy()
 
+    leaves = (par.xy_leaf.leaf, par.z_leaf.leaf, par.c, par.offsets)
+
+    def snapshot():
+        with torch.no_grad():
+            return tuple(x.clone() for x in leaves)
+
     base_lr = [[g["lr"] for g in o.param_groups] for o in (opt_xy, opt_z, opt_rest)]
     if opt.eval_every and opt.keep_best:
         # the start is a candidate too: a fit that only loses (a frame of bars a few pixels
         # wide) returns its start
         img_h, _ = hard()
-        with torch.no_grad():
-            best = (image_psnr(img_h, target), (par.xy_leaf.leaf.clone(),
-                    par.z_leaf.leaf.clone(), par.c.clone(), par.offsets.clone()))  # fmt: skip
+        best = (image_psnr(img_h, target), snapshot())
     for it in range(opt.iters):
         t = it / max(opt.iters - 1, 1)
         # cosine decay to lr_final: large early steps, then settle the per-face noise
@@ -311,23 +339,25 @@ def _fit(target, res, init, offsets, lights, light_colors, ambient, background, 
         losses.append(float(loss.detach()))
         zeta_np = zeta.detach().cpu().numpy()
         max_res = max(max_res, float(np.abs(d12 @ zeta_np).max(initial=0.0)))
-        state = {"loss": losses[-1], "zeta": zeta_np, "step": "xy" if xy_step else "zeta",
-                 "iters": opt.iters}  # fmt: skip
+        state = {
+            "loss": losses[-1],
+            "zeta": zeta_np,
+            "step": "xy" if xy_step else "zeta",
+            "iters": opt.iters,
+        }
         if opt.eval_every and ((it + 1) % opt.eval_every == 0 or it + 1 == opt.iters):
             img_h, _ = hard()
             state["psnr"] = image_psnr(img_h, target)
             psnrs.append((it + 1, state["psnr"]))
             snapshots.append((it + 1, img_h))
             if opt.keep_best and state["psnr"] > best[0]:
-                with torch.no_grad():
-                    best = (state["psnr"], (par.xy_leaf.leaf.clone(), par.z_leaf.leaf.clone(),
-                                            par.c.clone(), par.offsets.clone()))  # fmt: skip
+                best = (state["psnr"], snapshot())
         if callback is not None:
             callback(it, state)
 
     if opt.keep_best and best[1] is not None:
         with torch.no_grad():
-            for dst, src in zip((par.xy_leaf.leaf, par.z_leaf.leaf, par.c, par.offsets), best[1]):
+            for dst, src in zip(leaves, best[1]):
                 dst.copy_(src)
     m = par.mescher()
     fitted_offsets = par.offsets.detach().double().cpu().numpy()

@@ -196,8 +196,9 @@ def _faces_between_lines(grey: np.ndarray, mask: np.ndarray, line_step: float):
     return cinv, size, cshade
 
 
-def triangulate_regions(polygons, region, lines, pixel: float, max_area_px: float = 12.0,
-                        min_angle: float = 25.0):  # fmt: skip
+def triangulate_regions(
+    polygons, region, lines, pixel: float, max_area_px: float = 12.0, min_angle: float = 25.0
+):
     """Constrained Delaunay triangulation of the region pieces (``triangle``).
 
     Parameters
@@ -309,8 +310,11 @@ def _split_near_outline(chains, outline, pixel: float, at_px: float = 1.5):
             L = float(np.linalg.norm(seg))
             if L > 2.0 * d and shapely.distance(shapely.Point(c[end]), outline) < 1e-9:
                 q = c[end] + seg * (d / L)
-                pts = [np.vstack([pts[0][:1], q, pts[0][1:]])] if end == 0 else [
-                    np.vstack([pts[0][:-1], q, pts[0][-1:]])]  # fmt: skip
+                pts = (
+                    [np.vstack([pts[0][:1], q, pts[0][1:]])]
+                    if end == 0
+                    else [np.vstack([pts[0][:-1], q, pts[0][-1:]])]
+                )
         out.append(pts[0])
     return out
 
@@ -581,8 +585,9 @@ def occlusion_chains(
     ends_o = ends[occ_i]
     pid = pairs[occ_i, 0] * K + pairs[occ_i, 1]
     # join edges that share a vertex and a region pair: nodes are (vertex, pair)
-    node, inv = np.unique(np.stack([ends_o.ravel(), np.repeat(pid, 2)], 1), axis=0,
-                          return_inverse=True)  # fmt: skip
+    node, inv = np.unique(
+        np.stack([ends_o.ravel(), np.repeat(pid, 2)], 1), axis=0, return_inverse=True
+    )
     inv = inv.reshape(-1, 2)
     G = sp.coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])), shape=(len(node),) * 2)
     n_ch, ch = csgraph.connected_components(G, directed=False)
@@ -777,9 +782,16 @@ def mescher_from_picture(
     xy, F = cut_along(xy, F, edges, cut)
     m = lift(xy, F, normals[region])
     unseen = seg.normals is not None and int(np.sum(seg.shades - ambient < 2 / 255)) >= 2
-    info = {"normals": normals, "shades": seg.shades, "misfit": misfit,
-            "occlusion_length": float(lens[occl].sum()), "labels": seg.labels,
-            "hidden_lines": hidden, "light": light, "unseen_turn": unseen}  # fmt: skip
+    info = {
+        "normals": normals,
+        "shades": seg.shades,
+        "misfit": misfit,
+        "occlusion_length": float(lens[occl].sum()),
+        "labels": seg.labels,
+        "hidden_lines": hidden,
+        "light": light,
+        "unseen_turn": unseen,
+    }
     return m, region, info
 
 
@@ -800,9 +812,19 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
     """
     from .optimize import InverseOptions
 
-    kw = dict(iters=iters, power=power, lam=1.0, laplacian="uniform", lr_xy=3e-3, lr_z=3e-3,
-              lr_periods=1e-2, lr_offsets=0.0, sigma_xy=(2e-4, 1e-5), sigma_zeta=(1e-4, 1e-6),
-              eval_every=20)  # fmt: skip
+    kw = dict(
+        iters=iters,
+        power=power,
+        lam=1.0,
+        laplacian="uniform",
+        lr_xy=3e-3,
+        lr_z=3e-3,
+        lr_periods=1e-2,
+        lr_offsets=0.0,
+        sigma_xy=(2e-4, 1e-5),
+        sigma_zeta=(1e-4, 1e-6),
+        eval_every=20,
+    )
     if info is not None and info.get("unseen_turn"):
         kw["lr_periods"] = 0.0
     kw.update(overrides)
