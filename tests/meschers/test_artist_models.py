@@ -16,8 +16,14 @@ requires_gl = pytest.mark.skipif(not gl_available(), reason="no offscreen OpenGL
 
 
 def test_shipped_solids_are_named_and_in_the_default_study():
-    assert list_solids() == ["block_stairs", "hidden_gap_cube", "hidden_gap_frame",
-                             "reutersvard_relief", "sheared_tribar_torus", "u_tribar"]  # fmt: skip
+    assert list_solids() == [
+        "block_stairs",
+        "hidden_gap_cube",
+        "hidden_gap_frame",
+        "reutersvard_relief",
+        "sheared_tribar_torus",
+        "u_tribar",
+    ]
     specs = expand_models(["solid:u_tribar"])
     assert [s.kind for s in specs] == ["solid"]
     assert {s.name for s in default_models() if s.kind == "solid"} == set(list_solids())
@@ -26,8 +32,9 @@ def test_shipped_solids_are_named_and_in_the_default_study():
 @requires_gl
 @pytest.mark.slow
 def test_study_section_for_closed_solids(tmp_path):
-    res = run_study(["solid:u_tribar", "solid:block_stairs"], out=tmp_path, quick=True,
-                    progress=False, jobs=1)  # fmt: skip
+    res = run_study(
+        ["solid:u_tribar", "solid:block_stairs"], out=tmp_path, quick=True, progress=False, jobs=1
+    )
     assert res.errors == []
     metrics = json.loads((tmp_path / "metrics.json").read_text())
     for name, r in metrics["artist_models"].items():

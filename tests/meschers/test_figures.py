@@ -120,8 +120,13 @@ def test_heat_panels_are_at_most_5_percent_black():
     u0[0] = 1.0
     u = m.heat_diffuse(u0, 1e-3 * s * s)
     v = np.log10(np.maximum(u / u.max(), 10.0**HEAT_LOG_MIN))
-    kw = dict(shading="smooth", scalars=v, clim=(HEAT_LOG_MIN, 0.0), window_size=(192, 192),
-              scalar_bar=False)  # fmt: skip
+    kw = dict(
+        shading="smooth",
+        scalars=v,
+        clim=(HEAT_LOG_MIN, 0.0),
+        window_size=(192, 192),
+        scalar_bar=False,
+    )
 
     def black_share(img):
         figure = np.any(img != 255, axis=-1)

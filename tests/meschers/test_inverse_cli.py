@@ -18,12 +18,37 @@ def test_cli_torus_end_to_end(tmp_path):
     from meschers.inverse_cli import inverse_main
 
     out = tmp_path / "fit"
-    rc = inverse_main(["penrose", "--light", "0.4,0.25,1", "--out", str(out), "--iters", "6",
-                       "--resolution", "32", "--init", "torus", "--torus", "24,8", "--every", "3",
-                       "--no-progress"])  # fmt: skip
+    rc = inverse_main(
+        [
+            "penrose",
+            "--light",
+            "0.4,0.25,1",
+            "--out",
+            str(out),
+            "--iters",
+            "6",
+            "--resolution",
+            "32",
+            "--init",
+            "torus",
+            "--torus",
+            "24,8",
+            "--every",
+            "3",
+            "--no-progress",
+        ]
+    )
     assert rc == 0
-    for name in ("mescher.ply", "render.png", "init.png", "loss.png", "before_after.png",
-                 "metrics.json", "renders/step_00003.png", "renders/step_00006.png"):  # fmt: skip
+    for name in (
+        "mescher.ply",
+        "render.png",
+        "init.png",
+        "loss.png",
+        "before_after.png",
+        "metrics.json",
+        "renders/step_00003.png",
+        "renders/step_00006.png",
+    ):
         assert (out / name).stat().st_size > 0
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["max_abs_d12_zeta"] < 1e-10 and len(metrics["periods"]) == 2
@@ -37,8 +62,9 @@ def test_cli_from_a_zbuffered_tribar(tmp_path):
     from meschers.inverse_cli import inverse_main
 
     out = tmp_path / "tribar"
-    rc = inverse_main(["tribar", "--out", str(out), "--iters", "20", "--every", "10",
-                       "--no-progress"])  # fmt: skip
+    rc = inverse_main(
+        ["tribar", "--out", str(out), "--iters", "20", "--every", "10", "--no-progress"]
+    )
     assert rc == 0
     metrics = json.loads((out / "metrics.json").read_text())
     # started from the picture: already close, impossible, with the model's depth gap
@@ -58,16 +84,40 @@ def test_cli_rejects_bad_light_and_huge_resolution(tmp_path):
     with pytest.raises(MescherError, match="--resolution"):
         inverse_main(["penrose", "--out", str(tmp_path), "--resolution", "2000000"])
     with pytest.raises(MescherError, match="--init picture"):
-        inverse_main(["penrose", "--light", "0,0,1", "--light", "1,0,1", "--out", str(tmp_path),
-                      "--iters", "1"])  # fmt: skip
+        inverse_main(
+            [
+                "penrose",
+                "--light",
+                "0,0,1",
+                "--light",
+                "1,0,1",
+                "--out",
+                str(tmp_path),
+                "--iters",
+                "1",
+            ]
+        )
 
 
 def test_meschers_cli_hands_over_to_inverse_main(tmp_path):
     from meschers.cli import main
 
     out = tmp_path / "fit"
-    argv = ["inverse", "penrose", "--out", str(out), "--iters", "2", "--resolution", "16",
-            "--init", "torus", "--torus", "12,6", "--no-progress"]  # fmt: skip
+    argv = [
+        "inverse",
+        "penrose",
+        "--out",
+        str(out),
+        "--iters",
+        "2",
+        "--resolution",
+        "16",
+        "--init",
+        "torus",
+        "--torus",
+        "12,6",
+        "--no-progress",
+    ]
     assert main(argv) == 0
     assert (out / "mescher.ply").exists()
 
@@ -77,8 +127,21 @@ def test_cli_light_with_negative_components_and_light_in_metrics(tmp_path):
     from meschers.cli import main
 
     out = tmp_path / "given"
-    argv = ["inverse", "tribar", "--light", "-0.5,0.35,1", "--out", str(out), "--iters", "4",
-            "--every", "2", "--resolution", "96", "--no-progress"]  # fmt: skip
+    argv = [
+        "inverse",
+        "tribar",
+        "--light",
+        "-0.5,0.35,1",
+        "--out",
+        str(out),
+        "--iters",
+        "4",
+        "--every",
+        "2",
+        "--resolution",
+        "96",
+        "--no-progress",
+    ]
     assert main(argv) == 0
     metrics = json.loads((out / "metrics.json").read_text())
     given = np.array([-0.5, 0.35, 1.0]) / np.linalg.norm([-0.5, 0.35, 1.0])
@@ -87,8 +150,19 @@ def test_cli_light_with_negative_components_and_light_in_metrics(tmp_path):
     assert abs(metrics["figure_period"] - metrics["true_gap"]) < 0.15 * metrics["true_gap"]
     # no --light: read from the picture (the same light, or its Necker mirror (-x, -y, z))
     out = tmp_path / "estimated"
-    argv = ["inverse", "tribar", "--out", str(out), "--iters", "2", "--every", "2",
-            "--resolution", "96", "--no-progress"]  # fmt: skip
+    argv = [
+        "inverse",
+        "tribar",
+        "--out",
+        str(out),
+        "--iters",
+        "2",
+        "--every",
+        "2",
+        "--resolution",
+        "96",
+        "--no-progress",
+    ]
     assert main(argv) == 0
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["light_estimated"] is True

@@ -163,8 +163,11 @@ def flat_backed_relief(k: int = 4, a: float = 1.0, lam: float = 0.3, back: float
         P = np.vstack([Vb, Vb - ((Vb @ v) - z_back)[:, None] * v[None, :]])
         Fh = ConvexHull(P).simplices.copy()
         Tr = P[Fh]
-        out = np.einsum("ij,ij->i", np.cross(Tr[:, 1] - Tr[:, 0], Tr[:, 2] - Tr[:, 0]),
-                        Tr.mean(axis=1) - P.mean(axis=0))  # fmt: skip
+        out = np.einsum(
+            "ij,ij->i",
+            np.cross(Tr[:, 1] - Tr[:, 0], Tr[:, 2] - Tr[:, 0]),
+            Tr.mean(axis=1) - P.mean(axis=0),
+        )
         Fh[out < 0] = Fh[out < 0][:, ::-1]  # outward
         ms.add_mesh(pymeshlab.Mesh(P, Fh))
         if acc is not None:

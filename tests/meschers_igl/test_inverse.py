@@ -80,9 +80,14 @@ def test_hard_coverage_is_the_triangle(flip):
     F = np.array([[0, 2, 1]] if flip else [[0, 1, 2]])
     res = 48
     _, alpha = ras.soft_rasterize(
-        _t(F, torch.long), _t(P), _t([[0.3, 0.3, 0.3]]), _t([0.5]), res, sigma=1e-9,
+        _t(F, torch.long),
+        _t(P),
+        _t([[0.3, 0.3, 0.3]]),
+        _t([0.5]),
+        res,
+        sigma=1e-9,
         return_alpha=True,
-    )  # fmt: skip
+    )
     inside = _inside_oracle(P, ras.pixel_centers(res, dtype=D64).numpy()).reshape(res, res)
     assert inside.sum() > 50
     np.testing.assert_array_equal(alpha.numpy() > 0.5, inside)
@@ -93,9 +98,14 @@ def test_coverage_is_sigmoid_of_scaled_squared_distance():
     P = np.array([[-50.0, 0.0], [50.0, 0.0], [0.0, 50.0]])
     res, sigma = 8, 0.05
     _, alpha = ras.soft_rasterize(
-        _t([[0, 1, 2]], torch.long), _t(P), _t([[1.0, 1.0, 1.0]]), _t([0.5]), res, sigma=sigma,
+        _t([[0, 1, 2]], torch.long),
+        _t(P),
+        _t([[1.0, 1.0, 1.0]]),
+        _t([0.5]),
+        res,
+        sigma=sigma,
         return_alpha=True,
-    )  # fmt: skip
+    )
     y = 1.0 - (2.0 * np.arange(res) + 1.0) / res  # row centres
     expect = 1.0 / (1.0 + np.exp(-np.sign(y) * y**2 / sigma))
     expect[expect < ras.COVERAGE_CUTOFF] = 0.0  # culled pairs
@@ -153,9 +163,17 @@ def test_windowed_rasterizer_matches_dense_reference():
     offsets = rng.uniform(0.2, 0.8, 10)
     res, sigma, gamma, bg = 24, 3e-3, 5e-2, (1.0, 0.9, 0.8)
     img, alpha = ras.soft_rasterize(
-        _t(F, torch.long), _t(P), _t(colors), _t(offsets), res, sigma, gamma, bg,
-        return_alpha=True, silhouette=None,
-    )  # fmt: skip
+        _t(F, torch.long),
+        _t(P),
+        _t(colors),
+        _t(offsets),
+        res,
+        sigma,
+        gamma,
+        bg,
+        return_alpha=True,
+        silhouette=None,
+    )
     ref_img, ref_alpha = _brute_force(P, F, colors, offsets, res, sigma, gamma, bg)
     np.testing.assert_allclose(alpha.numpy(), ref_alpha, atol=1e-12)
     np.testing.assert_allclose(img.numpy(), ref_img, atol=1e-12)
@@ -217,9 +235,12 @@ def _random_mescher(seed=0, n=5):
 def test_normals_from_zeta_match_the_core_and_the_embedding():
     m, V, F = _random_mescher()
     n = ras.face_normals_from_zeta(
-        _t(m.F, torch.long), _t(m.xy), _t(m.zeta), _t(m.face_edges, torch.long),
+        _t(m.F, torch.long),
+        _t(m.xy),
+        _t(m.zeta),
+        _t(m.face_edges, torch.long),
         _t(m.face_edge_signs),
-    ).numpy()  # fmt: skip
+    ).numpy()
     np.testing.assert_allclose(n, m.face_normals(), atol=1e-12)
     N = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     np.testing.assert_allclose(n, N / np.linalg.norm(N, axis=1, keepdims=True), atol=1e-12)
@@ -320,8 +341,9 @@ def _fit_tiny(iters=100, callback=None):
     truth = truth.with_periods([0.8, 0.0])
     target = ras.render_mescher(truth, off, lights=LIGHT, resolution=32, sigma=1e-6)
     init, off0 = tg.torus_mescher(0.5, 0.2, 24, 8)
-    o = opt.InverseOptions(iters=iters, resolution=32, sigma_xy=(1e-3, 1e-4),
-                           sigma_zeta=(1e-3, 1e-4))  # fmt: skip
+    o = opt.InverseOptions(
+        iters=iters, resolution=32, sigma_xy=(1e-3, 1e-4), sigma_zeta=(1e-3, 1e-4)
+    )
     result = opt.fit_mescher(target, init, off0, lights=LIGHT, options=o, callback=callback)
     before = ras.render_mescher(init, off0, lights=LIGHT, resolution=32, sigma=o.final_sigma)
     return result, target, before
@@ -345,8 +367,9 @@ def test_fit_keeps_every_iterate_a_mescher_and_lowers_the_loss():
     # and the training loss, whose sigma shrinks, still falls over the first steps
     assert np.mean(result.losses[10:16]) < np.mean(result.losses[:6])
     # the returned mescher and offsets are what was rendered: re-rendering them gives the image
-    again = ras.render_mescher(result.mescher, result.offsets, lights=LIGHT, resolution=32,
-                               sigma=o_final_sigma, gamma=1e-3)  # fmt: skip
+    again = ras.render_mescher(
+        result.mescher, result.offsets, lights=LIGHT, resolution=32, sigma=o_final_sigma, gamma=1e-3
+    )
     np.testing.assert_allclose(again, result.image, atol=1e-5)
     assert np.abs(result.mescher.integrability_residual()).max() < 1e-10
     assert result.image.shape == (32, 32, 3) and result.alpha.shape == (32, 32)
@@ -387,8 +410,20 @@ def test_metrics_hand_values():
 def test_extract_order_puts_the_higher_offset_in_front():
     # two separate triangles overlapping on screen, and a third far away
     F = np.array([[0, 1, 2], [3, 4, 5], [6, 7, 8]])
-    xy = np.array([[-0.8, -0.8], [0.8, -0.8], [0.0, 0.8], [-0.8, 0.8], [0.0, -0.8], [0.8, 0.8],
-                   [2, 2], [3, 2], [2, 3]], float)  # fmt: skip
+    xy = np.array(
+        [
+            [-0.8, -0.8],
+            [0.8, -0.8],
+            [0.0, 0.8],
+            [-0.8, 0.8],
+            [0.0, -0.8],
+            [0.8, 0.8],
+            [2, 2],
+            [3, 2],
+            [2, 3],
+        ],
+        float,
+    )
     m = Mescher.from_mesh(np.column_stack([xy, np.zeros(9)]), F)
     order = opt.extract_order(m, np.array([0.7, 0.2, 0.5]))
     np.testing.assert_array_equal(order.arcs, [[1, 0]])
@@ -561,8 +596,15 @@ def test_progress_bar_and_callback_see_every_step_and_the_psnr_checks(capsys):
     target = ras.render_mescher(m.with_periods([0.3, 0.0]), off, lights=LIGHT, resolution=16)
     states = []
     o = opt.InverseOptions(iters=4, eval_every=2, keep_best=True)
-    res = opt.fit_mescher(target, m, off, lights=LIGHT, options=o, progress=True,
-                          callback=lambda it, st: states.append((it, st.get("psnr"))))  # fmt: skip
+    res = opt.fit_mescher(
+        target,
+        m,
+        off,
+        lights=LIGHT,
+        options=o,
+        progress=True,
+        callback=lambda it, st: states.append((it, st.get("psnr"))),
+    )
     assert [it for it, _ in states] == [0, 1, 2, 3]
     assert [p is not None for _, p in states] == [False, True, False, True]
     # the PSNR checks are what the result reports, and the best one is what is returned

@@ -107,8 +107,12 @@ def test_cli_takes_a_drawing_and_saves_the_mescher_with_its_order(tmp_path, trib
     path = tmp_path / "tribar_drawing.png"
     Image.fromarray((d * 255).astype(np.uint8)).save(path)
     out = tmp_path / "fit"
-    assert inverse_main([str(path), "--out", str(out), "--iters", "4", "--every", "2",
-                         "--no-progress"]) == 0  # fmt: skip
+    assert (
+        inverse_main(
+            [str(path), "--out", str(out), "--iters", "4", "--every", "2", "--no-progress"]
+        )
+        == 0
+    )
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["drawing"] is True and metrics["impossible"]
     # four steps only: the fit of the shaded reading starts close

@@ -27,9 +27,7 @@ def _squares():
 def _box(view=(1.0, 1.0, 1.0)):
     """A unit cube (quads split along a diagonal) seen from ``view``."""
     V = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
-    quads = [
-        (0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)
-    ]  # fmt: skip
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
     F = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
     # orient outward
     c = V[F].mean(axis=1) - 0.5
@@ -305,8 +303,14 @@ def test_line_agreement_finds_a_wrong_drawing():
     assert min(recall, precision) < 0.95
     # every line, hidden ones included, drawn as if seen: precision drops
     every = line_drawing(g.mescher, g.order, hidden=True)
-    every = type(every)(every.points, every.offsets, every.kind, np.ones_like(every.visible),
-                        every.closed, every.box)  # fmt: skip
+    every = type(every)(
+        every.points,
+        every.offsets,
+        every.kind,
+        np.ones_like(every.visible),
+        every.closed,
+        every.box,
+    )
     assert line_agreement(every, g.mescher, g.order, size=256)[1] < 0.9
 
 
@@ -315,10 +319,18 @@ def test_seam_across_a_strip_seen_edge_on_is_no_line():
     # the plane x = 1 (seen edge-on): on screen one 2 x 1 rectangle, as the Penrose stairs'
     # junction, whose only line is its outline
     V = np.array(
-        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],  # upper plate
-         [1, 0, -1], [1, 1, -1], [2, 0, -1], [2, 1, -1]],  # lower plate
+        [
+            [0, 0, 0],
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],  # upper plate
+            [1, 0, -1],
+            [1, 1, -1],
+            [2, 0, -1],
+            [2, 1, -1],
+        ],  # lower plate
         dtype=float,
-    )  # fmt: skip
+    )
     F = np.array([[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2], [4, 6, 7], [4, 7, 5]])
     m = Mescher.from_mesh(V, F)
     order = DepthOrder.from_embedding(m, V[F][:, :, 2])
@@ -373,8 +385,9 @@ def test_impossibagel_inner_contour_is_not_dashed(levels):
         # Loop's overlaps ordered from local depth instead of the sheets beside them: the
         # painter shows the figure's order flipping inside a sheet there, and the drawing
         # dashes (the test can fail)
-        m1, o1, parent = g.mescher.subdivide(1, scheme="loop", order=g.order,
-                                             return_face_parent=True)  # fmt: skip
+        m1, o1, parent = g.mescher.subdivide(
+            1, scheme="loop", order=g.order, return_face_parent=True
+        )
         m2, parent = m1.subdivide(1, scheme="loop", return_face_parent=True)
         assert _inner_contour_misses(m2, o1.follow(m2, parent))[0].sum() >= 3
         if gap > 2.0:
@@ -392,12 +405,14 @@ def test_triangles_overlap_and_crossing_rule():
     a = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
     T1 = np.stack([a, a, a, a, a])
     T2 = np.stack(
-        [a + 0.5,  # overlapping
-         a[[1, 0, 2]] * 0.25 + 0.1,  # inside (either orientation)
-         np.array([[2.0, 0.0], [0.0, 2.0], [2.0, 2.0]]),  # sharing the hypotenuse only
-         a + [2.0, 0.0],  # touching at a corner
-         a + 5.0]  # far
-    )  # fmt: skip
+        [
+            a + 0.5,  # overlapping
+            a[[1, 0, 2]] * 0.25 + 0.1,  # inside (either orientation)
+            np.array([[2.0, 0.0], [0.0, 2.0], [2.0, 2.0]]),  # sharing the hypotenuse only
+            a + [2.0, 0.0],  # touching at a corner
+            a + 5.0,
+        ]  # far
+    )
     assert triangles_overlap(T1, T2).tolist() == [True, True, False, False, False]
     assert triangles_overlap(T2, T1).tolist() == [True, True, False, False, False]
     # the fold of face 0 is {0, 1}; face 2 overlaps face 1 and is drawn before it: face 2

@@ -33,8 +33,11 @@ KINDS = ("jitter6", "jitter3", "drop", "flip", "duplicate", "resplit")
 
 def _suite():
     out = {}
-    for name, make in (("u_tribar", u_tribar), ("block_stairs", block_stairs),
-                       ("hidden_gap_cube", hidden_gap_cube)):  # fmt: skip
+    for name, make in (
+        ("u_tribar", u_tribar),
+        ("block_stairs", block_stairs),
+        ("hidden_gap_cube", hidden_gap_cube),
+    ):
         V, P, _ = make()
         out[name] = (V, triangulate(P), ISO_VIEW, ISO_UP)
     return out

@@ -21,8 +21,22 @@ from meschers_igl.obtain.junctions import bridges_blocked
 from meschers_igl.obtain.view import _votes, find_view
 from meschers_igl.operators import view_frame
 
-BOX_F = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
-                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])  # fmt: skip
+BOX_F = np.array(
+    [
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ]
+)
 
 
 def box(lo, hi):
@@ -44,8 +58,14 @@ def block_grid(n, ground=0.0, heights=None):
     V, F = np.vstack(Vs), np.vstack(Fs)
     if ground > 0:
         c = 1.5 * n - 0.5
-        G = np.array([[c - ground, c - ground, 0.0], [c + ground, c - ground, 0.0],
-                      [c + ground, c + ground, 0.0], [c - ground, c + ground, 0.0]])  # fmt: skip
+        G = np.array(
+            [
+                [c - ground, c - ground, 0.0],
+                [c + ground, c - ground, 0.0],
+                [c + ground, c + ground, 0.0],
+                [c - ground, c + ground, 0.0],
+            ]
+        )
         k = V.shape[0]
         V = np.vstack([V, G])
         F = np.vstack([F, [[k, k + 1, k + 2], [k, k + 2, k + 3]]])

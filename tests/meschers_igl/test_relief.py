@@ -59,8 +59,10 @@ def test_the_relief_is_a_real_shallow_torus_of_cubes():
     n /= np.linalg.norm(n, axis=1, keepdims=True)
     front = n @ ISO_VIEW > 0
     mean = [n[front & (ax == k)].mean(axis=0) for k in range(3)]
-    cos = [abs(mean[i] @ mean[j]) / np.linalg.norm(mean[i]) / np.linalg.norm(mean[j])
-           for i, j in ((0, 1), (1, 2), (0, 2))]  # fmt: skip
+    cos = [
+        abs(mean[i] @ mean[j]) / np.linalg.norm(mean[i]) / np.linalg.norm(mean[j])
+        for i, j in ((0, 1), (1, 2), (0, 2))
+    ]
     assert min(cos) > 0.5  # far from orthogonal (a right angle has cos 0)
     # physically possible: no two cubes overlap (max-margin point inside both is at depth <= 0)
     blocks, _, _ = relief_blocks(K, A, LAM)
@@ -76,8 +78,12 @@ def test_the_relief_is_a_real_shallow_torus_of_cubes():
         for j in range(i + 1, len(blocks)):
             H = np.vstack([planes[i], planes[j]])
             # max t s.t. nn . x + d + t <= 0 for both blocks' planes
-            res = linprog([0, 0, 0, -1], A_ub=np.c_[H[:, :3], np.ones(len(H))], b_ub=-H[:, 3],
-                          bounds=[(None, None)] * 3 + [(None, 1.0)])  # fmt: skip
+            res = linprog(
+                [0, 0, 0, -1],
+                A_ub=np.c_[H[:, :3], np.ones(len(H))],
+                b_ub=-H[:, 3],
+                bounds=[(None, None)] * 3 + [(None, 1.0)],
+            )
             assert res.status == 0 and -res.fun <= 1e-9, (i, j, -res.fun)
 
 
@@ -250,8 +256,15 @@ def _label_image(C, F, fam, kw):
     """Which family (0, 1, 2) the z-buffer shows at each pixel (-1: background)."""
     from pyvista_views import render
 
-    img = render((C, F), scalars=fam.astype(float), lights=[], cmap=LABEL, clim=(0, 2),
-                 scalar_bar=False, **kw)  # fmt: skip
+    img = render(
+        (C, F),
+        scalars=fam.astype(float),
+        lights=[],
+        cmap=LABEL,
+        clim=(0, 2),
+        scalar_bar=False,
+        **kw,
+    )
     lab = np.argmax(img[..., :3], axis=2)
     return np.where(np.all(img[..., :3] > 250, axis=2), -1, lab)
 
@@ -282,8 +295,9 @@ def test_renders_like_the_relief_with_the_cubes_shading(converted, tmp_path):
     fam = _label_image(C, F, ax, kw)
     # the oracle cube: a unit right-angled cube, z-buffered, same lights and camera
     cube = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], float)
-    cf = np.array([[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1],
-                   [4, 5, 7, 6]])  # fmt: skip
+    cf = np.array(
+        [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]]
+    )
     cF = triangulate(cf.tolist())
     cC = (cube - 0.5) * 0.5 * (hi - lo).max() @ R.T + np.r_[c, 0.0]
     cube_img = render((cC, cF), lights=LIGHTS, **kw)
@@ -305,8 +319,10 @@ def test_renders_like_the_relief_with_the_cubes_shading(converted, tmp_path):
         Image.fromarray(np.hstack([zbuf, img, cube_img])).save(
             f"{os.environ['MESCHERS_KEEP_RENDERS']}/reutersvard_relief.png"
         )
-    print(f"IoU {iou:.4f}, corr vs perceived cubes {corr_perceived:.4f}, "
-          f"vs carved relief {corr_carved:.4f}, cube shades {shade.round(1)}")  # fmt: skip
+    print(
+        f"IoU {iou:.4f}, corr vs perceived cubes {corr_perceived:.4f}, "
+        f"vs carved relief {corr_carved:.4f}, cube shades {shade.round(1)}"
+    )
     assert iou >= 0.98, iou
     assert corr_perceived >= 0.98, corr_perceived
     # the carved relief is shaded differently (its normals lean toward the view)

@@ -31,8 +31,12 @@ from meschers_igl import Mescher, MescherError, MescherWarning
 from meschers_igl.obtain import find_view, model_to_mescher, see_model
 from meschers_igl.operators import view_frame
 
-MODELS = {"u_tribar": u_tribar, "block_stairs": block_stairs, "hidden_gap_frame": hidden_gap_frame,
-          "hidden_gap_cube": hidden_gap_cube}  # fmt: skip
+MODELS = {
+    "u_tribar": u_tribar,
+    "block_stairs": block_stairs,
+    "hidden_gap_frame": hidden_gap_frame,
+    "hidden_gap_cube": hidden_gap_cube,
+}
 #: Euler characteristic of the closed surface (hidden side kept), from how each model is built:
 #: the U-tribar and the stairs (four blocks touching face to face: one U-shaped solid) are
 #: spheres (2) that lose two caps (0) and are glued along a loop (chi unchanged): a torus; the
@@ -120,16 +124,23 @@ def test_visible_cube_frame_has_no_loop_through_its_gap():
     outside), so no visible loop runs through the bridged gap and there is no period."""
     V, P, gap = hidden_gap_cube()
     m, _, report = model_to_mescher(V, triangulate(P), view=ISO_VIEW, up=ISO_UP, hidden=False)
-    assert any(j.kind == "hidden gap" and abs(j.depth_gap - gap) <= 1e-6 * gap
-               for j in report.junctions)  # fmt: skip
+    assert any(
+        j.kind == "hidden gap" and abs(j.depth_gap - gap) <= 1e-6 * gap for j in report.junctions
+    )
     assert _nonzero_periods(m, gap).size == 0
 
 
 def test_arrays_and_files_agree(converted):
     _, _, _, gap, out = converted
     for kind in ("", "visible "):
-        _arrays_and_files_agree({k: v for k, v in out.items() if k.startswith(kind)
-                                 and (kind or not k.startswith("visible"))}, kind + "arrays")  # fmt: skip
+        _arrays_and_files_agree(
+            {
+                k: v
+                for k, v in out.items()
+                if k.startswith(kind) and (kind or not k.startswith("visible"))
+            },
+            kind + "arrays",
+        )
 
 
 def _arrays_and_files_agree(out, ref_name):
@@ -339,8 +350,9 @@ def test_pinch_vertex_warns():
     # two tetrahedra sharing one vertex
     T = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1.0]])
     V = np.vstack([T, -T[1:]])
-    F = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 5, 4], [0, 4, 6], [0, 6, 5],
-                  [4, 5, 6]])  # fmt: skip
+    F = np.array(
+        [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 5, 4], [0, 4, 6], [0, 6, 5], [4, 5, 6]]
+    )
     with pytest.warns(MescherWarning, match="pinch vertex"):
         m, _, report = model_to_mescher(V, F, view=ISO_VIEW, up=ISO_UP)
     assert any("pinch" in w for w in report.warnings)
@@ -387,9 +399,15 @@ def test_manhattan_leaves_right_angled_models_alone(name):
 def _moebius(n=12, w=0.3):
     t = np.linspace(0, 2 * np.pi, n, endpoint=False)
     V = np.concatenate(
-        [np.c_[np.cos(t) * (1 + s * w * np.cos(t / 2)), np.sin(t) * (1 + s * w * np.cos(t / 2)),
-               s * w * np.sin(t / 2)] for s in (-1, 1)]
-    )  # fmt: skip
+        [
+            np.c_[
+                np.cos(t) * (1 + s * w * np.cos(t / 2)),
+                np.sin(t) * (1 + s * w * np.cos(t / 2)),
+                s * w * np.sin(t / 2),
+            ]
+            for s in (-1, 1)
+        ]
+    )
     F = []
     for i in range(n):
         j = (i + 1) % n
@@ -518,8 +536,12 @@ def test_a_grid_of_blocks_has_no_junction():
     in 3D, g = 0): no junction is glued, no period, the visible surface is built."""
     from visible_models import box_block, separate_blocks
 
-    blocks = [box_block(np.array([i, j, k]) * 1.5, np.array([i, j, k]) * 1.5 + 1)
-              for i in range(3) for j in range(3) for k in range(3)]  # fmt: skip
+    blocks = [
+        box_block(np.array([i, j, k]) * 1.5, np.array([i, j, k]) * 1.5 + 1)
+        for i in range(3)
+        for j in range(3)
+        for k in range(3)
+    ]
     V, P = separate_blocks(blocks)
     with pytest.warns(MescherWarning, match="possible"):
         m, order, report = model_to_mescher(V, triangulate(P), view=(1, 1.3, 1.7), up=(0, 0, 1))

@@ -166,8 +166,11 @@ def test_crossing_slack_is_a_share_of_the_gap():
 def test_broken_bar_before_a_wall_and_a_separate_crossing_bar_are_possible():
     """A wall covers far beyond the gap (not a bar crossing it); a crossing bar that is a part
     of its own can be moved in depth, so the completed reading is realisable."""
-    wall = [box_block([0, 0, 0], [2.5, 1, 1]), box_block([3.5, 0, 0], [6, 1, 1]),
-            box_block([-2, 4, -3], [8, 5, 4])]  # fmt: skip
+    wall = [
+        box_block([0, 0, 0], [2.5, 1, 1]),
+        box_block([3.5, 0, 0], [6, 1, 1]),
+        box_block([-2, 4, -3], [8, 5, 4]),
+    ]
     for view in [(0.3, -1, 0.4), (0, -1, 0.2)]:
         v = np.asarray(view, float) / np.linalg.norm(view)
         up = AXES[2] - v[2] * v

@@ -29,8 +29,12 @@ from meschers_igl.operators import view_frame
 pv = pytest.importorskip("pyvista")
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
-MODELS = {"u_tribar": u_tribar, "block_stairs": block_stairs, "hidden_gap_frame": hidden_gap_frame,
-          "hidden_gap_cube": hidden_gap_cube}  # fmt: skip
+MODELS = {
+    "u_tribar": u_tribar,
+    "block_stairs": block_stairs,
+    "hidden_gap_frame": hidden_gap_frame,
+    "hidden_gap_cube": hidden_gap_cube,
+}
 LIGHTS = [(0.3, 0.5, 1.0), (-0.6, 0.2, 0.4)]
 SIZE = 240
 

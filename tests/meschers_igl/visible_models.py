@@ -223,9 +223,17 @@ def hidden_gap_frame(L=6.0, t=1.0, hole=0.6):
     # viewer so it is in front of both pieces; thick enough to hide the caps
     c = np.array([0.5 * L, 0.0, 0.0]) + 2.0 * L * ISO_VIEW
     w, dy, h = hole + 2.0 * t, 0.5 * t, 0.6 * L
-    hs = np.array([[1, 0, 0, -(c[0] + w / 2)], [-1, 0, 0, c[0] - w / 2],
-                   [0, 1, 0, -(c[1] + dy)], [0, -1, 0, c[1] - dy],
-                   [0, 0, 1, -(c[2] + h)], [0, 0, -1, c[2] - h]], float)  # fmt: skip
+    hs = np.array(
+        [
+            [1, 0, 0, -(c[0] + w / 2)],
+            [-1, 0, 0, c[0] - w / 2],
+            [0, 1, 0, -(c[1] + dy)],
+            [0, -1, 0, c[1] - dy],
+            [0, 0, 1, -(c[2] + h)],
+            [0, 0, -1, c[2] - h],
+        ],
+        float,
+    )
     occ = convex_block(hs, c)
     V, polys = separate_blocks([frame, occ])
     return V, polys, gap
@@ -317,13 +325,22 @@ def hidden_gap_cube(L=6.0, t=1.0, hole=0.6, split=0.5):
     Returns (V, polygons, gap) with gap = L sqrt(3).
     """
     h = t / 2
-    corners = [np.array(c, float) * L for c in
-               [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, 0, 1), (0, 1, 1)]]  # fmt: skip
+    corners = [
+        np.array(c, float) * L
+        for c in [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 1, 0), (1, 0, 1), (0, 1, 1)]
+    ]
     blocks = [box_block(c - h, c + h) for c in corners]
     key = {tuple(np.round(c / L).astype(int)): c for c in corners}
-    bars = [((0, 0, 0), (1, 0, 0)), ((0, 0, 0), (0, 0, 1)), ((1, 0, 0), (1, 1, 0)),
-            ((1, 0, 0), (1, 0, 1)), ((0, 1, 0), (1, 1, 0)), ((0, 1, 0), (0, 1, 1)),
-            ((0, 0, 1), (1, 0, 1)), ((0, 0, 1), (0, 1, 1))]  # fmt: skip
+    bars = [
+        ((0, 0, 0), (1, 0, 0)),
+        ((0, 0, 0), (0, 0, 1)),
+        ((1, 0, 0), (1, 1, 0)),
+        ((1, 0, 0), (1, 0, 1)),
+        ((0, 1, 0), (1, 1, 0)),
+        ((0, 1, 0), (0, 1, 1)),
+        ((0, 0, 1), (1, 0, 1)),
+        ((0, 0, 1), (0, 1, 1)),
+    ]
     for a, b in bars:  # a box between the two corner cubes
         A, B = key[a], key[b]
         d = (B - A) / L

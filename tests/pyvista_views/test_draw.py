@@ -79,8 +79,16 @@ def test_svg_groups_paths_widths_and_coordinates(tmp_path):
     (d,) = [p.get("d") for p in groups["outline"].iter(f"{SVG}path")]
     assert d.startswith("M") and d.endswith("Z")
     pts = {tuple(float(v) for v in c.split()) for c in d[1:-1].replace("L", ",").split(",")}
-    assert pts == {(0, 400), (200, 400), (200, 300), (300, 300), (300, 100), (100, 100),
-                   (100, 200), (0, 200)}  # fmt: skip
+    assert pts == {
+        (0, 400),
+        (200, 400),
+        (200, 300),
+        (300, 300),
+        (300, 100),
+        (100, 100),
+        (100, 200),
+        (0, 200),
+    }
     dashed = ET.fromstring(draw(m, order, hidden="dashed", bounds=(0, 4, 0, 4)))
     hidden = [g for g in dashed.iter(f"{SVG}g") if g.get("id") == "hidden"]
     assert len(hidden) == 1 and hidden[0].get("stroke-dasharray")
