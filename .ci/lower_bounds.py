@@ -39,8 +39,10 @@ def oldest_release(name: str, bound: str) -> str:
     """The oldest release of ``name`` at or above ``bound`` that pip can install here."""
     text = subprocess.run(
         [sys.executable, "-m", "pip", "index", "versions", name],
-        capture_output=True, text=True, check=True,
-    ).stdout  # fmt: skip
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     listed = re.search(r"Available versions:(.*)", text)
     if not listed:
         raise SystemExit(f"{name}: pip lists no release ({text.strip()[:200]})")

@@ -46,8 +46,22 @@ def capped_tribar(resolution: int):
 
 def block_grid(n: int, ground: float = 20.0):
     """``n x n`` separate boxes on a ground quad ``ground`` times the grid's size."""
-    f = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
-                  [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])  # fmt: skip
+    f = np.array(
+        [
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6],
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7],
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5],
+        ]
+    )
     unit = np.array([[x, y, z] for z in (0, 1) for y in (0, 2) for x in (0, 2)], np.float64)
     ij = np.stack(np.divmod(np.arange(n * n), n), axis=1)
     V = (unit[None] + 3.0 * np.c_[ij, np.zeros(n * n)][:, None]).reshape(-1, 3)
