@@ -23,19 +23,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .face_grid import ranges as _ranges
+
 __all__ = ["NEAR_BASE", "crossed", "fold_ranks", "is_near", "triangles_overlap"]
 
 #: Key base of the "near" relation (``anchor * NEAR_BASE + face``): above any face count.
 NEAR_BASE = 1 << 31
-
-
-def _ranges(n: np.ndarray) -> np.ndarray:
-    """``concatenate([arange(k) for k in n])`` without a loop."""
-    n = np.asarray(n, dtype=np.int64)
-    total = int(n.sum())
-    if total == 0:
-        return np.zeros(0, dtype=np.int64)
-    return np.arange(total, dtype=np.int64) - np.repeat(np.cumsum(n) - n, n)
 
 
 def is_near(near: np.ndarray | None, anchor: np.ndarray, g: np.ndarray) -> np.ndarray:
