@@ -147,7 +147,11 @@ class ModelJob:
 
     def step(self, key: str, label: str, fn: Callable[..., Any], *args: Any) -> Any:
         """Run ``fn(*args)``, timing it; a failure is recorded and the job goes on (returns None)."""
+        from .warmup import STEP_GROUPS, wait_compiled
+
         label = f"{self.section.name}: {label}"
+        # on a first run: the kernel groups this step uses, compiled meanwhile in another process
+        wait_compiled(STEP_GROUPS.get(key))
         self.progress(label)
         t0 = time.perf_counter()
         try:

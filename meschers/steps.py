@@ -43,7 +43,6 @@ from .metrics import (
     seam_gap,
 )
 from .settings import ENV_MAP, GEODESIC_CMAP, HEAT_CMAP, LIGHTS, subdivision_levels
-from .warmup import wait_compiled
 
 __all__ = ["STEPS", "Subject", "run_mescher_steps", "subdivide", "subdivision_levels"]
 
@@ -642,7 +641,6 @@ def run_mescher_steps(
     """Subdivide, then every step of :data:`STEPS` on the subdivided mescher."""
     job.record["input"] = describe(m0)
     m, order = job.step("subdivide", "subdivide", subdivide, job, m0, order0) or (m0, order0)
-    wait_compiled()  # on a first run: the kernels the next steps use (geodesics, ...)
     s = Subject(name, m, order, reference, reference_note, coarse=(m0, order0))
     for key, label, fn in STEPS:
         job.step(key, label, fn, job, s)

@@ -180,12 +180,9 @@ def study_model(
 
     from pyvista_views.headless import configure_headless
 
-    from .warmup import FIRST_NEEDED, wait_compiled
-
     configure_headless()  # a fresh worker process has no pyvista settings yet
-    # kernels still compiling on a first run (meschers.warmup.start_compiling): a mescher's
-    # steps wait for the rest after subdividing (steps.run_mescher_steps), other models now
-    wait_compiled(FIRST_NEEDED if spec.kind in ("gallery", "mescher") else None)
+    # kernels still compiling on a first run (meschers.warmup.start_compiling): each step waits
+    # for the groups it uses (ModelJob.step)
     # the same BLAS/OpenMP threads in this process and in every worker: sums are then done in
     # the same order and a parallel study gives the serial one's numbers to the last digit
     with threadpool_limits(limits=STUDY_THREADS):

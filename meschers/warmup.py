@@ -30,6 +30,7 @@ from meschers_igl import compiled
 __all__ = [
     "COMPILE_SECONDS",
     "FIRST_NEEDED",
+    "STEP_GROUPS",
     "Compiling",
     "announce_compilation",
     "cold_groups",
@@ -41,15 +42,35 @@ __all__ = [
 
 RENDER_PACKAGE = "pyvista_views"
 
-# CPU seconds to compile each group from an empty cache on one core of a 2-core machine
-# (benchmarks/bench_study.py --fresh measures them); only for the estimate printed beforehand.
-COMPILE_SECONDS = {"order": 14.0, "geodesic": 16.0, "render": 3.0}
+# CPU seconds to compile each group from an empty cache on one core of a 2-core machine, one
+# group after another in one process (the process's own start, about 3 s, counted in the first);
+# only for the estimate printed beforehand and for dealing groups to processes.
+COMPILE_SECONDS = {"order": 15.0, "render": 3.0, "paths": 4.0, "geodesic": 11.0}
 
 
-#: The groups a model's first steps use (building and ordering it, then drawing it), in order.
-FIRST_NEEDED = ("order", "render")
+#: The groups a model's first steps use (building and ordering it, drawing it, its homology
+#: loops), in order.
+FIRST_NEEDED = ("order", "render", "paths")
 
-_WARM = "from meschers.warmup import warm_group; warm_group({group!r})"
+#: The kernel groups each step of a study uses (the study's step keys), so that on a first run
+#: a step waits only for those; a step not named waits for every group.  Waiting is only
+#: scheduling: a kernel a step reaches before its group is ready is compiled by the step itself.
+STEP_GROUPS: dict[str, tuple[str, ...]] = {
+    "build": ("order",),
+    "convert": ("order",),
+    "subdivide": ("order",),
+    "hodge": ("order", "render", "paths"),
+    "render": ("order", "render"),
+    "line_art": ("order",),
+    "loop_subdivision": ("order", "render"),
+    "heat": ("order", "render", "paths"),
+    "geodesic": ("order", "render", "paths", "geodesic"),
+    "smoothing": ("order", "render"),
+    "relighting": ("order", "render"),
+    "relight": ("order", "render"),
+}
+
+_WARM = "from meschers.warmup import warm_groups; warm_groups({groups!r}, {folder!r})"
 _ENV = "MESCHERS_COMPILING"
 
 
@@ -68,6 +89,16 @@ def _modules(group: str) -> tuple[str, ...]:
 def cold_groups(groups: Iterable[str] = (*compiled.GROUPS, "render")) -> list[str]:
     """The groups with at least one kernel that has no machine code cached for this CPU."""
     return [g for g in groups if compiled.cold_kernels(_modules(g))]
+
+
+def warm_groups(groups: Iterable[str], folder: str | None = None) -> None:
+    """Compile (or load) the kernels of ``groups`` in this process, one group after another,
+    writing ``GROUP.done`` into ``folder`` (if given) as each is ready."""
+    for g in groups:
+        warm_group(g)
+        if folder is not None and os.path.isdir(folder):
+            with open(os.path.join(folder, f"{g}.done"), "w"):
+                pass
 
 
 def warm_group(group: str) -> float:
@@ -92,14 +123,19 @@ def warm_group(group: str) -> float:
 
 
 class Compiling:
-    """Kernel groups compiling in fresh interpreters (one core each), started by
-    :func:`start_compiling`; the work that needs a group waits for it (:func:`wait_compiled`).
+    """Kernel groups compiling in fresh interpreters, started by :func:`start_compiling`; the
+    work that needs a group waits for it (:func:`wait_compiled`).
+
+    Each interpreter compiles its groups one after another, the groups a model needs first
+    first.  Few interpreters: each pays the interpreter's start, the imports and numba's own
+    first-compilation set-up (several CPU seconds) before it compiles anything, and each takes
+    a core from the work.
 
     While it runs, the environment variable ``MESCHERS_COMPILING`` names a folder of markers
-    (``GROUP.wait`` for each group it compiles, ``GROUP.done`` once that group's process
-    ended, ``owner`` this process's id), so worker
-    processes started meanwhile (they inherit the environment) wait for the groups they need
-    instead of compiling them a second time.
+    (``GROUP.wait`` for each group it compiles, ``GROUP.done`` once that group is compiled or
+    its process ended, ``owner`` this process's id), so worker processes started meanwhile
+    (they inherit the environment) wait for the groups they need instead of compiling them a
+    second time.
     """
 
     def __init__(self, cold: list[str], processes: int, say: Callable[[str], None] | None):
@@ -114,46 +150,42 @@ class Compiling:
                 pass
         self._previous = os.environ.get(_ENV)
         os.environ[_ENV] = self.folder
-        # the groups a model needs first go first (it is built and ordered, then drawn); with
-        # two processes or more the longest other group starts beside the first of them; a
-        # new process starts as soon as one ends
-        first = [g for g in FIRST_NEEDED if g in cold]
-        rest = sorted((g for g in cold if g not in first), key=_seconds, reverse=True)
-        if rest and len(first) >= processes >= 2:  # the longest group beside the first ones
-            first, rest = first[: processes - 1], rest + first[processes - 1 :]
-        pending = first + rest
         self._thread = threading.Thread(
-            target=self._run, args=(pending, processes), name="meschers-compile", daemon=True
+            target=self._run,
+            args=(_share(cold, processes),),
+            name="meschers-compile",
+            daemon=True,
         )
         self._thread.start()
 
-    def _run(self, pending: list[str], processes: int) -> None:
+    def _run(self, shares: list[list[str]]) -> None:
         try:
-            self._schedule(list(pending), processes)
+            self._compile(shares)
         finally:  # whatever happened, nobody waits any longer (the work compiles what is missing)
             for g in self.cold:
-                with open(os.path.join(self.folder, f"{g}.done"), "w"):
-                    pass
+                self._mark(g)
             self.took = time.perf_counter() - self.t0
 
-    def _schedule(self, pending: list[str], processes: int) -> None:
-        running: list[tuple[str, subprocess.Popen, Any]] = []
-        while pending or running:
-            while pending and len(running) < processes:
-                g = pending.pop(0)
-                log = tempfile.TemporaryFile(mode="w+")
-                cmd = [sys.executable, "-c", _WARM.format(group=g)]
-                running.append((g, subprocess.Popen(cmd, stdout=log, stderr=log, text=True), log))
-            time.sleep(0.02)
-            for item in [r for r in running if r[1].poll() is not None]:
-                g, proc, log = item
-                running.remove(item)
-                if proc.returncode != 0:
-                    log.seek(0)
-                    self.failed.append(f"{g}: {(log.read().strip().splitlines() or ['?'])[-1]}")
-                log.close()
-                with open(os.path.join(self.folder, f"{g}.done"), "w"):
-                    pass
+    def _mark(self, group: str) -> None:
+        with open(os.path.join(self.folder, f"{group}.done"), "w"):
+            pass
+
+    def _compile(self, shares: list[list[str]]) -> None:
+        running = []
+        for groups in shares:
+            log = tempfile.TemporaryFile(mode="w+")
+            cmd = [sys.executable, "-c", _WARM.format(groups=groups, folder=self.folder)]
+            proc = subprocess.Popen(cmd, stdout=log, stderr=log, text=True)
+            running.append((groups, proc, log))
+        for groups, proc, log in running:
+            proc.wait()
+            if proc.returncode != 0:
+                log.seek(0)
+                last = (log.read().strip().splitlines() or ["?"])[-1]
+                self.failed.append(f"{', '.join(groups)}: {last}")
+            log.close()
+            for g in groups:
+                self._mark(g)
 
     def wait(self, groups: Iterable[str] | None = None) -> None:
         """Wait until ``groups`` (default: all) are compiled (their processes ended)."""
@@ -188,6 +220,18 @@ def _seconds(group: str) -> float:
     return COMPILE_SECONDS.get(group, 10.0)
 
 
+def _share(cold: list[str], processes: int) -> list[list[str]]:
+    """The cold groups dealt to at most ``processes`` interpreters, each list in the order the
+    work needs them: the groups a model needs first lead; each group goes to the least loaded
+    interpreter (estimated seconds)."""
+    ordered = [g for g in FIRST_NEEDED if g in cold]
+    ordered += sorted((g for g in cold if g not in ordered), key=_seconds, reverse=True)
+    shares: list[list[str]] = [[] for _ in range(max(1, min(processes, len(ordered))))]
+    for g in ordered:
+        min(shares, key=lambda share: sum(map(_seconds, share))).append(g)
+    return [share for share in shares if share]
+
+
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)
@@ -215,7 +259,7 @@ def start_compiling(
     groups: Iterable[str] = (*compiled.GROUPS, "render"),
     processes: int | None = None,
 ) -> Compiling | None:
-    """Start compiling the missing kernel groups in parallel processes; do not wait.
+    """Start compiling the missing kernel groups in processes of their own; do not wait.
 
     Says ``compiling kernels (first run only, about N s)`` when some are missing.  The work can
     start meanwhile: it calls :func:`wait_compiled` (here or in a worker process started after
@@ -229,7 +273,9 @@ def start_compiling(
     groups : iterable of str
         The groups the coming work uses.
     processes : int, optional
-        At most this many compiling processes (default: the cores available).
+        At most this many compiling processes (default: the cores available; the groups are
+        dealt to them, so a 2-core machine compiles what a model needs first in one process
+        and the rest in the other while the workers start).
 
     Returns
     -------
@@ -241,11 +287,11 @@ def start_compiling(
     if not cold:
         return None
     ncpu = processes or len(os.sched_getaffinity(0))
-    n = max(1, min(len(cold), ncpu))
-    estimate = max(sum(_seconds(g) for g in cold) / n, 1.0)
+    shares = _share(cold, ncpu)
+    estimate = max(max(sum(map(_seconds, share)) for share in shares), 1.0)
     if say is not None:
         say(f"compiling kernels (first run only, about {estimate:.0f} s): {', '.join(cold)}")
-    return Compiling(cold, n, say)
+    return Compiling(cold, len(shares), say)
 
 
 def wait_compiled(groups: Iterable[str] | None = None) -> None:

@@ -14,9 +14,13 @@ Groups (each can be warmed in its own process, in parallel):
 ``"order"``
     overlap tests, depth orders, topological sorts, refinement, line drawings
     (:mod:`.overlap`, :mod:`.order_graph`, :mod:`.lines`).
+``"paths"``
+    closed geodesics (funnel unfolding), intrinsic Delaunay flips, the heap
+    (:mod:`.geodesic.unfold`, :mod:`.intrinsic`, :mod:`.heap`): what homology loops and the heat
+    method use.
 ``"geodesic"``
-    exact geodesics, shortest paths, intrinsic Delaunay flips, the heap (:mod:`.geodesic`,
-    :mod:`.intrinsic`, :mod:`.heap`).
+    exact geodesics by window propagation (:mod:`.geodesic.windows`): exact distances and
+    shortest paths; the longest single kernel to compile, so a group of its own.
 """
 
 from __future__ import annotations
@@ -29,12 +33,8 @@ __all__ = ["GROUPS", "cold_kernels", "is_cached", "kernels", "warm"]
 # module names of each group's kernels
 GROUPS: dict[str, tuple[str, ...]] = {
     "order": ("meschers_igl.overlap", "meschers_igl.order_graph", "meschers_igl.lines"),
-    "geodesic": (
-        "meschers_igl.geodesic.windows",
-        "meschers_igl.geodesic.unfold",
-        "meschers_igl.intrinsic",
-        "meschers_igl.heap",
-    ),
+    "paths": ("meschers_igl.geodesic.unfold", "meschers_igl.intrinsic", "meschers_igl.heap"),
+    "geodesic": ("meschers_igl.geodesic.windows",),
 }
 
 
@@ -113,10 +113,7 @@ def warm(group: str) -> None:
 
     if group not in GROUPS:
         raise MescherError(f"group: expected one of {sorted(GROUPS)}, found {group!r}")
-    if group == "order":
-        _warm_order()
-    else:
-        _warm_geodesic()
+    {"order": _warm_order, "paths": _warm_paths, "geodesic": _warm_geodesic}[group]()
 
 
 def _tiny():
@@ -147,11 +144,18 @@ def _warm_order() -> None:
     del fine
 
 
+def _warm_paths() -> None:
+    from .geodesic import geodesic_distance, shortest_loops
+
+    m = _tiny()
+    for method in ("auto", "refined", "geometry_central"):
+        geodesic_distance(m, [0], method=method)
+    shortest_loops(m)
+
+
 def _warm_geodesic() -> None:
     from .geodesic import geodesic_distance
 
     m = _tiny()
-    n = m.n_vertices
-    for method in ("exact", "auto", "refined", "geometry_central"):
-        geodesic_distance(m, [0], method=method)
-    m.shortest_path(0, n // 2)
+    geodesic_distance(m, [0], method="exact")
+    m.shortest_path(0, m.n_vertices // 2)

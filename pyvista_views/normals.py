@@ -94,7 +94,10 @@ def corner_groups(
     # edge (two such faces are within the feature angle of each other): its corners form one
     # group, the vertex itself.  Only the faces around the other vertices are examined.
     half = np.cos(np.radians(0.5 * feature_angle)) - 1e-12
-    rough = _rough_vertices(F, np.ascontiguousarray(face_normals), vn, half, nv)
+    # writeable copies: a read-only argument would compile (and cache) another specialisation
+    rough = _rough_vertices(
+        np.array(F, order="C"), np.array(face_normals, order="C"), np.array(vn, order="C"), half, nv
+    )
     if not rough.any():
         return F, np.arange(nv, dtype=np.int64), vn
     wn = face_normals * weights[:, None]

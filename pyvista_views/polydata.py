@@ -351,7 +351,8 @@ def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.nd
     source : (k + u,) int64
         Original point of each new point; every original point appears.
     """
-    cells = np.ascontiguousarray(cells, dtype=np.int64)
+    # writeable copies: a read-only argument would compile (and cache) a second specialisation
+    cells = np.array(cells, dtype=np.int64, order="C")
     return _provoking_kernel(cells, np.arange(cells.shape[0], dtype=np.int64), int(n_points))
 
 
@@ -397,8 +398,10 @@ def indexed(
     source = np.arange(n, dtype=np.int64)
     provoking = provoking and face_normals is not None
     if provoking and not (vertex_normals is not None and split_folds):
-        F = np.ascontiguousarray(F, dtype=np.int64)
-        cells, source = _provoking_kernel(F, np.ascontiguousarray(draw, dtype=np.int64), n)
+        # writeable copies: a read-only argument (a mescher's arrays are read-only) would
+        # compile (and cache) a second specialisation of the kernel
+        F = np.array(F, dtype=np.int64, order="C")
+        cells, source = _provoking_kernel(F, np.array(draw, dtype=np.int64, order="C"), n)
     else:
         cells = F[draw]
         if vertex_normals is not None and split_folds:
@@ -408,10 +411,10 @@ def indexed(
     if provoking:
         # float32 normals: what VTK uploads anyway (it would convert float64 on the first frame)
         points, normals = _provoking_arrays(
-            np.ascontiguousarray(points, dtype=np.float64),
+            np.array(points, dtype=np.float64, order="C"),
             source,
-            np.ascontiguousarray(face_normals, dtype=np.float64),
-            np.ascontiguousarray(draw, dtype=np.int64),
+            np.array(face_normals, dtype=np.float64, order="C"),
+            np.array(draw, dtype=np.int64, order="C"),
         )
     elif remapped:
         points = points[source]

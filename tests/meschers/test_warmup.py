@@ -151,3 +151,41 @@ def test_wait_compiled_waits_for_the_groups_named_and_never_for_a_dead_owner(tmp
     t = time.perf_counter()
     wait_compiled(["geodesic"])
     assert time.perf_counter() - t < 0.5
+
+
+def test_groups_are_dealt_to_few_processes_first_needed_first():
+    from meschers.warmup import FIRST_NEEDED, _share
+
+    cold = ["geodesic", "render", "order", "paths"]
+    one = _share(cold, 1)
+    assert len(one) == 1 and sorted(one[0]) == sorted(cold)
+    assert one[0][: len(FIRST_NEEDED)] == list(FIRST_NEEDED)  # what a model needs first, first
+    # two: each group to the least loaded process (estimated seconds), in the order needed
+    two = _share(cold, 2)
+    assert two == [["order"], ["render", "paths", "geodesic"]]
+    assert _share(["geodesic"], 8) == [["geodesic"]]  # never more processes than groups
+
+
+def test_one_process_marks_each_group_done_as_it_finishes(tmp_path, monkeypatch):
+    """A process compiling several groups says each is ready before the next starts, so the
+    work waiting for the first does not wait for the last."""
+    from meschers import warmup
+
+    seen = []
+
+    def fake(group):
+        seen.append((group, sorted(p.name for p in tmp_path.glob("*.done"))))
+        return 0.0
+
+    monkeypatch.setattr(warmup, "warm_group", fake)
+    warmup.warm_groups(["order", "render", "geodesic"], str(tmp_path))
+    assert seen == [
+        ("order", []),
+        ("render", ["order.done"]),
+        ("geodesic", ["order.done", "render.done"]),
+    ]
+    assert sorted(p.name for p in tmp_path.glob("*.done")) == [
+        "geodesic.done",
+        "order.done",
+        "render.done",
+    ]

@@ -122,3 +122,25 @@ def test_embedding_soup_keeps_real_depth_and_libigl_normals(ball):
     )
     with pytest.raises(MescherError, match="V"):
         embedding_polydata(V[:, :2], F)
+
+
+def test_render_kernels_compile_one_specialisation_for_read_only_and_writable_input(ball):
+    """A mescher's arrays are read-only, a user's are writable: numba would compile a kernel once
+    per flag combination (a first run compiling again inside each worker); the wrappers pass
+    writable copies, so each kernel holds one signature."""
+    from pyvista_views import normals, polydata
+
+    V, F, m = ball
+    fn = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    fn /= np.linalg.norm(fn, axis=1, keepdims=True)
+    for writable in (True, False):
+        Fi, Vi, Ni = F.copy(), V.copy(), fn.copy()
+        for a in (Fi, Vi, Ni):
+            a.flags.writeable = writable
+        draw = np.arange(Fi.shape[0])
+        draw.flags.writeable = writable
+        polydata.provoking_cells(Fi, Vi.shape[0])
+        polydata.indexed(Vi, Fi, draw, face_normals=Ni, provoking=True)
+        normals.corner_groups(Fi, Ni, np.ones(Fi.shape[0]), 30.0)
+    for d in (polydata._provoking_kernel, polydata._provoking_arrays, normals._rough_vertices):
+        assert len(d.signatures) == 1, (d.py_func.__name__, d.signatures)
