@@ -110,10 +110,9 @@ def warm_group(group: str) -> float:
         configure_headless()
         import numpy as np
 
-        from meschers_igl import shapes
         from pyvista_views import render
 
-        m = shapes.impossible_torus(12, 6, climb=1.0)
+        m = compiled.tiny_mescher()
         total = np.arange(m.n_faces)  # a total order: the order kernels are the other group's
         for shading in ("flat", "smooth"):
             render(m, total, shading=shading, window_size=(32, 32))
@@ -317,16 +316,8 @@ def ensure_compiled(
     groups: Iterable[str] = (*compiled.GROUPS, "render"),
     processes: int | None = None,
 ) -> float:
-    """Compile the missing kernel groups before the work starts, in parallel processes.
-
-    Parameters
-    ----------
-    say : callable(str), optional
-        Where the one-line notice goes (``None``: silent).
-    groups : iterable of str
-        The groups the coming work uses.
-    processes : int, optional
-        At most this many compiling processes (default: the cores available).
+    """Compile the missing kernel groups before the work starts: :func:`start_compiling`
+    (same parameters), then wait for every group.
 
     Returns
     -------

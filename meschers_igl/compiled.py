@@ -28,7 +28,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Iterable
 
-__all__ = ["GROUPS", "cold_kernels", "is_cached", "kernels", "warm"]
+__all__ = ["GROUPS", "cold_kernels", "is_cached", "kernels", "tiny_mescher", "warm"]
 
 # module names of each group's kernels
 GROUPS: dict[str, tuple[str, ...]] = {
@@ -116,8 +116,9 @@ def warm(group: str) -> None:
     {"order": _warm_order, "paths": _warm_paths, "geodesic": _warm_geodesic}[group]()
 
 
-def _tiny():
-    """A small impossible mescher with the order of its cut model (the impossibagel)."""
+def tiny_mescher():
+    """The small impossible mescher every warm-up call uses (an impossible torus, 144 faces):
+    the argument types of real work at almost no cost."""
     from . import shapes
 
     return shapes.impossible_torus(12, 6, climb=1.0)
@@ -130,7 +131,7 @@ def _warm_order() -> None:
     from .lines import line_drawing
     from .order import DepthOrder
 
-    m = _tiny()
+    m = tiny_mescher()
     o = DepthOrder.from_local_depth(m)
     o.linear_extension()
     o.put_in_front(np.arange(4), np.arange(4, 8))
@@ -147,7 +148,7 @@ def _warm_order() -> None:
 def _warm_paths() -> None:
     from .geodesic import geodesic_distance, shortest_loops
 
-    m = _tiny()
+    m = tiny_mescher()
     for method in ("auto", "refined", "geometry_central"):
         geodesic_distance(m, [0], method=method)
     shortest_loops(m)
@@ -156,6 +157,6 @@ def _warm_paths() -> None:
 def _warm_geodesic() -> None:
     from .geodesic import geodesic_distance
 
-    m = _tiny()
+    m = tiny_mescher()
     geodesic_distance(m, [0], method="exact")
     m.shortest_path(0, m.n_vertices // 2)
