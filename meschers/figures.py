@@ -24,6 +24,7 @@ __all__ = [
     "fit_text",
     "font",
     "format_values",
+    "lines_over",
     "overlay",
     "place_labels",
     "png_bytes",
@@ -277,6 +278,51 @@ def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.
                 (x + 1, y + 1), text, fill=colour, font=fnt, stroke_width=2, stroke_fill="white"
             )
     return np.asarray(canvas)
+
+
+def lines_over(images: Sequence[np.ndarray], lines: Any, bounds, widths: Any = None) -> list:
+    """A line drawing over renders of one framing: rasterized once, laid over each image.
+
+    Parameters
+    ----------
+    images : sequence of (H, W, 3) uint8
+        Renders with the exact extent ``bounds`` (all of one size).
+    lines : meschers_igl.lines.LineDrawing
+        Its visible lines are drawn (:func:`pyvista_views.lineart.to_svg`).
+    bounds : (xmin, xmax, ymin, ymax)
+    widths : float or dict, optional
+        Stroke widths in pixels (:func:`pyvista_views.lineart.to_svg`).
+
+    Returns
+    -------
+    list of (H, W, 3) uint8
+        Each image under the lines, alpha-blended as :func:`pyvista_views.lineart.overlay` does.
+
+    Raises
+    ------
+    MescherError
+        Images of different sizes.
+    ImportError
+        Without cairosvg, which rasterizes the lines.
+    """
+    from meschers_igl.errors import MescherError
+    from pyvista_views.lineart import rasterize, to_svg
+
+    images = [np.asarray(im) for im in images]
+    if not images:
+        return []
+    h, w = images[0].shape[:2]
+    if any(im.shape[:2] != (h, w) for im in images):
+        found = sorted({im.shape[:2] for im in images})
+        raise MescherError(f"images: expected renders of one size, found sizes {found}")
+    svg = to_svg(lines, window_size=(w, h), bounds=bounds, widths=widths)
+    rgba = rasterize(svg, (w, h), background=None).astype(np.float64)
+    alpha = rgba[..., 3:4] / 255.0
+    ink = rgba[..., :3] * alpha
+    return [
+        np.clip(np.rint(im[..., :3] * (1.0 - alpha) + ink), 0, 255).astype(np.uint8)
+        for im in images
+    ]
 
 
 def png_bytes(image: Any) -> bytes:

@@ -32,7 +32,14 @@ from pyvista_views.camera import default_bounds, xy_box
 from pyvista_views.render import hide_back_faces
 
 from .describe import describe, impossibility_kind
-from .figures import Colorbar, compose, format_value, format_values, round_off_scale
+from .figures import (
+    Colorbar,
+    compose,
+    format_value,
+    format_values,
+    lines_over,
+    round_off_scale,
+)
 from .job import ModelJob
 from .lineart_step import line_art
 from .metrics import (
@@ -55,6 +62,9 @@ HEAT_LOG_MIN = -6.0
 ZETA_TIME_FACTOR = 10.0
 #: Smallest panel of the subdivision figure, in pixels (the study's quick cells are smaller).
 FIGURE_MIN_PX = 256
+#: Stroke widths (pixels) of the line drawing over the flat row: the gallery figure's, creases
+#: a little wider so that they still show on the study's quick 192 px cells.
+FLAT_LINE_WIDTHS = {"outline": 1.2, "occlusion": 1.0, "crease": 0.8}
 
 
 @dataclass
@@ -219,19 +229,38 @@ def _impossible_because(kind: str | None) -> str:
     return "A non-zero period is what makes the object impossible."
 
 
+def _flat_lines(s: Subject, images: list, bounds) -> tuple[list, str]:
+    """The flat row under the figure's line drawing (outlines, occlusion lines, creases), as in
+    the gallery figure: where a tread meets the next step's tread of the same shade (its riser
+    faces away), only a line tells the steps apart.  The lines of the input mescher (the
+    study's midpoint subdivision moves no point of the picture, and adds no line).  Without
+    cairosvg the row stays plain and the returned note says so."""
+    from meschers_igl.lines import line_drawing
+
+    m0, o0 = s.coarse if s.coarse is not None else (s.m, s.order)
+    try:
+        drawn = lines_over(images, line_drawing(m0, o0), bounds, widths=FLAT_LINE_WIDTHS)
+    except ImportError:  # cairosvg is optional (meschers[lineart])
+        return images, "cairosvg not installed: flat row without lines"
+    return drawn, "line drawing over the flat row"
+
+
 def render(job: ModelJob, s: Subject) -> None:
-    """Flat and smooth shading under four lights and an environment map."""
+    """Flat shading with the line drawing over it, and smooth shading, under four lights and an
+    environment map."""
     bounds = s.bounds(job.st.cell)
     rows = [
         job.renderer.relit([_mescher(s, shading=sh)], bounds, LIGHTS, ENV_MAP)
         for sh in ("flat", "smooth")
     ]
+    rows[0], lines_note = _flat_lines(s, rows[0], bounds)
     cols = [f"light {i + 1} {tuple(round(c, 1) for c in L)}" for i, L in enumerate(LIGHTS)]
-    fig = compose(rows, [*cols, f"env map '{ENV_MAP}'"], ["flat", "smooth"])
+    fig = compose(rows, [*cols, f"env map '{ENV_MAP}'"], ["flat + lines", "smooth"])
     job.record["render"] = {
         "lights": [list(L) for L in LIGHTS],
         "env_map": ENV_MAP,
         "arcs_in_depth_order": int(s.order.n_arcs) if s.order is not None else 0,
+        "flat_row": lines_note,
     }
     job.figure(
         fig,
@@ -240,7 +269,10 @@ def render(job: ModelJob, s: Subject) -> None:
         "The flattened mescher drawn back to front in a linear extension of its depth order (paper "
         "Sec. 4.1), shaded with normals derived from zeta: per face (top) and interpolated per vertex "
         "(bottom), under four directional lights and an environment map. Only directional and "
-        "environment lighting is defined on a mescher (it has no absolute depth).",
+        "environment lighting is defined on a mescher (it has no absolute depth). Over the top "
+        "row, the figure's line drawing (outlines, occlusion lines, creases), as in the gallery: "
+        "where two surfaces of one orientation meet, such as the treads of neighbouring steps "
+        "whose risers face away, shading alone cannot tell them apart.",
     )
 
 
