@@ -11,6 +11,7 @@ screen (:func:`extract_order`).  Starting shapes: :mod:`.picture` (from the pict
 
 from __future__ import annotations
 
+import contextlib
 import math
 import sys
 import time
@@ -207,8 +208,9 @@ def fit_mescher(
     if opt.threads:
         # several engineers share two cores: oversubscribed BLAS threads are 10x slower here
         torch.set_num_threads(opt.threads)
+    ctx, step_callback = _with_progress(progress, opt.iters, callback)
     try:
-        if not progress:
+        with ctx:
             return _fit(
                 target,
                 res,
@@ -219,45 +221,45 @@ def fit_mescher(
                 ambient,
                 background,
                 opt,
-                callback,
-                device,
-            )
-        from rich.console import Console
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-        with Progress(
-            TextColumn("[bold]inverse[/] {task.description}"),
-            BarColumn(),
-            TextColumn("{task.completed}/{task.total}"),
-            TimeElapsedColumn(),
-            console=Console(stderr=True),  # stdout stays for results
-            transient=False,
-        ) as bar:
-            task = bar.add_task("loss -", total=opt.iters)
-
-            def tick(it: int, state: dict) -> None:
-                text = f"loss {state['loss']:.5f}"
-                if "psnr" in state:
-                    text += f" PSNR {state['psnr']:.1f} dB"
-                bar.update(task, advance=1, description=text)
-                if callback is not None:
-                    callback(it, state)
-
-            return _fit(
-                target,
-                res,
-                init,
-                offsets,
-                lights,
-                light_colors,
-                ambient,
-                background,
-                opt,
-                tick,
+                step_callback,
                 device,
             )
     finally:
         torch.set_num_threads(old_threads)
+
+
+def _with_progress(progress: bool, total: int, callback):
+    """The context and the step callback :func:`fit_mescher` runs :func:`_fit` with.
+
+    Without ``progress``: :func:`contextlib.nullcontext` and ``callback`` itself.  With it: a
+    rich progress bar on stderr (stdout stays for results) of ``total`` steps, and a callback
+    that advances it once per step, shows the loss and the last PSNR check, then calls
+    ``callback``.
+    """
+    if not progress:
+        return contextlib.nullcontext(), callback
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    bar = Progress(
+        TextColumn("[bold]inverse[/] {task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=False,
+    )
+    task = bar.add_task("loss -", total=total)
+
+    def tick(it: int, state: dict) -> None:
+        text = f"loss {state['loss']:.5f}"
+        if "psnr" in state:
+            text += f" PSNR {state['psnr']:.1f} dB"
+        bar.update(task, advance=1, description=text)
+        if callback is not None:
+            callback(it, state)
+
+    return bar, tick
 
 
 def _fit(

@@ -613,6 +613,31 @@ def test_progress_bar_and_callback_see_every_step_and_the_psnr_checks(capsys):
     assert "inverse" in capsys.readouterr().err
 
 
+def test_with_progress_picks_the_context_and_the_callback_once():
+    import contextlib
+
+    seen = []
+
+    def cb(it, st):
+        seen.append(it)
+
+    # without a bar: a null context and the caller's own callback, untouched
+    ctx, step = opt._with_progress(False, 5, cb)
+    assert isinstance(ctx, contextlib.nullcontext) and step is cb
+    ctx, step = opt._with_progress(False, 5, None)
+    assert step is None
+    # with one: the bar is the context; each step advances it once and reaches the caller
+    ctx, step = opt._with_progress(True, 3, cb)
+    with ctx:
+        step(0, {"loss": 0.5})
+        step(1, {"loss": 0.25, "psnr": 20.0})
+        (task,) = ctx.tasks
+        assert task.description == "loss 0.25000 PSNR 20.0 dB"
+        step(2, {"loss": 0.125})
+    assert task.completed == task.total == 3 and task.description == "loss 0.12500"
+    assert seen == [0, 1, 2]
+
+
 # ------------------------------------------------------------- honest impossible figures
 
 
