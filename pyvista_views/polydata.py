@@ -259,6 +259,24 @@ def split_folds(mesh: pv.PolyData) -> pv.PolyData:
     return split
 
 
+@njit(cache=True, inline="always")
+def _claim(F: np.ndarray, f: int, new_index: np.ndarray, i: int) -> tuple[int, int, int]:
+    # Cell i (face f) claims the first of its corners 2, 0, 1 that no earlier cell claimed and
+    # returns its corners rotated (orientation kept) to end with it; with every corner taken,
+    # unrotated (it will end with a copy of its corner 2).
+    a, b, c = F[f, 0], F[f, 1], F[f, 2]
+    if new_index[c] < 0:
+        new_index[c] = i
+        return a, b, c
+    if new_index[a] < 0:
+        new_index[a] = i
+        return b, c, a
+    if new_index[b] < 0:
+        new_index[b] = i
+        return c, a, b
+    return a, b, c
+
+
 @njit(cache=True)
 def _provoking_kernel(
     F: np.ndarray, draw: np.ndarray, n_points: int
@@ -269,34 +287,11 @@ def _provoking_kernel(
     k = draw.shape[0]
     new_index = np.full(n_points, -1, dtype=np.int64)
     out = np.empty((k, 3), dtype=np.int64)
-    last = np.empty(k, dtype=np.int64)  # original point at the end of each cell
-    pending = np.empty(k, dtype=np.int64)  # cells without a claim, in order
-    n_pending = 0
+    source = np.empty(k + n_points, dtype=np.int64)  # rows past the last point never touched
     for i in range(k):
-        f = draw[i]
-        a, b, c = F[f, 0], F[f, 1], F[f, 2]
-        if new_index[c] < 0:  # corner 2 first: no rotation
-            new_index[c] = i
-            out[i, 0], out[i, 1], last[i] = a, b, c
-        elif new_index[a] < 0:  # (a, b, c) -> (b, c, a)
-            new_index[a] = i
-            out[i, 0], out[i, 1], last[i] = b, c, a
-        elif new_index[b] < 0:  # (a, b, c) -> (c, a, b)
-            new_index[b] = i
-            out[i, 0], out[i, 1], last[i] = c, a, b
-        else:  # every corner taken: the cell ends with a copy of its corner 2
-            out[i, 0], out[i, 1], last[i] = a, b, c
-            pending[n_pending] = i
-            n_pending += 1
-    n_unclaimed = 0
-    for v in range(n_points):
-        if new_index[v] < 0:
-            n_unclaimed += 1
-    source = np.empty(k + n_unclaimed, dtype=np.int64)
-    for i in range(k):
-        source[i] = last[i]
+        out[i, 0], out[i, 1], source[i] = _claim(F, draw[i], new_index, i)
     j = k
-    for v in range(n_points):
+    for v in range(n_points):  # points no cell ends with follow the cells
         if new_index[v] < 0:
             new_index[v] = j
             source[j] = v
@@ -305,27 +300,59 @@ def _provoking_kernel(
         out[i, 0] = new_index[out[i, 0]]
         out[i, 1] = new_index[out[i, 1]]
         out[i, 2] = i
-    return out, source
+    return out, source[:j]
 
 
 @njit(cache=True)
-def _provoking_arrays(
-    points: np.ndarray, source: np.ndarray, face_normals: np.ndarray, draw: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    # points[source] and the provoking normals in one pass each, no temporaries (the numpy
-    # gathers cost about as much as the claim pass at 1M faces).
-    n, k = source.shape[0], draw.shape[0]
-    P = np.empty((n, 3), dtype=np.float64)
-    N = np.empty((n, 3), dtype=np.float32)
-    for i in range(n):
-        v = source[i]
-        P[i, 0], P[i, 1], P[i, 2] = points[v, 0], points[v, 1], points[v, 2]
-        if i < k:  # point i ends cell i: its face's normal
-            f = draw[i]
-            N[i, 0], N[i, 1], N[i, 2] = face_normals[f, 0], face_normals[f, 1], face_normals[f, 2]
-        else:  # ends no cell: never read, but unit
-            N[i, 0], N[i, 1], N[i, 2] = 0.0, 0.0, 1.0
-    return P, N
+def _provoking_mesh(
+    F: np.ndarray, draw: np.ndarray, points: np.ndarray, face_normals: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    # _provoking_kernel with the points (``points`` of 2 or 3 columns, z = 0 for 2) and the
+    # provoking normals written in the same pass: point i is written when cell i claims it,
+    # while its face's row is in cache (a second pass gathering them cost as much as the claims
+    # at 1M faces, in a random depth order more).  Output rows are allocated for the most
+    # points there can be (k + n); the rows past the last are never touched (no memory used).
+    k, n, d = draw.shape[0], points.shape[0], points.shape[1]
+    new_index = np.full(n, -1, dtype=np.int64)
+    out = np.empty((k, 3), dtype=np.int64)
+    source = np.empty(k + n, dtype=np.int64)
+    P = np.empty((k + n, 3), dtype=np.float64)
+    N = np.empty((k + n, 3), dtype=np.float32)
+    for i in range(k):
+        f = draw[i]
+        out[i, 0], out[i, 1], v = _claim(F, f, new_index, i)
+        source[i] = v
+        P[i, 2] = 0.0
+        for c in range(d):
+            P[i, c] = points[v, c]
+        N[i, 0], N[i, 1], N[i, 2] = face_normals[f, 0], face_normals[f, 1], face_normals[f, 2]
+    j = k
+    for v in range(n):
+        if new_index[v] < 0:  # ends no cell: its normal is never read, but unit
+            new_index[v] = j
+            source[j] = v
+            P[j, 2] = 0.0
+            for c in range(d):
+                P[j, c] = points[v, c]
+            N[j, 0], N[j, 1], N[j, 2] = 0.0, 0.0, 1.0
+            j += 1
+    for i in range(k):
+        out[i, 0] = new_index[out[i, 0]]
+        out[i, 1] = new_index[out[i, 1]]
+        out[i, 2] = i
+    return out, source[:j], P[:j], N[:j]
+
+
+def _frozen(a: Any, dtype: Any) -> np.ndarray:
+    """``a`` as a C-contiguous read-only array of ``dtype``, copied only if it must be.
+
+    The kernels always get read-only input (a mescher's arrays are read-only, a user's may be
+    writable): numba compiles one specialisation per flag, so one flag means one signature, the
+    one the first run compiles, and no copy of arrays that are already right.
+    """
+    out = np.ascontiguousarray(a, dtype=dtype).view()
+    out.flags.writeable = False
+    return out
 
 
 def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -351,9 +378,9 @@ def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.nd
     source : (k + u,) int64
         Original point of each new point; every original point appears.
     """
-    # writeable copies: a read-only argument would compile (and cache) a second specialisation
-    cells = np.array(cells, dtype=np.int64, order="C")
-    return _provoking_kernel(cells, np.arange(cells.shape[0], dtype=np.int64), int(n_points))
+    cells = _frozen(cells, np.int64)
+    draw = _frozen(np.arange(cells.shape[0], dtype=np.int64), np.int64)
+    return _provoking_kernel(cells, draw, int(n_points))
 
 
 def indexed(
@@ -370,7 +397,8 @@ def indexed(
 
     Parameters
     ----------
-    points : (#V, 3) float64
+    points : (#V, 3) or (#V, 2) float64
+        Two columns: ``z = 0``.
     F : (#F, 3) int64
     draw : (k,) int64
         Source face of each cell, in drawing order.
@@ -397,26 +425,23 @@ def indexed(
     n = points.shape[0]
     source = np.arange(n, dtype=np.int64)
     provoking = provoking and face_normals is not None
+    normals = None
     if provoking and not (vertex_normals is not None and split_folds):
-        # writeable copies: a read-only argument (a mescher's arrays are read-only) would
-        # compile (and cache) a second specialisation of the kernel
-        F = np.array(F, dtype=np.int64, order="C")
-        cells, source = _provoking_kernel(F, np.array(draw, dtype=np.int64, order="C"), n)
+        cells, source, points, normals = _provoking_mesh(
+            _frozen(F, np.int64),
+            _frozen(draw, np.int64),
+            _frozen(points, np.float64),
+            _frozen(face_normals, np.float64),
+        )
     else:
+        provoking = False
         cells = F[draw]
         if vertex_normals is not None and split_folds:
             cells, source = split_by_facing(cells, screen_facing(points, cells), n)
+        if points.shape[1] == 2:  # z = 0
+            points = np.column_stack([points, np.zeros(n)])
     remapped = provoking or source.shape[0] > n
-    normals = None
-    if provoking:
-        # float32 normals: what VTK uploads anyway (it would convert float64 on the first frame)
-        points, normals = _provoking_arrays(
-            np.array(points, dtype=np.float64, order="C"),
-            source,
-            np.array(face_normals, dtype=np.float64, order="C"),
-            np.array(draw, dtype=np.int64, order="C"),
-        )
-    elif remapped:
+    if remapped and not provoking:
         points = points[source]
     mesh = pv.PolyData.from_regular_faces(points, cells)
     mesh.cell_data["face_id"] = draw
@@ -528,9 +553,10 @@ def to_polydata(
             vertex_normals=np.asarray(m.vertex_normals()),
         )
     if layout != "soup":
-        points = np.zeros((xy.shape[0], 3))
-        points[:, :2] = xy
         flat = shading == "flat"
+        points = xy  # z = 0 (indexed pads it; the provoking kernel writes its own points)
+        if not flat:
+            points = np.column_stack([xy, np.zeros(xy.shape[0])])
         cells, normals, drawn_fields = F, None, fields
         if not flat:  # one point per group of corners (vertices split at creases)
             points, cells, normals = points[group_vertex], groups, group_normals
@@ -541,7 +567,7 @@ def to_polydata(
         mesh = indexed(
             points,
             cells,
-            draw[::-1] if front_to_back else draw,
+            np.ascontiguousarray(draw[::-1]) if front_to_back else draw,
             face_normals=m.face_normals() if flat else None,
             vertex_normals=normals,
             scalars=drawn_fields,

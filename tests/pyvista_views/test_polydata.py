@@ -127,7 +127,8 @@ def test_embedding_soup_keeps_real_depth_and_libigl_normals(ball):
 def test_render_kernels_compile_one_specialisation_for_read_only_and_writable_input(ball):
     """A mescher's arrays are read-only, a user's are writable: numba would compile a kernel once
     per flag combination (a first run compiling again inside each worker); the wrappers pass
-    writable copies, so each kernel holds one signature."""
+    read-only views (copies only where the type or layout differ), so each kernel holds one
+    signature."""
     from pyvista_views import normals, polydata
 
     V, F, m = ball
@@ -142,5 +143,5 @@ def test_render_kernels_compile_one_specialisation_for_read_only_and_writable_in
         polydata.provoking_cells(Fi, Vi.shape[0])
         polydata.indexed(Vi, Fi, draw, face_normals=Ni, provoking=True)
         normals.corner_groups(Fi, Ni, np.ones(Fi.shape[0]), 30.0)
-    for d in (polydata._provoking_kernel, polydata._provoking_arrays, normals._rough_vertices):
+    for d in (polydata._provoking_kernel, polydata._provoking_mesh, normals._rough_vertices):
         assert len(d.signatures) == 1, (d.py_func.__name__, d.signatures)
