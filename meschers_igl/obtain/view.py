@@ -43,6 +43,13 @@ VOTE_ANGLE = 2e-4
 MAX_DIRECTIONS = 200
 #: Largest share of the model's area seen edge-on from an acceptable view.
 MAX_EDGE_ON = 0.2
+#: A better-supported view seeing more of the model edge-on than :data:`MAX_EDGE_ON`, but
+#: less than this share, is tried when no other view shows a junction (a tribar sheared or
+#: bevelled so that faces contain its view shows a fifth to a quarter of its area edge-on; a
+#: cube seen along a face diagonal shows 1/3, along an axis 2/3).
+EDGE_ON_FALLBACK = 0.3
+#: At most this many such better-supported views are judged.
+MAX_EDGE_ON_VIEWS = 3
 
 
 def up_for_view(view: Any) -> np.ndarray:
@@ -99,7 +106,14 @@ def _votes(U: np.ndarray, angle: float):
     return (mult + np.rint(near[:k]).astype(np.int64))[inv], W, inv
 
 
-def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 1):
+def find_view(
+    V: Any,
+    F: Any,
+    *,
+    return_support: bool = False,
+    max_views: int = 1,
+    max_edge_on: float = MAX_EDGE_ON,
+):
     """The orthographic view in which most vertex pairs coincide on screen.
 
     Parameters
@@ -111,6 +125,9 @@ def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 
     max_views : int, default: 1
         With more than one: a list of up to ``max_views`` candidates ``(view, up, pairs)``,
         distinct directions in decreasing support (for a caller that judges each).
+    max_edge_on : float, default: :data:`MAX_EDGE_ON`
+        Largest share of the model's area a candidate may see edge-on (a view along an axis
+        of a box model lines up many pairs but shows its side faces as lines).
 
     Returns
     -------
@@ -170,7 +187,7 @@ def find_view(V: Any, F: Any, *, return_support: bool = False, max_views: int = 
         n_tried += 1
         tried |= np.abs(W @ U[c]) >= np.cos(VOTE_ANGLE)
         edge_on = float(area[np.abs(nu @ U[c]) < 1e-3].sum() / area.sum())
-        if edge_on <= MAX_EDGE_ON:
+        if edge_on <= max_edge_on:
             found.append(c)
     if not found:
         raise MescherError(
@@ -266,6 +283,10 @@ def find_model_view(
        the model alone, in 2-degree steps for a view where the gap is hidden (the
        :data:`MAX_AUTO_BARS` pairs of bar ends nearest each other).  A cut model (open loops)
        takes the vote's view, as :func:`~meschers_igl.autoview.find_view` gives it.
+    3. Edge-on views: a direction better supported than the vote's view but refused for
+       seeing over :data:`MAX_EDGE_ON` of the model edge-on (under :data:`EDGE_ON_FALLBACK`:
+       a sheared or bevelled figure shows faces containing its view) is taken when a junction
+       is seen from it, as in 1.
 
     Parameters
     ----------
@@ -339,6 +360,11 @@ def find_model_view(
     vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start, within)
     if vb is not None:
         return vb, up_for_view(vb)
+    for ve, upe, _ in _edge_on_views(V, F, v):  # better supported, refused as edge-on
+        if start is not None and ve @ start < np.cos(within):
+            continue
+        if seen(ve) or (judge is not None and judge(ve, upe)):
+            return ve, upe
     if start is not None:
         raise MescherError(
             f"view: expected a view within {np.degrees(within):.3g} degrees of "
@@ -351,6 +377,23 @@ def find_model_view(
         f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {len(cand)} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
+
+
+def _edge_on_views(V, F, v) -> list:
+    """The directions supported by more vertex pairs than the vote's view ``v`` (all, when
+    ``v`` is None) that :func:`find_view` refused for seeing over :data:`MAX_EDGE_ON` of the
+    model edge-on, but under :data:`EDGE_ON_FALLBACK`: at most :data:`MAX_EDGE_ON_VIEWS`
+    ``(view, up, pairs)``, the best supported first."""
+    try:
+        views = find_view(V, F, max_views=MAX_EDGE_ON_VIEWS, max_edge_on=EDGE_ON_FALLBACK)
+    except MescherError:
+        return []
+    out = []
+    for w in views:  # a few, in decreasing support
+        if v is not None and abs(w[0] @ v) >= np.cos(VOTE_ANGLE):
+            break  # the vote's own view (already judged) and the weaker ones after it
+        out.append(w)
+    return out
 
 
 def _hidden_gap_view(V, F, TT, part, cand, tol, start, within=START_ANGLE):
