@@ -419,6 +419,26 @@ def may_be_junctions(pairs: list, R: np.ndarray, tol: float, bridge: bool) -> np
     return out
 
 
+def pieces_are_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, be: BarEnds) -> bool:
+    """Does each piece run along the bar from its cap farther than the cap is wide?
+
+    A viewer completes a bar behind an occluder from two *bars* in line (elongated pieces:
+    good continuation); blocks as long as they are wide -- a grid of cubes or tiles -- are
+    separate objects, however they line up.  A piece's length is its part's extent along the
+    bar's direction ``be.d`` back from its cap (a frame's whole extent when the pieces belong
+    to one welded frame); the cap's width is the largest distance between its loop's points.
+    """
+    d = be.d
+    out = []
+    for cap, sign in ((be.first, 1.0), (be.second, -1.0)):  # the two pieces
+        P = V[cap.loop]
+        width = float(np.linalg.norm(P[:, None] - P[None], axis=2).max())
+        verts = np.unique(F[part == part[cap.faces[0]]])
+        length = float(np.max(sign * ((P.mean(axis=0) - V[verts]) @ d)))
+        out.append(length > width)
+    return all(out)
+
+
 def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None):
     """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
     ("hidden gap", g, ell), ("crossing", 0, ell) or None.
@@ -464,6 +484,8 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None)
         if crossing_behind(np.vstack(S), c0, ell * d, C, F, front & ~own, R, tol, width):
             return "crossing", 0.0, float(ell)
         return None
+    if not pieces_are_bars(V, F, part, be):
+        return None  # blocks as long as they are wide (tiles, cubes): separate objects
     own = np.isin(part, part[[be.first.faces[0], be.second.faces[0]]])
     width = float(np.ptp(P0, axis=0).max())
     if not _tube_hidden(np.vstack(S), g, C, F, front, R, tol, own, width):
