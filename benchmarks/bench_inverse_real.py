@@ -9,7 +9,8 @@ directions drawn uniformly on the upper hemisphere (toward the viewer, seeded), 
 ground: no grey face can take its colour, where on white a face turned to the light vanishes.
 
 Per picture: :func:`meschers_igl.inverse.picture.mescher_from_picture` with the light given,
-then :func:`meschers_igl.inverse.optimize.fit_mescher` (``fit_options``).  Also the light
+then :func:`meschers_igl.inverse.optimize.fit_mescher` (``fit_options``, the faces turned back
+to their regions' normals at the end: ``face_normals``).  Also the light
 *estimated* from the picture alone (no light given) and its angle to the true light, and to
 the true light's Necker mirror ``(-x, -y, z)`` (which lights the mirrored reading the same).
 
@@ -131,7 +132,7 @@ def run_case(model, axes, light, res: int, iters: int) -> dict:
     out = {"model": model.name, "light": [float(v) for v in light], "target_img": target}
     t0 = time.perf_counter()
     try:
-        m0, _, info = mescher_from_picture(target, light, AMBIENT, background=GROUND)
+        m0, region, info = mescher_from_picture(target, light, AMBIENT, background=GROUND)
     except MescherError as exc:
         out["error"] = str(exc)
         return out
@@ -154,6 +155,7 @@ def run_case(model, axes, light, res: int, iters: int) -> dict:
         ambient=AMBIENT,
         background=GROUND,
         options=fit_options(iters=iters, info=info),
+        face_normals=info["normals"][region],
     )
     m = r.mescher
     order = extract_order(m, r.offsets)

@@ -154,6 +154,7 @@ def fit_mescher(
     progress: bool | None = False,
     device=None,
     force: bool = False,
+    face_normals=None,
 ) -> InverseResult:
     """Optimize a mescher so that its soft rendering matches ``target`` (paper Section 4.5).
 
@@ -182,6 +183,13 @@ def fit_mescher(
         tested path).
     force : bool, default: False
         Skip the memory guard (:func:`meschers_igl.validate.check_budget`) on the resolution.
+    face_normals : (#F, 3) array_like, optional
+        The orientation each face of ``init`` stands for (a picture's region normals,
+        ``info["normals"][region]`` of :func:`.picture.mescher_from_picture`).  Given, the
+        returned mescher has its faces turned back to them (:func:`.picture.turn_faces`: the
+        fitted screen positions and periods kept): the image only holds each face's shade,
+        ``n . l``, and the fit turns faces about the light as freely as it bends them where
+        it moves their vertices.  ``image`` and ``alpha`` are then its render.
 
     Returns
     -------
@@ -190,6 +198,12 @@ def fit_mescher(
     opt = options or InverseOptions()
     if not isinstance(init, Mescher):
         raise MescherError(f"init: expected a Mescher, found {type(init).__name__}")
+    if face_normals is not None:
+        face_normals = np.asarray(face_normals, dtype=np.float64)
+        if face_normals.shape != (init.n_faces, 3):
+            raise MescherError(
+                f"face_normals: expected ({init.n_faces}, 3), found {face_normals.shape}"
+            )
     target = np.asarray(target, dtype=np.float64)
     if target.ndim != 3 or target.shape[2] != 3 or target.shape[0] != target.shape[1]:
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {target.shape}")
@@ -223,6 +237,7 @@ def fit_mescher(
                 opt,
                 step_callback,
                 device,
+                face_normals,
             )
     finally:
         torch.set_num_threads(old_threads)
@@ -263,7 +278,18 @@ def _with_progress(progress: bool, total: int, callback):
 
 
 def _fit(
-    target, res, init, offsets, lights, light_colors, ambient, background, opt, callback, device
+    target,
+    res,
+    init,
+    offsets,
+    lights,
+    light_colors,
+    ambient,
+    background,
+    opt,
+    callback,
+    device,
+    face_normals=None,
 ):
     t0, c0 = time.perf_counter(), time.process_time()
     f32 = torch.float32
@@ -364,6 +390,22 @@ def _fit(
     m = par.mescher()
     fitted_offsets = par.offsets.detach().double().cpu().numpy()
     img, alpha = hard()
+    if face_normals is not None:
+        from .picture import turn_faces
+        from .rasterizer import render_mescher
+
+        m = turn_faces(m, face_normals)
+        img, alpha = render_mescher(
+            m,
+            fitted_offsets,
+            lights,
+            light_colors,
+            ambient,
+            resolution=res,
+            sigma=opt.final_sigma,
+            background=background,
+            return_alpha=True,
+        )
     max_res = max(max_res, float(np.abs(d12 @ np.asarray(m.zeta)).max(initial=0.0)))
     return InverseResult(
         mescher=m,

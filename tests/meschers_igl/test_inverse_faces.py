@@ -176,3 +176,90 @@ def test_three_shades_leave_the_periods_free_in_the_fit():
     _, _, info = pic.mescher_from_picture(image, light, AMBIENT, background=GROUND)
     assert not info["unseen_turn"]
     assert pic.fit_options(info=info).lr_periods == pic.fit_options().lr_periods > 0
+
+
+def _climb_misfit(m, n: np.ndarray) -> float:
+    """Sum over half-edges of (depth climbed - the climb the face's plane of normal n asks)^2."""
+    g = -n[:, :2] / n[:, 2:3]
+    z, P = np.asarray(m.corner_depths()), np.asarray(m.xy)[np.asarray(m.F)]
+    dz = np.roll(z, -1, axis=1) - z
+    return float(np.sum((dz - np.einsum("fk,fik->fi", g, np.roll(P, -1, axis=1) - P)) ** 2))
+
+
+def test_turn_faces_gives_each_face_its_normal_and_keeps_the_periods():
+    from meschers_igl.inverse import targets as tg
+
+    rng = np.random.default_rng(3)
+    N = _frame(5)
+    light = np.array([0.3, 0.4, 0.87])
+    image, _ = _cube_picture(N, light / np.linalg.norm(light), res=48)
+    m0, region, info = pic.mescher_from_picture(image, light, AMBIENT, background=GROUND)
+    want = info["normals"][region]
+    # bend the faces by an exact form (vertex depths): no period changes, every face tilts
+    bent = m0.with_zeta(np.asarray(m0.zeta) + m0.d01 @ rng.normal(0, 0.05, m0.n_vertices))
+    assert _angles_deg(bent.face_normals(), want).max() > 5.0
+    back = pic.turn_faces(bent, want)
+    # the same least squares as the lift that made m0 (the bend was exact): m0's faces again
+    np.testing.assert_allclose(back.face_normals(), m0.face_normals(), atol=1e-9)
+    assert np.abs(back.d12 @ np.asarray(back.zeta)).max() < 1e-12
+    # one plane for all: consistent on a disk, so every face takes it (to round-off)
+    one = np.tile(N[0], (m0.n_faces, 1))
+    cos = np.einsum("ij,ij->i", pic.turn_faces(bent, one).face_normals(), one)
+    assert np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 1e-5
+    np.testing.assert_array_equal(np.asarray(back.xy), np.asarray(bent.xy))
+    # a torus climbing 0.3 around: one plane for all faces cannot close, the climb stays
+    t, _ = tg.torus_mescher(0.5, 0.2, 12, 6)
+    t = t.with_periods([0.3, 0.0])
+    n = np.tile([0.2, -0.1, 1.0], (t.n_faces, 1)) / np.linalg.norm([0.2, -0.1, 1.0])
+    tt = pic.turn_faces(t, n)
+    np.testing.assert_allclose(tt.periods(), t.periods(), atol=1e-12)
+    assert np.abs(tt.d12 @ np.asarray(tt.zeta)).max() < 1e-12
+    # of all zeta with these periods it is the least-squares one: no exact step lowers the
+    # misfit of the half-edge climbs to the planes' (a minimum: first order zero, convex)
+    base = _climb_misfit(tt, n)
+    for _ in range(5):
+        step = tt.d01 @ rng.normal(0, 1e-3, tt.n_vertices)
+        assert _climb_misfit(tt.with_zeta(np.asarray(tt.zeta) + step), n) >= base - 1e-12
+        assert _climb_misfit(tt.with_zeta(np.asarray(tt.zeta) - step), n) >= base - 1e-12
+    with pytest.raises(MescherError, match="face_normals"):
+        pic.turn_faces(t, n[:-1])
+    with pytest.raises(MescherError, match="face_normals"):
+        pic.turn_faces(t, -n)
+
+
+def test_fit_with_face_normals_returns_flat_faces_and_their_render():
+    from meschers_igl.inverse import optimize as opt
+    from meschers_igl.inverse import rasterizer as ras
+
+    N = _frame(7)
+    light = np.array([0.3, 0.4, 0.87])
+    light /= np.linalg.norm(light)
+    image, _ = _cube_picture(N, light, res=32)
+    m0, region, info = pic.mescher_from_picture(image, light, AMBIENT, background=GROUND)
+    want = info["normals"][region]
+    o = pic.fit_options(iters=6, info=info, eval_every=0)
+    kw = dict(lights=[light], ambient=AMBIENT, background=GROUND, options=o)
+    free = opt.fit_mescher(image, m0, None, **kw)
+    flat = opt.fit_mescher(image, m0, None, face_normals=want, **kw)
+    # the same steps; then the faces are turned back: the screen positions and the result's
+    # faces are those of turn_faces, and image/alpha are its render
+    np.testing.assert_allclose(np.asarray(flat.mescher.xy), np.asarray(free.mescher.xy))
+    turned = pic.turn_faces(free.mescher, want)
+    np.testing.assert_allclose(flat.mescher.face_normals(), turned.face_normals(), atol=1e-9)
+    img, alpha = ras.render_mescher(
+        flat.mescher,
+        flat.offsets,
+        [light],
+        None,
+        AMBIENT,
+        resolution=32,
+        sigma=o.final_sigma,
+        background=GROUND,
+        return_alpha=True,
+    )
+    np.testing.assert_allclose(flat.image, img, atol=1e-12)
+    np.testing.assert_allclose(flat.alpha, alpha, atol=1e-12)
+    # the fit alone bends faces off their planes; turned back, they meet them better
+    assert _climb_misfit(flat.mescher, want) < _climb_misfit(free.mescher, want)
+    with pytest.raises(MescherError, match="face_normals"):
+        opt.fit_mescher(image, m0, None, face_normals=want[:-1], **kw)
