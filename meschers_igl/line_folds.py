@@ -1,4 +1,5 @@
-"""Which faces decide what is drawn over an interpolated occluding contour.
+"""Folds and flips of the depth order: which faces decide what is drawn over an interpolated
+occluding contour, and where the order's own seams are lines.
 
 An interpolated contour (:func:`meschers_igl.lines.interpolated_contours`) is a stand-in for
 the mesh's own fold: the surface turns away within a ring or two of faces around it, and those
@@ -17,6 +18,16 @@ rules here say how the rest of the picture meets it:
 
 A face ``g`` drawn after every face of the fold that overlaps it hides the contour as any
 occluder does (with exact T-junctions).
+
+The same flip makes lines of its own: where an edge between two faces ``f`` and ``g`` of one
+sheet (facing the same way, no line source) has a face ``h`` of another sheet drawn between
+them (``rank[g] < rank[h] < rank[f]``, ``h`` over ``g`` by an arc of the order) the painter
+shows ``f`` on one side of the edge and ``h`` on the other, an occlusion line along the edge
+(:func:`order_seams` finds such edges; :mod:`meschers_igl.lines` draws them where ``f`` shows
+and ``g`` does not, :func:`seam_hidden`).  Two such lines stay out: those among a fold's faces
+seen from behind (its underside, beyond the contour that stands for it, on screen slivers of
+the surface), and polylines of seams alone shorter than the drawing's ``min_length`` (where a
+face between reaches under an edge by a corner; :func:`lines_of_only`).
 """
 
 from __future__ import annotations
@@ -25,7 +36,16 @@ import numpy as np
 
 from .face_grid import ranges as _ranges
 
-__all__ = ["NEAR_BASE", "crossed", "fold_ranks", "is_near", "triangles_overlap"]
+__all__ = [
+    "NEAR_BASE",
+    "crossed",
+    "fold_ranks",
+    "is_near",
+    "lines_of_only",
+    "order_seams",
+    "seam_hidden",
+    "triangles_overlap",
+]
 
 #: Key base of the "near" relation (``anchor * NEAR_BASE + face``): above any face count.
 NEAR_BASE = 1 << 31
@@ -118,3 +138,86 @@ def crossed(
     hit = triangles_overlap(Th, Tg)
     out[pair[hit]] = True
     return out
+
+
+def order_seams(f: np.ndarray, g: np.ndarray, rank: np.ndarray, arcs: np.ndarray) -> np.ndarray:
+    """(k,) bool: does the order put a face ``h`` over the earlier of faces ``f[k]``, ``g[k]``
+    (an arc from it to ``h``: they overlap on screen) and is ``h`` drawn before the later one?
+    Then the order flips across their shared edge: where ``h`` lies under it the painter shows
+    the later face on one side and ``h`` on the other (see the module notes).
+
+    Parameters
+    ----------
+    f, g : (k,) int64
+        The two faces of each edge.
+    rank : (#F,) int64
+        Position of every face in the drawing order.
+    arcs : (#A, 2) int64
+        The order's arcs ``(behind, in front)``.
+    """
+    out = np.zeros(len(f), dtype=bool)
+    if len(f) == 0 or len(arcs) == 0:
+        return out
+    behind = arcs[:, 0]
+    if np.any(behind[1:] < behind[:-1]):
+        o = np.argsort(behind, kind="stable")
+        arcs, behind = arcs[o], behind[o]
+    lo_r, hi_r = np.minimum(rank[f], rank[g]), np.maximum(rank[f], rank[g])
+    low = np.where(rank[f] < rank[g], f, g)
+    start = np.searchsorted(behind, low, "left")
+    k = np.searchsorted(behind, low, "right") - start
+    pair = np.repeat(np.arange(len(f)), k)
+    rh = rank[arcs[np.repeat(start, k) + _ranges(k), 1]]
+    between = (rh > lo_r[pair]) & (rh < hi_r[pair])
+    out[pair[between]] = True
+    return out
+
+
+def seam_hidden(hidden: tuple, covered: list, shown: list, seam: np.ndarray, thr: np.ndarray):
+    """Hidden intervals ``(seg, lo, hi)`` of a line drawing's sources with those of the order's
+    seams (``seam`` True) replaced: a seam is seen where the side of its later face (the larger
+    of ``thr[s]``) shows that face and the other side does not show its own.  ``covered[k]``
+    and ``shown[k]`` are the intervals where side ``k`` is covered by a later face and where it
+    shows its own face."""
+    later = np.argmax(thr, axis=1)
+    sets = [(hidden, ~seam)]
+    for k in (0, 1):
+        sets.append((covered[k], seam & (later == k)))  # the later face covered
+        sets.append((shown[k], seam & (later != k)))  # the earlier face shows
+    out = []
+    for (s, lo, hi), want in sets:
+        keep = want[s]
+        out.append((s[keep], lo[keep], hi[keep]))
+    return tuple(np.concatenate([o[i] for o in out]) for i in range(3))
+
+
+def lines_of_only(
+    flag: np.ndarray, dup: np.ndarray, pairs: np.ndarray, nodes: np.ndarray, offsets: np.ndarray
+) -> np.ndarray:
+    """(#L,) bool: is every piece of each joined polyline a ``flag``-ged piece?
+
+    Parameters
+    ----------
+    flag : (#P,) bool
+        Per piece before duplicates were merged (a merged piece is flagged when all its
+        copies are).
+    dup : (#P,) int64
+        The merged piece of each piece.
+    pairs : (#U, 2) int64
+        Node pairs of the merged pieces, sorted (as :func:`numpy.unique` returns them).
+    nodes, offsets : int64
+        The polylines as node sequences (``nodes[offsets[i]:offsets[i + 1]]``).
+    """
+    alone = np.ones(len(pairs), dtype=bool)
+    np.logical_and.at(alone, dup, flag)
+    n_lines = len(offsets) - 1
+    if n_lines == 0:
+        return np.zeros(0, dtype=bool)
+    base = np.int64(max(int(pairs.max()), int(nodes.max())) + 1)
+    code = pairs[:, 0] * base + pairs[:, 1]
+    step = np.ones(len(nodes) - 1, dtype=bool)
+    step[offsets[1:-1] - 1] = False  # no piece from a polyline's last node to the next one's
+    a, b = nodes[:-1][step], nodes[1:][step]
+    piece = np.searchsorted(code, np.minimum(a, b) * base + np.maximum(a, b))
+    line = np.repeat(np.arange(n_lines), np.diff(offsets) - 1)
+    return np.bincount(line[~alone[piece]], minlength=n_lines) == 0

@@ -9,6 +9,9 @@ surface to another, or turns a sharp corner:
   - *boundary* edges (one face);
   - *crease* edges, whose dihedral angle (between the two faces' normals, which zeta fixes
     face by face) exceeds ``crease_angle``;
+  - *seams of the order*: smooth edges between two faces facing the same way with a face of
+    another sheet drawn between them, over the earlier one (an impossible order flips there:
+    :func:`meschers_igl.line_folds.order_seams`);
   - *occluding contours*, where the surface turns away from the viewer.  On a faceted mescher
     these are the mesh edges between a face seen from the front (counter-clockwise on screen)
     and one seen from the back or edge-on; on a smooth one (e.g. after Loop subdivision) the
@@ -22,9 +25,12 @@ surface to another, or turns a sharp corner:
   its own faces on that side (a larger rank in the order's linear extension) holds the
   segment strictly inside, or has it on an edge and lies on that side (three half-planes: an
   interval of ``t``); where both sides are covered the line is hidden, so it stops exactly
-  where it passes behind a face (a T-junction).  Faces of the two-ring of an interpolated
-  contour's face (its fold) neither hide it nor count as beyond it: they fold under it, and a
-  vertex-normal curve cannot be made consistent with them (the known limit of the method).
+  where it passes behind a face (a T-junction).  A seam of the order is seen where the side
+  of its later face shows that face and the other side does not show its own.  Faces of the
+  two-ring of an interpolated contour's face (its fold) neither hide it nor count as beyond
+  it: they fold under it, and a vertex-normal curve cannot be made consistent with them (the
+  known limit of the method); the fold's faces seen from behind are its underside, and their
+  seams of the order are left to the contour.
   Its own rank is the last of its fold's faces under it on screen, and a face that a face of
   its fold is drawn over nearby crosses the fold there and hides nothing
   (:mod:`meschers_igl.line_folds`).
@@ -58,7 +64,7 @@ from .face_grid import FaceGrid as _FaceGrid
 from .face_grid import ranges as _ranges
 from .geometry2d import default_tol, triangle_heights
 from .line_folds import NEAR_BASE as _NEAR_BASE
-from .line_folds import crossed, fold_ranks
+from .line_folds import crossed, fold_ranks, lines_of_only, order_seams, seam_hidden
 from .line_folds import is_near as _is_near
 from .painter import _draw_order
 from .topology import edge_faces
@@ -310,7 +316,7 @@ def _hidden_intervals(
     s, g, rg, t0, t1, c0, c1 = s[far], g[far], rg[far], t0[far], t1[far], c0[far], c1[far]
     strict, on_edge, side = strict[far], on_edge[far], side[far]
     none = np.arange(n)
-    parts = []
+    covered, parts = [], []
     for k, this_side in ((0, side), (1, ~side)):
         later = rg > thr[s, k]
         cov = strict & later
@@ -319,13 +325,16 @@ def _hidden_intervals(
         cs = np.concatenate([s[cov], s[cov_e], no_own])
         c_lo = np.concatenate([t0[cov], c0[cov_e], np.zeros(len(no_own))])
         c_hi = np.concatenate([t1[cov], c1[cov_e], np.ones(len(no_own))])
+        covered.append((cs, c_lo, c_hi))
         parts.append(_complement(n, cs, c_lo, c_hi))  # where this side shows its own face
-    shown = [np.concatenate([p[i] for p in parts]) for i in range(3)]
+    hidden = _complement(n, *(np.concatenate([p[i] for p in parts]) for i in range(3)))
+    if src.seam.any():
+        hidden = seam_hidden(hidden, covered, parts, src.seam, src.thr)
     # where the segment enters or leaves any face: what lies beside it may change there
     bs = np.concatenate([s[strict], s[strict], s[on_edge], s[on_edge]])
     bt = np.concatenate([t0[strict], t1[strict], c0[on_edge], c1[on_edge]])
     inner = (bt > 0.0) & (bt < 1.0)
-    return _complement(n, *shown), (bs[inner], bt[inner])
+    return hidden, (bs[inner], bt[inner])
 
 
 def _complement(n: int, seg: np.ndarray, t0: np.ndarray, t1: np.ndarray):
@@ -457,16 +466,18 @@ def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
     return nodes[:n_out], offsets[: n_lines + 1], closed[:n_lines]
 
 
-def _join(P0, P1, group, scale):
+def _join(P0, P1, group, scale, seam):
     """Polylines from pieces ``P0 -> P1``, joined end to end within each ``group`` value where
     exactly two pieces meet (ends are one node when they agree to ``1e-9`` of the model's
-    size); points where a polyline goes straight on are dropped."""
+    size); points where a polyline goes straight on are dropped.  Also returns which
+    polylines are made of ``seam`` pieces only."""
     m = len(P0)
     if m == 0:
         return (
             np.zeros((0, 2)),
             np.zeros(1, dtype=np.int64),
             np.zeros(0, dtype=np.int64),
+            np.zeros(0, dtype=bool),
             np.zeros(0, dtype=bool),
         )
     # ends closer than the tolerance are one point (clusters of a k-d tree's close pairs: a
@@ -483,8 +494,9 @@ def _join(P0, P1, group, scale):
     pts[inv[:, 0]] = P0
     pts[inv[:, 1]] = P1
     # a piece drawn twice (coincident sources, e.g. the two sides of a seam) is drawn once
-    inv = np.unique(np.sort(inv, axis=1), axis=0)
+    inv, dup = np.unique(np.sort(inv, axis=1), axis=0, return_inverse=True)
     nodes, offsets, closed = _walk_chains(len(uniq), inv[:, 0].copy(), inv[:, 1].copy())
+    seam_line = lines_of_only(seam, dup.ravel(), inv, nodes, offsets)
     line_group = uniq[nodes[offsets[:-1]], 1].astype(np.int64)
     X = pts[nodes]
     n = len(X)
@@ -523,7 +535,7 @@ def _join(P0, P1, group, scale):
     keep = ~straight
     counts = np.bincount(line_of[keep], minlength=len(offsets) - 1)
     new_off = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    return X[keep], new_off, line_group, closed
+    return X[keep], new_off, line_group, closed, seam_line
 
 
 # ------------------------------------------------------------------------------ front door
@@ -618,9 +630,10 @@ def line_drawing(
     hidden : bool, default: False
         Also return the hidden parts of the lines (``visible`` False).
     min_length : float, default: 0.002
-        Interpolated-contour polylines shorter than this share of the model's size are left
-        out (specks where the interpolated contour and the mesh's own fold disagree: under
-        2 pixels in a 1000-pixel picture).  0 keeps everything.
+        Interpolated-contour and seam polylines shorter than this share of the model's size
+        are left out (specks where the interpolated contour and the mesh's own fold disagree,
+        or where a face between barely reaches under a seam: under 2 pixels in a 1000-pixel
+        picture).  0 keeps everything.
 
     Returns
     -------
@@ -641,13 +654,14 @@ def line_drawing(
     pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
     if hidden:
         ws, w0, w1 = _complement(n_seg, vs, v0, v1)
+        ws, w0, w1 = (a[~src.seam[ws]] for a in (ws, w0, w1))  # a seam has no hidden part
         pieces.append((ws, w0, w1, np.zeros(len(ws), dtype=bool)))
     ps, p0, p1, vis = (np.concatenate([p[i] for p in pieces]) for i in range(4))
     ps, vis, Q0, Q1 = _split_at(ps, p0, p1, vis, breaks, src, sc.scale)
     kind = _kinds(ps, vis, Q0, Q1, src, sc)
     # pieces join within one kind, visibility and source (mesh edges or interpolated contours)
     group = (kind * 2 + vis.astype(np.int64)) * 2 + (src.anchor[ps] >= 0)
-    return _polylines(Q0, Q1, group, sc, min_length)
+    return _polylines(Q0, Q1, group, src.seam[ps], sc, min_length)
 
 
 @dataclass(frozen=True)
@@ -665,6 +679,7 @@ class _Scene:
     scale: float
     box: tuple[float, float, float, float]
     grid: _FaceGrid
+    arcs: np.ndarray
 
     @classmethod
     def of(cls, m: Any, order: Any) -> _Scene:
@@ -692,6 +707,7 @@ class _Scene:
             float(max(hi - lo)) or 1.0,
             (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])),
             _FaceGrid(T, area2),
+            np.zeros((0, 2), np.int64) if order is None else np.asarray(order.arcs, np.int64),
         )
 
 
@@ -699,7 +715,9 @@ class _Scene:
 class _Sources:
     """Source segments ``A -> B``: per side the last rank of their own faces (``thr``), the
     face holding an interpolated contour (``anchor``, -1 for mesh edges), the edge's faces
-    (``own``), which are creases, and the near relation of contour faces (sorted keys)."""
+    (``own``), which are creases, which are seams of the order (smooth edges seen only where
+    one side shows its own face, :func:`.line_folds.order_seams`), and the near relation of
+    contour faces (sorted keys)."""
 
     A: np.ndarray
     B: np.ndarray
@@ -707,25 +725,41 @@ class _Sources:
     anchor: np.ndarray
     own: np.ndarray
     is_crease: np.ndarray
+    seam: np.ndarray
     near: np.ndarray | None
 
 
 def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources:
-    """Boundary, crease and (mesh) contour edges, or interpolated contour segments."""
+    """Boundary, crease and (mesh) contour edges, the order's seams, or interpolated contour
+    segments."""
     F, xy, E, ef, area2, rank = sc.F, sc.xy, sc.E, sc.ef, sc.area2, sc.rank
-    nF, nV = len(F), len(xy)
     _, crease = _dihedral(m, ef, crease_angle)
     boundary = ef[:, 1] < 0
     f1, f2 = ef[:, 0], ef[:, 1]
+    f2p = np.maximum(f2, 0)
     front = area2 > 0
-    contour_edge = ~boundary & (front[f1] != front[np.maximum(f2, 0)])
+    contour_edge = ~boundary & (front[f1] != front[f2p])
     if contours == "auto":
         contours = "interpolated" if not crease.any() else "mesh"
     src = boundary | crease | (contour_edge if contours == "mesh" else False)
+    fold_part, near = _interpolated_sources(m, sc) if contours == "interpolated" else (None, None)
+    # a smooth edge between faces facing the same way, with a face of another sheet drawn
+    # between them: the order's seam, a line where the later face shows and the earlier not;
+    # faces of an interpolated contour's fold (the two-ring of its faces) seen from behind are
+    # its underside, beyond the contour that stands for them: their seams are left to it
+    cand = ~src & ~contour_edge & (area2[f1] != 0) & (area2[f2p] != 0)
+    if near is not None:
+        fold = np.zeros(len(F), dtype=bool)
+        fold[near % _NEAR_BASE] = True
+        cand &= ~((fold[f1] | fold[f2p]) & (area2[f1] < 0))
+    smooth = np.flatnonzero(cand)
+    seam = np.zeros(len(E), dtype=bool)
+    seam[smooth] = order_seams(f1[smooth], f2[smooth], rank, sc.arcs)
     # an edge onto a face seen edge-on, across which the surface goes on smoothly, is a seam
     src &= _seam_partners(m, ef, area2, crease_angle) < 0
     # an edge whose faces all cover nothing on screen (seen edge-on) is never drawn
-    src &= (area2[f1] != 0) | (~boundary & (area2[np.maximum(f2, 0)] != 0))
+    src &= (area2[f1] != 0) | (~boundary & (area2[f2p] != 0))
+    src |= seam
     src &= np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) > _MIN_PIECE * sc.scale
     e = np.flatnonzero(src)
     parts = [
@@ -736,36 +770,44 @@ def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources
             np.full(len(e), -1, dtype=np.int64),
             np.stack([f1[e], f2[e]], axis=1),
             crease[e],
+            seam[e],
         )
     ]
-    near = None
-    if contours == "interpolated":
-        cf, cedge, CP = interpolated_contours(m)
-        ok = np.linalg.norm(CP[cedge[:, 1]] - CP[cedge[:, 0]], axis=1) > _MIN_PIECE * sc.scale
-        cf, cedge = cf[ok], cedge[ok]
-        if len(cf):
-            VF = sp.csr_matrix(
-                (np.ones(3 * nF), (np.repeat(np.arange(nF), 3), F.ravel())), shape=(nF, nV)
-            )
-            ring1 = (VF @ VF.T).tocsr()  # faces sharing a corner
-            r1 = ring1[cf].tocsr()
-            r2 = (r1 @ ring1).tocoo()  # the two-ring of each contour face
-            near = np.unique(cf[r2.row] * np.int64(_NEAR_BASE) + r2.col)
-            # the fold's last rank under each segment is found with the visibility
-            # (line_folds.fold_ranks); until then its own face's
-            own_rank = np.stack([rank[cf], rank[cf]], axis=1)
-            parts.append(
-                (
-                    CP[cedge[:, 0]],
-                    CP[cedge[:, 1]],
-                    own_rank,
-                    cf,
-                    np.full((len(cf), 2), -1, dtype=np.int64),
-                    np.zeros(len(cf), dtype=bool),
-                )
-            )
-    cat = [np.concatenate([p[i] for p in parts]) for i in range(6)]
+    if fold_part is not None:
+        parts.append(fold_part)
+    cat = [np.concatenate([p[i] for p in parts]) for i in range(7)]
     return _Sources(*cat, near)
+
+
+def _interpolated_sources(m: Any, sc: _Scene) -> tuple[tuple | None, np.ndarray | None]:
+    """The interpolated contour's segments as sources (the fields of :class:`_Sources`) and
+    the near relation of their faces (their folds: two-rings), or ``(None, None)``."""
+    F, rank = sc.F, sc.rank
+    nF, nV = len(F), len(sc.xy)
+    cf, cedge, CP = interpolated_contours(m)
+    ok = np.linalg.norm(CP[cedge[:, 1]] - CP[cedge[:, 0]], axis=1) > _MIN_PIECE * sc.scale
+    cf, cedge = cf[ok], cedge[ok]
+    if len(cf) == 0:
+        return None, None
+    VF = sp.csr_matrix((np.ones(3 * nF), (np.repeat(np.arange(nF), 3), F.ravel())), shape=(nF, nV))
+    ring1 = (VF @ VF.T).tocsr()  # faces sharing a corner
+    r1 = ring1[cf].tocsr()
+    r2 = (r1 @ ring1).tocoo()  # the two-ring of each contour face
+    near = np.unique(cf[r2.row] * np.int64(_NEAR_BASE) + r2.col)
+    # the fold's last rank under each segment is found with the visibility
+    # (line_folds.fold_ranks); until then its own face's
+    own_rank = np.stack([rank[cf], rank[cf]], axis=1)
+    none = np.zeros(len(cf), dtype=bool)
+    part = (
+        CP[cedge[:, 0]],
+        CP[cedge[:, 1]],
+        own_rank,
+        cf,
+        np.full((len(cf), 2), -1, dtype=np.int64),
+        none,
+        none,
+    )
+    return part, near
 
 
 def _split_at(ps, p0, p1, vis, breaks, src: _Sources, scale: float):
@@ -814,17 +856,19 @@ def _kinds(ps, vis, Q0, Q1, src: _Sources, sc: _Scene) -> np.ndarray:
     return np.where(vis, kind, np.where(src.is_crease[ps], CREASE, OCCLUSION))
 
 
-def _polylines(Q0, Q1, group, sc: _Scene, min_length: float) -> LineDrawing:
-    """Join the pieces and leave out interpolated-contour specks (group bit 0)."""
-    X, offsets, line_group, closed = _join(Q0, Q1, group, sc.scale)
+def _polylines(Q0, Q1, group, seam, sc: _Scene, min_length: float) -> LineDrawing:
+    """Join the pieces and leave out specks of interpolated contours (group bit 0) and of
+    polylines made of the order's seams alone."""
+    X, offsets, line_group, closed, seam_line = _join(Q0, Q1, group, sc.scale, seam)
     keep = np.ones(len(line_group), dtype=bool)
     if min_length > 0:
         # specks: an interpolated contour is not the mesh's own fold, and where the two
-        # disagree near faces drawn over the fold its visibility flickers in short pieces
+        # disagree near faces drawn over the fold its visibility flickers in short pieces;
+        # a seam shows where a face between reaches under it, at times only by a corner
         seg = np.linalg.norm(np.diff(X, axis=0), axis=1)
         csum = np.concatenate([[0.0], np.cumsum(seg)])
         length = csum[offsets[1:] - 1] - csum[offsets[:-1]]
-        keep = ~((line_group % 2 == 1) & (length < min_length * sc.scale))
+        keep = ~(((line_group % 2 == 1) | seam_line) & (length < min_length * sc.scale))
     sel = np.flatnonzero(keep)
     n_pts = np.diff(offsets)[sel]
     pts = X[np.repeat(offsets[:-1][sel], n_pts) + _ranges(n_pts)]
