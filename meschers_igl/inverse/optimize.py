@@ -225,7 +225,7 @@ def fit_mescher(
     ctx, step_callback = _with_progress(progress, opt.iters, callback)
     try:
         with ctx:
-            return _fit(
+            result = _fit(
                 target,
                 res,
                 init,
@@ -237,10 +237,36 @@ def fit_mescher(
                 opt,
                 step_callback,
                 device,
-                face_normals,
             )
+            if face_normals is not None:
+                _turn_faces_back(
+                    result, face_normals, lights, light_colors, ambient, background, opt.final_sigma
+                )
+            return result
     finally:
         torch.set_num_threads(old_threads)
+
+
+def _turn_faces_back(
+    result, face_normals, lights, light_colors, ambient, background, sigma: float
+) -> None:
+    """``result`` with its mescher's faces turned to ``face_normals`` and its render redone."""
+    from .picture import turn_faces
+    from .rasterizer import render_mescher
+
+    m = turn_faces(result.mescher, face_normals)
+    result.image, result.alpha = render_mescher(
+        m,
+        result.offsets,
+        lights,
+        light_colors,
+        ambient,
+        resolution=result.image.shape[0],
+        sigma=sigma,
+        background=background,
+        return_alpha=True,
+    )
+    result.mescher = m
 
 
 def _with_progress(progress: bool, total: int, callback):
@@ -278,18 +304,7 @@ def _with_progress(progress: bool, total: int, callback):
 
 
 def _fit(
-    target,
-    res,
-    init,
-    offsets,
-    lights,
-    light_colors,
-    ambient,
-    background,
-    opt,
-    callback,
-    device,
-    face_normals=None,
+    target, res, init, offsets, lights, light_colors, ambient, background, opt, callback, device
 ):
     t0, c0 = time.perf_counter(), time.process_time()
     f32 = torch.float32
@@ -390,22 +405,6 @@ def _fit(
     m = par.mescher()
     fitted_offsets = par.offsets.detach().double().cpu().numpy()
     img, alpha = hard()
-    if face_normals is not None:
-        from .picture import turn_faces
-        from .rasterizer import render_mescher
-
-        m = turn_faces(m, face_normals)
-        img, alpha = render_mescher(
-            m,
-            fitted_offsets,
-            lights,
-            light_colors,
-            ambient,
-            resolution=res,
-            sigma=opt.final_sigma,
-            background=background,
-            return_alpha=True,
-        )
     max_res = max(max_res, float(np.abs(d12 @ np.asarray(m.zeta)).max(initial=0.0)))
     return InverseResult(
         mescher=m,
