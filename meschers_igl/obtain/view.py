@@ -25,7 +25,7 @@ from ..errors import MescherError
 from ..operators import view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
-from .clip import REL_TOL
+from .clip import FRONT_NZ, REL_TOL
 from .junctions import (
     BarEnds,
     bar_end_pairs,
@@ -219,6 +219,14 @@ START_ANGLE = np.radians(10.0)
 MAX_AUTO_BARS = 16
 
 
+def _camera(V, F, R):
+    """Camera-frame vertices and the faces toward the viewer (as :func:`parts_and_front`,
+    without the parts, which do not depend on the view)."""
+    C = V @ R.T
+    N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
+    return C, N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300)
+
+
 def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50):
     """The view on the circle where ``be``'s pieces line up that centres the part hiding the
     gap (seen from ``v0``) on the gap: ``v`` along ``c_occ - p`` with ``c_occ`` the occluding
@@ -229,7 +237,7 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
     w = np.cross(be.d, be.T)
     w /= np.linalg.norm(w)
     R = view_frame(v0, up_for_view(v0))
-    _, C, front = parts_and_front(V, F, TT, R)
+    C, front = _camera(V, F, R)
     found = junction_at(V, F, C, R, be, tol, front, part, True)
     if found is None or found[0] == "false edge":
         return None
@@ -256,7 +264,7 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
             break
         v = u
     R = view_frame(v, up_for_view(v))
-    _, C, front = parts_and_front(V, F, TT, R)
+    C, front = _camera(V, F, R)
     found = junction_at(V, F, C, R, be, tol, front, part, True)
     return None if found is None or found[0] != "hidden gap" else v
 
@@ -332,7 +340,7 @@ def find_model_view(
 
     def seen(v):
         R = view_frame(v, up_for_view(v))
-        _, C, front = parts_and_front(V, F, TT, R)
+        C, front = _camera(V, F, R)
         may = [be for be, m in zip(pairs, may_be_junctions(pairs, R, tol, True).tolist()) if m]
         blocked = bridges_blocked(V, F, R, may).tolist()
         return any(
@@ -344,8 +352,9 @@ def find_model_view(
         v, up = find_view(V, F)
     except MescherError as e:
         v, err = None, e
-    # a cut model's junctions are its open loops, which the vote pairs (as autoview does)
-    if v is not None and bool(boundary_loops(F)):
+    # a cut model's junctions are its open loops, which the vote pairs (as autoview does),
+    # when they glue from the vote's view (slits and holes that pair with nothing do not)
+    if v is not None and bool(boundary_loops(F)) and _loops_glue(V, F, v, up):
         if start is None or v @ start >= np.cos(within):
             return v, up
     near = v is not None and (start is None or v @ start >= np.cos(within))
@@ -360,6 +369,9 @@ def find_model_view(
     vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start, within)
     if vb is not None:
         return vb, up_for_view(vb)
+    vc = _crossing_view(V, F, TT, part, pairs, tol, start, within)
+    if vc is not None:
+        return vc, up_for_view(vc)
     for ve, upe, _ in _edge_on_views(V, F, v):  # better supported, refused as edge-on
         if start is not None and ve @ start < np.cos(within):
             continue
@@ -377,6 +389,92 @@ def find_model_view(
         f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {len(cand)} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
+
+
+def _loops_glue(V, F, v, up) -> bool:
+    """Do the model's boundary loops pair up and glue from view ``v`` (a cut model's seam)?"""
+    from ..cutmesh import glue_cut_mesh
+
+    try:
+        return bool(glue_cut_mesh(V, F, view=v, up=up)["pairings"])
+    except MescherError:
+        return False
+
+
+#: Views on a crossing's circle are judged this far apart (radians); the ends of the arc of
+#: views from which the crossing holds are then bisected to round-off.
+CROSSING_STEP = np.radians(3.0)
+
+
+def _crossing_view(V, F, TT, part, pairs, tol, start, within=START_ANGLE):
+    """The view from which a bar broken *in line* is completed behind a crossing bar (the
+    impossible cube's trick, :func:`junction_at`'s "crossing"), or None.
+
+    The ends are seen edge-on -- the views on the great circle perpendicular to the end
+    faces' normal -- and the crossing holds over an arc of that circle, as the crossing bar
+    moves across the gap on screen; the view is the arc's middle, where the crossing bar is
+    centred on the gap (where an artist puts it).  With ``start``, the crossing view nearest
+    it within ``within``; else the one whose arc is longest (the most robust reading).
+    """
+    cand, seen_pairs = [], set()
+    for be in pairs:  # each unordered pair of in-line bar ends once
+        key = frozenset((id(be.first), id(be.second)))
+        if be.d is None or key in seen_pairs or np.linalg.norm(np.cross(be.d, be.T)) > tol:
+            continue
+        seen_pairs.add(key)
+        cand.append(be)
+    cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
+    best = None
+    for be in cand[:MAX_AUTO_BARS]:  # the in-line bar ends nearest each other
+        n = be.first.normal
+        a = np.cross(n, np.eye(3)[int(np.argmin(np.abs(n)))])
+        a /= np.linalg.norm(a)
+        b = np.cross(n, a)
+
+        def view(th, a=a, b=b):
+            return np.cos(th) * a + np.sin(th) * b
+
+        blocked = bool(bridges_blocked(V, F, view_frame(a, up_for_view(a)), [be])[0])
+        if blocked:
+            continue  # the pieces' axis runs through a solid, from every view
+
+        def crossing(th, be=be):
+            v = view(th)
+            R = view_frame(v, up_for_view(v))
+            C, front = _camera(V, F, R)
+            found = junction_at(V, F, C, R, be, tol, front, part, True, False)
+            return found is not None and found[0] == "crossing"
+
+        steps = np.arange(0.0, 2.0 * np.pi, CROSSING_STEP)
+        hit = np.array([crossing(th) for th in steps])
+        if not hit.any() or hit.all():
+            continue
+        k0 = int(np.flatnonzero(~hit)[0])  # runs of hits, from a miss on (circular)
+        order = (k0 + np.arange(steps.size)) % steps.size
+        h = hit[order]
+        starts = np.flatnonzero(h & ~np.r_[False, h[:-1]])
+        ends = np.flatnonzero(h & ~np.r_[h[1:], False])
+        for s0, e0 in zip(starts.tolist(), ends.tolist()):  # the arcs of views
+            lo = _bisect(crossing, steps[order[s0]] - CROSSING_STEP, steps[order[s0]])
+            hi = _bisect(crossing, steps[order[e0]] + CROSSING_STEP, steps[order[e0]])
+            v = view(0.5 * (lo + hi if hi >= lo else lo + hi + 2.0 * np.pi))
+            if start is not None and v @ start < np.cos(within):
+                continue
+            score = -float(v @ start) if start is not None else -float((hi - lo) % (2 * np.pi))
+            if best is None or score < best[0]:
+                best = (score, v)
+    return None if best is None else best[1]
+
+
+def _bisect(ok, out: float, inside: float, iters: int = 30) -> float:
+    """The boundary between an angle ``out`` where ``ok`` fails and ``inside`` where it holds."""
+    for _ in range(iters):  # to round-off of the angle
+        mid = 0.5 * (out + inside)
+        if ok(mid):
+            inside = mid
+        else:
+            out = mid
+    return inside
 
 
 def _edge_on_views(V, F, v) -> list:
