@@ -160,14 +160,22 @@ def order_seams(f: np.ndarray, g: np.ndarray, rank: np.ndarray, arcs: np.ndarray
         return out
     behind = arcs[:, 0]
     if np.any(behind[1:] < behind[:-1]):
-        o = np.argsort(behind, kind="stable")
-        arcs, behind = arcs[o], behind[o]
-    lo_r, hi_r = np.minimum(rank[f], rank[g]), np.maximum(rank[f], rank[g])
+        arcs = arcs[np.argsort(behind, kind="stable")]
+        behind = arcs[:, 0]
+    n = len(rank)
+    start = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(behind, minlength=n), out=start[1:])
+    over = rank[arcs[:, 1]]
+    # the first rank drawn over each face: no face between where it comes after the later one
+    has = start[1:] > start[:-1]
+    first = np.full(n, n, dtype=np.int64)
+    first[has] = np.minimum.reduceat(over, start[:-1][has])
     low = np.where(rank[f] < rank[g], f, g)
-    start = np.searchsorted(behind, low, "left")
-    k = np.searchsorted(behind, low, "right") - start
-    pair = np.repeat(np.arange(len(f)), k)
-    rh = rank[arcs[np.repeat(start, k) + _ranges(k), 1]]
+    lo_r, hi_r = np.minimum(rank[f], rank[g]), np.maximum(rank[f], rank[g])
+    maybe = np.flatnonzero(first[low] < hi_r)
+    k = start[low[maybe] + 1] - start[low[maybe]]
+    pair = np.repeat(maybe, k)
+    rh = over[np.repeat(start[low[maybe]], k) + _ranges(k)]
     between = (rh > lo_r[pair]) & (rh < hi_r[pair])
     out[pair[between]] = True
     return out

@@ -790,9 +790,9 @@ def _interpolated_sources(m: Any, sc: _Scene) -> tuple[tuple | None, np.ndarray 
     if len(cf) == 0:
         return None, None
     VF = sp.csr_matrix((np.ones(3 * nF), (np.repeat(np.arange(nF), 3), F.ravel())), shape=(nF, nV))
-    ring1 = (VF @ VF.T).tocsr()  # faces sharing a corner
-    r1 = ring1[cf].tocsr()
-    r2 = (r1 @ ring1).tocoo()  # the two-ring of each contour face
+    FV = VF.T.tocsr()
+    r1 = VF[cf] @ FV  # faces sharing a corner with each contour face
+    r2 = ((r1 @ VF) @ FV).tocoo()  # and with those: the two-ring of each contour face
     near = np.unique(cf[r2.row] * np.int64(_NEAR_BASE) + r2.col)
     # the fold's last rank under each segment is found with the visibility
     # (line_folds.fold_ranks); until then its own face's
