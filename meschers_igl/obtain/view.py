@@ -290,8 +290,11 @@ def find_model_view(
        bar.  The circle is searched from ``start`` (circles within 10 degrees of it) or, from
        the model alone, in 2-degree steps for a view where the gap is hidden (the
        :data:`MAX_AUTO_BARS` pairs of bar ends nearest each other).  A cut model (open loops)
-       takes the vote's view, as :func:`~meschers_igl.autoview.find_view` gives it.
-    3. Edge-on views: a direction better supported than the vote's view but refused for
+       takes the vote's view, as :func:`~meschers_igl.autoview.find_view` gives it, when its
+       loops glue from it (slits that pair with nothing are no seam).
+    3. Crossings (:func:`_crossing_view`): a bar broken in line, completed behind a crossing
+       bar, from the middle of the arc of views seeing its ends edge-on.
+    4. Edge-on views: a direction better supported than the vote's view but refused for
        seeing over :data:`MAX_EDGE_ON` of the model edge-on (under :data:`EDGE_ON_FALLBACK`:
        a sheared or bevelled figure shows faces containing its view) is taken when a junction
        is seen from it, as in 1.
@@ -321,18 +324,11 @@ def find_model_view(
     MescherError
         When no view lines up a junction (near ``start``, when given).
     """
-    from ..topology import boundary_loops
-    from .view import find_view, up_for_view
-
     V = as_points(V, "V", 3)
     F = as_faces(F, "F", V.shape[0])
     diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
     tol = REL_TOL * diag if tol is None else float(tol)
-    if start is not None:
-        start = as_points(np.reshape(start, (1, 3)), "start", 3)[0]
-        if np.linalg.norm(start) == 0:
-            raise MescherError("start: expected a non-zero direction, found (0, 0, 0)")
-        start = start / np.linalg.norm(start)
+    start = _unit_start(start)
     TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
     pairs = bar_end_pairs(V, F, tol, TT)
     R0 = view_frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
@@ -389,6 +385,16 @@ def find_model_view(
         f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {len(cand)} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
+
+
+def _unit_start(start):
+    """``start`` as a unit direction (None stays None); a zero vector is refused."""
+    if start is None:
+        return None
+    start = as_points(np.reshape(start, (1, 3)), "start", 3)[0]
+    if np.linalg.norm(start) == 0:
+        raise MescherError("start: expected a non-zero direction, found (0, 0, 0)")
+    return start / np.linalg.norm(start)
 
 
 def _loops_glue(V, F, v, up) -> bool:
