@@ -104,18 +104,10 @@ def run_target(name: str, iters: int, power: int = 1, quiet: bool = False) -> di
     steps = np.r_[np.abs(np.diff(depth, axis=0)).ravel(), np.abs(np.diff(depth, axis=1)).ravel()]
     zjump = float(np.nanmax(steps))
     t0, c0 = time.perf_counter(), time.process_time()
-    m0, region, info = mescher_from_picture(target, LIGHT, AMBIENT)
+    m0, _, info = mescher_from_picture(target, LIGHT, AMBIENT)
     init_img = render_mescher(m0, None, lights=[LIGHT], ambient=AMBIENT, resolution=128, sigma=1e-6)
     opts = fit_options(iters=iters, power=power)
-    res = fit_mescher(
-        target,
-        m0,
-        None,
-        lights=[LIGHT],
-        ambient=AMBIENT,
-        options=opts,
-        face_normals=info["normals"][region],
-    )
+    res = fit_mescher(target, m0, None, lights=[LIGHT], ambient=AMBIENT, options=opts)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     m = res.mescher
     order = extract_order(m, res.offsets)
