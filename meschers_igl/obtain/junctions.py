@@ -479,6 +479,8 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None)
     if abs(g) <= tol:
         if max(abs(be.first.normal @ v), abs(be.second.normal @ v)) > CROSSING_EDGE_ON:
             return None  # an end face seen: the bar visibly stops there
+        if not pieces_are_bars(V, F, part, be):
+            return None  # blocks as long as they are wide: separate objects
         width = float(np.ptp(P0 @ R[:2].T, axis=0).max())
         own = _own_bar_faces(V, F, be, tol)
         if crossing_behind(np.vstack(S), c0, ell * d, C, F, front & ~own, R, tol, width):

@@ -33,6 +33,7 @@ from .junctions import (
     junction_at,
     may_be_junctions,
     parts_and_front,
+    pieces_are_bars,
 )
 
 #: Vertices taking part in the vote (all pairs among them are tried).
@@ -422,14 +423,20 @@ def _crossing_view(V, F, TT, part, pairs, tol, start, within=START_ANGLE):
     centred on the gap (where an artist puts it).  With ``start``, the crossing view nearest
     it within ``within``; else the one whose arc is longest (the most robust reading).
     """
+    withd = [be for be in pairs if be.d is not None]
+    D = np.array([be.d for be in withd]).reshape(-1, 3)
+    T = np.array([be.T for be in withd]).reshape(-1, 3)
+    inline = np.linalg.norm(np.cross(D, T), axis=1) <= tol
+    near_first = np.argsort(np.linalg.norm(T, axis=1), kind="stable")
     cand, seen_pairs = [], set()
-    for be in pairs:  # each unordered pair of in-line bar ends once
+    for k in near_first[inline[near_first]][: 8 * MAX_AUTO_BARS].tolist():  # nearest first
+        be = withd[k]
         key = frozenset((id(be.first), id(be.second)))
-        if be.d is None or key in seen_pairs or np.linalg.norm(np.cross(be.d, be.T)) > tol:
-            continue
+        if key in seen_pairs:
+            continue  # each unordered pair once
         seen_pairs.add(key)
-        cand.append(be)
-    cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
+        if pieces_are_bars(V, F, part, be):  # blocks as long as wide: no bar to complete
+            cand.append(be)
     best = None
     for be in cand[:MAX_AUTO_BARS]:  # the in-line bar ends nearest each other
         n = be.first.normal

@@ -85,3 +85,16 @@ def test_the_hidden_gap_frame_pieces_are_bars():
     assert [j.kind for j in report.junctions].count("hidden gap") == 1
     p = np.abs(np.asarray(m.periods()))
     assert np.isclose(p.max(), gap, rtol=1e-9)
+
+
+def test_cubes_either_side_of_a_crossing_bar_are_no_broken_bar():
+    """Two bars in line either side of a bar lying behind their gap (seen along -y) are read
+    as one bar completed behind it (a crossing); two cubes there are two cubes."""
+    from visible_models import box_block, separate_blocks
+
+    behind = box_block([2.5, 4, -3], [3.5, 5, 4])
+    for lo0, hi1, kinds in ((0.0, 6.0, ["crossing"]), (1.5, 4.5, [])):
+        blocks = [box_block([lo0, 0, 0], [2.5, 1, 1]), box_block([3.5, 0, 0], [hi1, 1, 1]), behind]
+        V, polys = separate_blocks(blocks)
+        _, _, report = _quiet(V, np.asarray(triangulate(polys)), view=(0, -1.0, 0), up=(0, 0, 1.0))
+        assert [j.kind for j in report.junctions if j.kind == "crossing"] == kinds
