@@ -27,6 +27,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "2")
 import igl  # noqa: E402
 import numpy as np  # noqa: E402
 
+from meschers_igl import shapes  # noqa: E402
 from meschers_igl.errors import MescherWarning  # noqa: E402
 from meschers_igl.gallery import get_model  # noqa: E402
 from meschers_igl.obtain import model_to_mescher  # noqa: E402
@@ -46,30 +47,7 @@ def capped_tribar(resolution: int):
 
 def block_grid(n: int, ground: float = 20.0):
     """``n x n`` separate boxes on a ground quad ``ground`` times the grid's size."""
-    f = np.array(
-        [
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ]
-    )
-    unit = np.array([[x, y, z] for z in (0, 1) for y in (0, 2) for x in (0, 2)], np.float64)
-    ij = np.stack(np.divmod(np.arange(n * n), n), axis=1)
-    V = (unit[None] + 3.0 * np.c_[ij, np.zeros(n * n)][:, None]).reshape(-1, 3)
-    F = (f[None] + 8 * np.arange(n * n)[:, None, None]).reshape(-1, 3)
-    c, h = 1.5 * n - 0.5, ground * 3.0 * n
-    G = np.array([[c - h, c - h, 0], [c + h, c - h, 0], [c + h, c + h, 0], [c - h, c + h, 0]])
-    k = V.shape[0]
-    return np.vstack([V, G]), np.vstack([F, [[k, k + 1, k + 2], [k, k + 2, k + 3]]])
+    return shapes.block_grid(n, ground=ground * 3.0 * n)
 
 
 def bench_grid(n: int, repeat: int) -> float:

@@ -1,4 +1,4 @@
-"""Ordinary meshes for examples, tests and benchmarks: tori, spheres, grids, annuli.
+"""Ordinary meshes for examples, tests and benchmarks: tori, spheres, grids, annuli, boxes.
 
 Each returns ``(V (#V, 3) float64, F (#F, 3) int64)``, outward oriented.
 """
@@ -8,6 +8,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 
+from .errors import MescherError
 from .validate import as_count, as_positive, check_budget
 
 
@@ -80,6 +81,77 @@ def grid(n_x: int = 10, n_y: int = 10, size: float = 1.0):
     x, y = np.meshgrid(np.linspace(0, size, n_x), np.linspace(0, size, n_y), indexing="ij")
     V = np.c_[x.ravel(), y.ravel(), np.zeros(x.size)]
     return V, _grid_faces(n_x, n_y, False, False)
+
+
+#: The 12 outward faces of a box whose 8 corners are listed x fastest, then y, then z.
+BOX_FACES = np.array(
+    [
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ],
+    dtype=np.int64,
+)
+
+
+def boxes(lo: np.ndarray, hi: np.ndarray):
+    """Separate axis-aligned boxes ``[lo_k, hi_k]`` as one soup of closed solids (the way a
+    modeller lays out blocks): 8 vertices and 12 faces each.
+
+    Parameters
+    ----------
+    lo, hi : (k, 3) float64
+        Opposite corners, ``lo < hi`` componentwise.
+
+    Returns
+    -------
+    V : (8k, 3) float64
+    F : (12k, 3) int64
+    """
+    lo, hi = np.atleast_2d(np.asarray(lo, np.float64)), np.atleast_2d(np.asarray(hi, np.float64))
+    if lo.shape != hi.shape or lo.shape[1:] != (3,) or not np.all(hi > lo):
+        raise MescherError(
+            f"lo, hi: expected two (k, 3) arrays with lo < hi, found shapes {lo.shape}, {hi.shape}"
+        )
+    bits = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], np.float64)
+    V = lo[:, None, :] + bits[None] * (hi - lo)[:, None, :]
+    F = BOX_FACES[None] + 8 * np.arange(lo.shape[0])[:, None, None]
+    return V.reshape(-1, 3), F.reshape(-1, 3)
+
+
+def block_grid(n: int, ground: float = 0.0, heights: np.ndarray | None = None):
+    """A scene of ``n x n`` separate 2 x 2 boxes, 1 apart (a city block), of unit height (or
+    ``heights``, one per box, row by row); with ``ground > 0`` a ground quad of half-width
+    ``ground`` under them (an open sheet), as scenes come from modelling tools.
+
+    Returns
+    -------
+    V : (8 n^2 (+ 4), 3) float64
+    F : (12 n^2 (+ 2), 3) int64
+    """
+    n = as_count(n, "n", 1)
+    check_budget(12.0 * n * n, 100.0, what=f"block_grid({n})")
+    h = np.ones(n * n) if heights is None else np.asarray(heights, np.float64).reshape(-1)
+    if h.shape != (n * n,):
+        raise MescherError(f"heights: expected {n * n} values, found {h.size}")
+    ij = 3.0 * np.stack(np.divmod(np.arange(n * n), n), axis=1)
+    V, F = boxes(np.c_[ij, np.zeros(n * n)], np.c_[ij + 2.0, h])
+    if ground > 0:
+        c = 1.5 * n - 0.5
+        G = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]) * [ground, ground, 0]
+        k = V.shape[0]
+        V = np.vstack([V, G + [c, c, 0.0]])
+        F = np.vstack([F, [[k, k + 1, k + 2], [k, k + 2, k + 3]]])
+    return V, F
 
 
 def annulus(n_u: int = 32, n_r: int = 4, r0: float = 1.0, r1: float = 2.0):

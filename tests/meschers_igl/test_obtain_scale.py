@@ -20,56 +20,7 @@ from meschers_igl.obtain import bar_end_pairs, model_to_mescher
 from meschers_igl.obtain.junctions import bridges_blocked
 from meschers_igl.obtain.view import _votes, find_view
 from meschers_igl.operators import view_frame
-
-BOX_F = np.array(
-    [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ]
-)
-
-
-def box(lo, hi):
-    """An axis-aligned box [lo, hi]: 8 vertices (x fastest, then y, then z), 12 outward faces."""
-    corners = [[x, y, z] for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])]
-    return np.array(corners, dtype=np.float64), BOX_F.copy()
-
-
-def block_grid(n, ground=0.0, heights=None):
-    """``n x n`` separate 2 x 2 boxes, 1 apart (a city block), of unit height (or ``heights``);
-    with ``ground > 0`` a ground quad of half-width ``ground`` under them (an open sheet)."""
-    Vs, Fs = [], []
-    for k in range(n * n):
-        i, j = divmod(k, n)
-        h = 1.0 if heights is None else heights[k]
-        V, F = box((3.0 * i, 3.0 * j, 0.0), (3.0 * i + 2, 3.0 * j + 2, h))
-        Fs.append(F + 8 * k)
-        Vs.append(V)
-    V, F = np.vstack(Vs), np.vstack(Fs)
-    if ground > 0:
-        c = 1.5 * n - 0.5
-        G = np.array(
-            [
-                [c - ground, c - ground, 0.0],
-                [c + ground, c - ground, 0.0],
-                [c + ground, c + ground, 0.0],
-                [c - ground, c + ground, 0.0],
-            ]
-        )
-        k = V.shape[0]
-        V = np.vstack([V, G])
-        F = np.vstack([F, [[k, k + 1, k + 2], [k, k + 2, k + 3]]])
-    return V, F
+from meschers_igl.shapes import block_grid
 
 
 def _convert(V, F, view=(1.0, 2.0, 3.0)):
