@@ -415,7 +415,11 @@ B0, B1, SX, SY, SIG = range(5)
 #: slower to compile).  Measured on a 20k-face torus against the one long function it was before:
 #: the steps called, not inlined, 5x slower (each call passed the groups' 36 arrays field by field
 #: and counted a reference to each; uncounted, 1.5x); inlined but counted, 2.5x; inlined and
-#: uncounted, as fast.  A step that would allocate does not compile.
+#: uncounted, as fast.  A step that would allocate does not compile.  A ``_small`` step takes the
+#: arrays it uses, not the groups: compiled on its own with the groups' types, each cost about
+#: 0.5 s of first-run compilation.  Rare branches with loops are ``_small`` (:func:`_new_block`):
+#: numba copies an inlined function's IR block by block, each copy carrying its scope, so IR
+#: inlining costs compilation time growing faster than the function's length.
 _helper = numba.njit(cache=True, nogil=True, _nrt=False, inline="always")
 _small = numba.njit(cache=True, nogil=True, _nrt=False)
 
@@ -449,10 +453,10 @@ def _room(mesh, arr, ctr, pops, max_pops, targets):  # pragma: no cover - compil
 
 
 @_small
-def _queue_vertex(mesh, arr, ctr, u):  # pragma: no cover - compiled
+def _queue_vertex(pseudo, dist, hk, hv, ctr, u):  # pragma: no cover - compiled
     """Queue a pseudo-source's emission at its (lowered) distance."""
-    if mesh.pseudo[u]:
-        ctr[C_HEAP] = heap_push(arr.hk, arr.hv, ctr[C_HEAP], arr.dist[u], -(u + 1))
+    if pseudo[u]:
+        ctr[C_HEAP] = heap_push(hk, hv, ctr[C_HEAP], dist[u], -(u + 1))
 
 
 @_small
@@ -478,7 +482,7 @@ def _emit_from_vertex(mesh, arr, ctr, v, key, kids_h, kids_b):  # pragma: no cov
     cang, cpos, csgn = mesh.cang, mesh.cpos, mesh.csgn
     dist, bpos = arr.dist, arr.bpos
     b = bpos[v]
-    nch = 0
+    nch = np.int64(0)  # typed (see _trim_on_edge)
     for k in range(mesh.vptr[v], mesh.vptr[v + 1]):
         h = mesh.vcorner[k]  # half-edge opposite v in its face
         f = h // 3
@@ -494,7 +498,7 @@ def _emit_from_vertex(mesh, arr, ctr, v, key, kids_h, kids_b):  # pragma: no cov
                 # first edge (j = 1)
                 cu = 3 * f + (c + 1 + j) % 3
                 bpos[u] = _ring_pos(cpos, csgn, cu, cang[cu] if j == 0 else 0.0)
-                _queue_vertex(mesh, arr, ctr, u)
+                _queue_vertex(mesh.pseudo, dist, arr.hk, arr.hv, ctr, u)
         t = mesh.twin[h]
         if t < 0:
             continue
@@ -526,17 +530,17 @@ def _emit_from_vertex(mesh, arr, ctr, v, key, kids_h, kids_b):  # pragma: no cov
 
 
 @_small
-def _reach(mesh, arr, ctr, u, dv, h, sx, sy):  # pragma: no cover - compiled
+def _reach(pseudo, dist, via, vimg, hk, hv, ctr, u, dv, h, sx, sy):  # pragma: no cover - compiled
     """A window on half-edge ``h`` (source image ``(sx, sy)``) reaches vertex ``u`` at ``dv``:
     True when that lowers ``u``'s distance (recorded, and ``u`` queued if a pseudo-source; the
     caller sets its ring position)."""
-    if dv >= arr.dist[u]:
+    if dv >= dist[u]:
         return False
-    arr.dist[u] = dv
-    arr.via[u] = h
-    arr.vimg[u, 0] = sx
-    arr.vimg[u, 1] = sy
-    _queue_vertex(mesh, arr, ctr, u)
+    dist[u] = dv
+    via[u] = h
+    vimg[u, 0] = sx
+    vimg[u, 1] = sy
+    _queue_vertex(pseudo, dist, hk, hv, ctr, u)
     return True
 
 
@@ -610,12 +614,17 @@ def _enter_face(mesh, arr, ctr, w, kids_h, kids_b):  # pragma: no cover - compil
     if _useless(arr.dist, ia, ib, ic, L, cx, cy, b0, b1, sx, sy, sig):
         return 0
     tol = _VIS * L
+    pseudo, dist, via, vimg, hk, hv = mesh.pseudo, arr.dist, arr.via, arr.vimg, arr.hk, arr.hv
     # the window's ends may be the edge's vertices; the apex when visible
-    if b0 <= tol and _reach(mesh, arr, ctr, ia, sig + np.hypot(sx, sy), h, sx, sy):
+    if b0 <= tol and _reach(
+        pseudo, dist, via, vimg, hk, hv, ctr, ia, sig + np.hypot(sx, sy), h, sx, sy
+    ):
         # it arrives at A from below AB: past A's first edge (to B), away from C
         ca = 3 * f + (c + 1) % 3
         bpos[ia] = _ring_pos(cpos, csgn, ca, -np.arctan2(-sy, sx))
-    if b1 >= L - tol and _reach(mesh, arr, ctr, ib, sig + np.hypot(L - sx, sy), h, sx, sy):
+    if b1 >= L - tol and _reach(
+        pseudo, dist, via, vimg, hk, hv, ctr, ib, sig + np.hypot(L - sx, sy), h, sx, sy
+    ):
         # at B: past B's second edge (to A), away from C
         cb = 3 * f + (c + 2) % 3
         bpos[ib] = _ring_pos(cpos, csgn, cb, cang[cb] + np.arctan2(-sy, L - sx))
@@ -623,13 +632,15 @@ def _enter_face(mesh, arr, ctr, w, kids_h, kids_b):  # pragma: no cover - compil
     # AB, and s on that line too: the rays run along AB, C is at its place)
     tc = sx + (cx - sx) * (-sy) / (cy - sy) if cy > sy else cx
     if b0 - tol <= tc <= b1 + tol:
-        if _reach(mesh, arr, ctr, ic, sig + np.hypot(cx - sx, cy - sy), h, sx, sy):
+        if _reach(
+            pseudo, dist, via, vimg, hk, hv, ctr, ic, sig + np.hypot(cx - sx, cy - sy), h, sx, sy
+        ):
             # within C's corner: the angle from C->A to C->s (C->B is counterclockwise)
             qx = sx - cx
             qy = sy - cy
             psi = np.arctan2(-cx * qy + cy * qx, -cx * qx - cy * qy)
             bpos[ic] = _ring_pos(cpos, csgn, h, psi)
-    nch = 0
+    nch = np.int64(0)  # typed (see _trim_on_edge)
     for side in range(2):
         if side == 0:
             # child on AC: rays through [b0, min(b1, tc)]; frame: C -> A
@@ -675,7 +686,7 @@ def _trim_on_edge(mesh, arr, t, b0, b1, sx, sy, sig):  # pragma: no cover - comp
     cf = mesh.cflip[t]
     sy2 = sy * sy
     base = arr.bstart[e]
-    i = 0
+    i = np.int64(0)  # typed: a literal 0 compiles the steps it is passed to again
     while i < arr.bn[e]:
         o = aw[base + i]
         # overlap test in the common frame, from the block (no access to o's row)
@@ -704,7 +715,7 @@ def _trim_on_edge(mesh, arr, t, b0, b1, sx, sy, sig):  # pragma: no cover - comp
                 b1 = max(b1, ohi)
                 arr.state[o] = DEAD
                 _block_remove(e, i, arr.bstart, arr.bn, aw, alo, ahi, arr.pos)
-                i = 0  # the wider window may overlap windows already passed
+                i = np.int64(0)  # the wider window may overlap windows already passed
                 continue
         if not same and flip:
             olo, ohi = L - ohi, L - olo
@@ -733,32 +744,39 @@ def _trim_on_edge(mesh, arr, t, b0, b1, sx, sy, sig):  # pragma: no cover - comp
     return b0, b1
 
 
+@_small
+def _new_block(aw, alo, ahi, bstart, bcls, fhead, ctr, e, k):  # pragma: no cover - compiled
+    """Give edge ``e`` (``k`` windows; its block full, or none yet) a block of twice the
+    capacity (the first: 4), its windows moved there and the old block put on its free list."""
+    cls = 0 if bstart[e] < 0 else bcls[e] + 1
+    size = 4 << cls
+    if fhead[cls] >= 0:
+        nb = fhead[cls]
+        fhead[cls] = aw[nb]
+    else:
+        nb = ctr[C_ARENA_TOP]
+        ctr[C_ARENA_TOP] += size
+        ctr[C_MAX_BLOCK] = max(ctr[C_MAX_BLOCK], size)
+    if bstart[e] >= 0:
+        ob = bstart[e]
+        for j in range(k):
+            aw[nb + j] = aw[ob + j]
+            alo[nb + j] = alo[ob + j]
+            ahi[nb + j] = ahi[ob + j]
+        aw[ob] = fhead[bcls[e]]
+        fhead[bcls[e]] = ob
+    bstart[e] = nb
+    bcls[e] = cls
+
+
 @_helper
 def _block_add(arr, ctr, e, w, lo, hi):  # pragma: no cover - compiled
     """Append window ``w`` (extent ``[lo, hi]`` in the edge's common frame) to edge ``e``'s
-    block, moved into a new block of twice the capacity when it is full."""
-    aw, alo, ahi, bstart, bcls, fhead = arr.aw, arr.alo, arr.ahi, arr.bstart, arr.bcls, arr.fhead
+    block, moved into a new block of twice the capacity when it is full (:func:`_new_block`)."""
+    aw, alo, ahi, bstart = arr.aw, arr.alo, arr.ahi, arr.bstart
     k = arr.bn[e]
-    if bstart[e] < 0 or k == 4 << bcls[e]:
-        cls = 0 if bstart[e] < 0 else bcls[e] + 1
-        size = 4 << cls
-        if fhead[cls] >= 0:
-            nb = fhead[cls]
-            fhead[cls] = aw[nb]
-        else:
-            nb = ctr[C_ARENA_TOP]
-            ctr[C_ARENA_TOP] += size
-            ctr[C_MAX_BLOCK] = max(ctr[C_MAX_BLOCK], size)
-        if bstart[e] >= 0:
-            ob = bstart[e]
-            for j in range(k):
-                aw[nb + j] = aw[ob + j]
-                alo[nb + j] = alo[ob + j]
-                ahi[nb + j] = ahi[ob + j]
-            aw[ob] = fhead[bcls[e]]
-            fhead[bcls[e]] = ob
-        bstart[e] = nb
-        bcls[e] = cls
+    if bstart[e] < 0 or k == 4 << arr.bcls[e]:
+        _new_block(aw, alo, ahi, bstart, arr.bcls, arr.fhead, ctr, e, k)
     base = bstart[e]
     aw[base + k] = w
     alo[base + k] = lo
@@ -808,9 +826,10 @@ def _queue_child(mesh, arr, ctr, kids_h, kids_b, j):  # pragma: no cover - compi
     wb[w, SIG] = sig
     arr.state[w] = QUEUED
     if mesh.cflip[t]:
-        _block_add(arr, ctr, mesh.hedge[t], w, L - b1, L - b0)
+        lo, hi = L - b1, L - b0
     else:
-        _block_add(arr, ctr, mesh.hedge[t], w, b0, b1)
+        lo, hi = b0, b1
+    _block_add(arr, ctr, mesh.hedge[t], w, lo, hi)
     ctr[C_HEAP] = heap_push(arr.hk, arr.hv, ctr[C_HEAP], kk, w)
 
 
