@@ -34,7 +34,7 @@ from .metrics import image_psnr  # noqa: E402
 from .rasterizer import lambertian, soft_rasterize  # noqa: E402
 from .sobolev import MescherParametrization  # noqa: E402
 from .targets import target_mask  # noqa: E402
-from .turn import FaceTurn  # noqa: E402
+from .turn import FaceTurn, turn_faces  # noqa: E402
 
 
 @dataclass
@@ -199,7 +199,7 @@ def fit_mescher(
         ``info["normals"][region]`` of :func:`.picture.mescher_from_picture`).  Given, the
         fit holds the faces to them as ``options.turn`` says (a penalty on each face's
         normal, turns back during the fit, and, unless ``options.turn[0] < 0``, the returned
-        mescher turned back once more, :func:`.picture.turn_faces`: the fitted screen
+        mescher turned back once more, :func:`.turn.turn_faces`: the fitted screen
         positions and periods kept): the image only holds each face's shade, ``n . l``, and
         the fit turns faces about the light as freely as it bends them where it moves their
         vertices.  ``image`` and ``alpha`` are then its render.
@@ -262,7 +262,6 @@ def _turn_faces_back(
     result, face_normals, lights, light_colors, ambient, background, sigma: float
 ) -> None:
     """``result`` with its mescher's faces turned to ``face_normals`` and its render redone."""
-    from .picture import turn_faces
     from .rasterizer import render_mescher
 
     m = turn_faces(result.mescher, face_normals)

@@ -40,6 +40,7 @@ from .faces import _three_means, _two_groups, split_shared_shade
 from .regions import region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
+from .turn import _slope_wishes, _weighted_least_squares
 
 
 @dataclass
@@ -665,74 +666,6 @@ def lift(
     nv = m0.n_vertices
     zeta = m0.d01 @ sol[:nv] + H @ sol[nv:]
     return m0.with_zeta(zeta)
-
-
-def _slope_wishes(m: Mescher, n: np.ndarray):
-    """Per half-edge, the climb its face's plane of normal ``n[f]`` asks for.
-
-    Returns the (3 #F, #E) signed map ``B`` from edge values to half-edges (stored edge sign
-    ``s``: ``zeta_e = s * value``) and the wishes ``g_f . (xy_j - xy_i)``,
-    ``g_f = -(n_x, n_y) / n_z``, in the same (3 #F,) order.
-    """
-    g = -n[:, :2] / n[:, 2:3]
-    P = np.asarray(m.xy)[np.asarray(m.F)]
-    # half-edge opposite corner i runs i+1 -> i+2
-    dxy = P[:, [2, 0, 1]] - P[:, [1, 2, 0]]
-    wish = np.einsum("fk,fik->fi", g, dxy).reshape(-1)
-    fe = np.asarray(m.face_edges)
-    sg = np.asarray(m.face_edge_signs)
-    rows = np.arange(fe.size)
-    B = sp.csr_matrix((sg.reshape(-1), (rows, fe.reshape(-1))), shape=(fe.size, m.n_edges))
-    return B, wish
-
-
-def _weighted_least_squares(A, b: np.ndarray, weights) -> np.ndarray:
-    """``argmin |A x - b|^2`` with per-face weights on the rows (three half-edges a face)."""
-    from scipy.sparse.linalg import spsolve
-
-    nf = A.shape[0] // 3
-    wv = np.ones(nf) if weights is None else np.asarray(weights, dtype=np.float64)
-    W = sp.diags(np.repeat(wv, 3))
-    # normal equations; z is defined up to a constant per piece: pin it with a tiny ridge
-    N = (A.T @ W @ A).tocsc()
-    N = N + 1e-12 * float(np.abs(N.diagonal()).max()) * sp.identity(A.shape[1])
-    return spsolve(N, A.T @ (W @ b))
-
-
-def turn_faces(m: Mescher, face_normals: np.ndarray, weights: np.ndarray | None = None) -> Mescher:
-    """``m`` with its periods and screen positions kept and its faces turned toward
-    ``face_normals``.
-
-    A fit against the image moves vertices on screen and bends faces as it goes; a picture of
-    boxes, though, has flat faces in the orientations their shades gave.  This adds the exact
-    form ``d01 dz`` (which changes no period, so ``d12 zeta`` stays 0 and the figure's climb
-    stays the fitted one) that best meets the faces' slope wishes (:func:`lift`), in least
-    squares: every face whose plane its neighbours allow takes its normal exactly.
-
-    Parameters
-    ----------
-    m : Mescher
-    face_normals : (#F, 3) float
-        Unit normals with ``n_z > 0`` (e.g. the region normals of
-        :func:`mescher_from_picture`, ``info["normals"][region]``).
-    weights : (#F,) float, optional
-
-    Returns
-    -------
-    Mescher
-    """
-    if not isinstance(m, Mescher):
-        raise MescherError(f"m: expected a Mescher, found {type(m).__name__}")
-    n = np.asarray(face_normals, dtype=np.float64)
-    if n.shape != (m.n_faces, 3) or not np.all(np.isfinite(n)) or np.any(n[:, 2] <= 0):
-        raise MescherError(
-            f"face_normals: expected ({m.n_faces}, 3) finite with n_z > 0, found {n.shape}"
-            + ("" if n.shape != (m.n_faces, 3) else " with n_z <= 0 or non-finite values")
-        )
-    B, wish = _slope_wishes(m, n)
-    zeta = np.asarray(m.zeta, dtype=np.float64)
-    dz = _weighted_least_squares((B @ m.d01).tocsr(), wish - B @ zeta, weights)
-    return m.with_zeta(zeta + m.d01 @ dz)
 
 
 def mescher_from_picture(

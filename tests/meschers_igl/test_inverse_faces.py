@@ -11,6 +11,7 @@ from meschers_igl import MescherError
 from meschers_igl.inverse import faces as fc
 from meschers_igl.inverse import models as mdl
 from meschers_igl.inverse import picture as pic
+from meschers_igl.inverse.turn import turn_faces
 
 AMBIENT = 0.2
 GROUND = (0.55, 0.7, 0.9)  # no grey face takes its colour
@@ -198,20 +199,20 @@ def test_turn_faces_gives_each_face_its_normal_and_keeps_the_periods():
     # bend the faces by an exact form (vertex depths): no period changes, every face tilts
     bent = m0.with_zeta(np.asarray(m0.zeta) + m0.d01 @ rng.normal(0, 0.05, m0.n_vertices))
     assert _angles_deg(bent.face_normals(), want).max() > 5.0
-    back = pic.turn_faces(bent, want)
+    back = turn_faces(bent, want)
     # the same least squares as the lift that made m0 (the bend was exact): m0's faces again
     np.testing.assert_allclose(back.face_normals(), m0.face_normals(), atol=1e-9)
     assert np.abs(back.d12 @ np.asarray(back.zeta)).max() < 1e-12
     # one plane for all: consistent on a disk, so every face takes it (to round-off)
     one = np.tile(N[0], (m0.n_faces, 1))
-    cos = np.einsum("ij,ij->i", pic.turn_faces(bent, one).face_normals(), one)
+    cos = np.einsum("ij,ij->i", turn_faces(bent, one).face_normals(), one)
     assert np.degrees(np.arccos(np.clip(cos, -1, 1))).max() < 1e-5
     np.testing.assert_array_equal(np.asarray(back.xy), np.asarray(bent.xy))
     # a torus climbing 0.3 around: one plane for all faces cannot close, the climb stays
     t, _ = tg.torus_mescher(0.5, 0.2, 12, 6)
     t = t.with_periods([0.3, 0.0])
     n = np.tile([0.2, -0.1, 1.0], (t.n_faces, 1)) / np.linalg.norm([0.2, -0.1, 1.0])
-    tt = pic.turn_faces(t, n)
+    tt = turn_faces(t, n)
     np.testing.assert_allclose(tt.periods(), t.periods(), atol=1e-12)
     assert np.abs(tt.d12 @ np.asarray(tt.zeta)).max() < 1e-12
     # of all zeta with these periods it is the least-squares one: no exact step lowers the
@@ -222,9 +223,9 @@ def test_turn_faces_gives_each_face_its_normal_and_keeps_the_periods():
         assert _climb_misfit(tt.with_zeta(np.asarray(tt.zeta) + step), n) >= base - 1e-12
         assert _climb_misfit(tt.with_zeta(np.asarray(tt.zeta) - step), n) >= base - 1e-12
     with pytest.raises(MescherError, match="face_normals"):
-        pic.turn_faces(t, n[:-1])
+        turn_faces(t, n[:-1])
     with pytest.raises(MescherError, match="face_normals"):
-        pic.turn_faces(t, -n)
+        turn_faces(t, -n)
 
 
 def test_fit_with_face_normals_returns_flat_faces_and_their_render():
@@ -244,7 +245,7 @@ def test_fit_with_face_normals_returns_flat_faces_and_their_render():
     # the same steps; then the faces are turned back: the screen positions and the result's
     # faces are those of turn_faces, and image/alpha are its render
     np.testing.assert_allclose(np.asarray(flat.mescher.xy), np.asarray(free.mescher.xy))
-    turned = pic.turn_faces(free.mescher, want)
+    turned = turn_faces(free.mescher, want)
     np.testing.assert_allclose(flat.mescher.face_normals(), turned.face_normals(), atol=1e-9)
     img, alpha = ras.render_mescher(
         flat.mescher,

@@ -32,7 +32,7 @@ def _cube(res: int, seed: int = 7):
 @pytest.mark.parametrize("power", [1, 2])
 def test_turn_parametrization_adds_turn_faces_exact_form(power):
     from meschers_igl.inverse.sobolev import MescherParametrization
-    from meschers_igl.inverse.turn import turn_depths, turn_parametrization
+    from meschers_igl.inverse.turn import turn_depths, turn_faces, turn_parametrization
 
     _, _, m0, region, info = _cube(40)
     want = info["normals"][region]
@@ -44,7 +44,7 @@ def test_turn_parametrization_adds_turn_faces_exact_form(power):
     turn_parametrization(par, want)
     after = par.mescher()
     # the oracle: turn_faces of the iterate (float32 leaves: depths to ~1e-6)
-    oracle = pic.turn_faces(before, want)
+    oracle = turn_faces(before, want)
     np.testing.assert_allclose(np.asarray(after.zeta), np.asarray(oracle.zeta), atol=2e-5)
     np.testing.assert_allclose(after.face_normals(), m0.face_normals(), atol=1e-3)
     np.testing.assert_array_equal(np.asarray(after.xy), np.asarray(before.xy))
