@@ -45,11 +45,13 @@ from pathlib import Path
 
 import numpy as np
 
+from meschers_igl.inverse.turn import PICTURE_TURN
+
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
 AMBIENT = 0.2
 GROUND = (0.55, 0.7, 0.9)
-TURN = (-1, 0.03)  # InverseOptions.turn: never turned back, the normal penalty of weight 0.03
+TURN = PICTURE_TURN  # what fit_options uses: the normal penalty of weight 0.03, never turned back
 DEFAULT_MODELS = Path(__file__).resolve().parents[2] / "shared" / "real_models"
 
 

@@ -496,15 +496,18 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
                 f"--init picture: expected one white --light, found {len(lights)} lights"
                 + (" with colours" if colors is not None else "")
             )
-        m0, _, info = mescher_from_picture(
+        m0, region, info = mescher_from_picture(
             target, lights[0] if given else None, args.ambient, background=bg
         )
+        # the fit holds each face to its shade region's normal (fit_options' turn)
+        face_normals = info["normals"][region]
         lights = [tuple(float(v) for v in info["light"])]
         shade["lights"] = lights
         off0 = None
         opts = fit_options(iters=iters, power=args.power, info=info, eval_every=every)
     else:
         m0, off0 = torus_for_target(target, bg, n_major=n_major, n_minor=n_minor)
+        face_normals = None
         opts = InverseOptions(iters=iters, resolution=res, power=args.power, eval_every=every)
     before = render_mescher(m0, off0, resolution=res, background=bg, sigma=1e-6, **shade)
     progress = (not args.no_progress) and sys.stderr.isatty()
@@ -516,6 +519,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         options=opts,
         progress=progress,
         device=args.device,
+        face_normals=face_normals,
         **shade,
     )
 

@@ -40,7 +40,7 @@ from .faces import _three_means, _two_groups, split_shared_shade
 from .regions import region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
-from .turn import _slope_wishes, _weighted_least_squares
+from .turn import PICTURE_TURN, _slope_wishes, _weighted_least_squares
 
 
 @dataclass
@@ -787,7 +787,9 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
     (``sigma`` from ``2e-4`` to ``1e-5`` for xy, ``1e-4`` to ``1e-6`` for zeta, a pixel being
     ``2.4e-4``), the steps are small, the offsets stay (the figure does not overlap itself
     where it was not cut), ``lambda = 1`` with the uniform Laplacian (largesteps' choice) and
-    the best nearly-hard PSNR seen every 20 steps is kept.  The periods move at ``1e-2``
+    the best nearly-hard PSNR seen every 20 steps is kept; with :func:`.optimize.fit_mescher`'s
+    ``face_normals`` (``info["normals"][region]``) each face's normal is held to its shade
+    region's by a small penalty (:data:`.turn.PICTURE_TURN`).  The periods move at ``1e-2``
     depth units per step: where the lift met a step it could not see, the faces it bent shade
     wrongly, and the image pulls the periods toward the picture's (Penrose stairs: 1.14 from
     the picture, 1.28 after 300 steps against the true 1.39; 1.18 at ``1e-3``).  Where
@@ -809,6 +811,7 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
         sigma_xy=(2e-4, 1e-5),
         sigma_zeta=(1e-4, 1e-6),
         eval_every=20,
+        turn=PICTURE_TURN,
     )
     if info is not None and info.get("unseen_turn"):
         kw["lr_periods"] = 0.0

@@ -18,6 +18,13 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 
+#: ``InverseOptions.turn`` for refining a picture-made mescher (:func:`.picture.fit_options`):
+#: never turned back, a penalty of weight 0.03 on each face's normal against its shade region's.
+#: Measured over the development set and the project's models under 6 random lights each at 200
+#: steps: 27 of 60 cases pass the acceptance against 23 of 60 without it, no model losing one;
+#: weight 0.1 drops the Penrose stairs' PSNR under 30 dB, turning back costs PSNR.
+PICTURE_TURN = (-1, 0.03)
+
 
 def _slope_wishes(m: Mescher, n: np.ndarray):
     """Per half-edge, the climb its face's plane of normal ``n[f]`` asks for.

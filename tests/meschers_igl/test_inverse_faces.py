@@ -238,7 +238,8 @@ def test_fit_with_face_normals_returns_flat_faces_and_their_render():
     image, _ = _cube_picture(N, light, res=32)
     m0, region, info = pic.mescher_from_picture(image, light, AMBIENT, background=GROUND)
     want = info["normals"][region]
-    o = pic.fit_options(iters=6, info=info, eval_every=0)
+    # the single turn after the fit (turn[0] = 0, no penalty)
+    o = pic.fit_options(iters=6, info=info, eval_every=0, turn=(0, 0.0))
     kw = dict(lights=[light], ambient=AMBIENT, background=GROUND, options=o)
     free = opt.fit_mescher(image, m0, None, **kw)
     flat = opt.fit_mescher(image, m0, None, face_normals=want, **kw)
