@@ -15,6 +15,7 @@ convention of modelling tools (Blender, ParadoxToolkit), a camera above the hori
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import igl
@@ -270,6 +271,108 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
     return None if found is None or found[0] != "hidden gap" else v
 
 
+@dataclass(frozen=True)
+class _PairArrays:
+    """The bar-end pairs' view-independent quantities as arrays (one row per pair).
+
+    Attributes
+    ----------
+    T : (k, 3) float64
+        Translation from the first cap to the second.
+    D : (k, 3) float64
+        The bar's direction at the first cap (zeros where the pair has none).
+    n1 : (k, 3) float64
+        The first cap's normal.
+    bars : (k,) bool
+        A bridge may join them: a bar direction pointing out of the first cap and both pieces
+        longer along it than their caps are wide (:func:`pieces_are_bars`).
+    """
+
+    T: np.ndarray
+    D: np.ndarray
+    n1: np.ndarray
+    bars: np.ndarray
+
+
+def _pair_arrays(V, F, part, pairs: list) -> _PairArrays:
+    """:class:`_PairArrays` of ``pairs``; ``bars`` as :func:`pieces_are_bars` decides it, for
+    all pairs at once (a piece's length is its part's extent along the bar back from its cap,
+    the cap's width the largest distance between its loop's points)."""
+    k = len(pairs)
+    T = np.array([be.T for be in pairs], np.float64).reshape(k, 3)
+    n1 = np.array([be.first.normal for be in pairs], np.float64).reshape(k, 3)
+    D = np.zeros((k, 3))
+    has_d = np.fromiter((be.d is not None for be in pairs), bool, k)
+    D[has_d] = np.array([pairs[i].d for i in np.flatnonzero(has_d).tolist()]).reshape(-1, 3)
+    bars = has_d & (np.einsum("ij,ij->i", n1, D) > 0)
+    rows = np.flatnonzero(bars)
+    if rows.size:  # each piece: (cap centroid, direction back into the piece, width, part)
+        caps = [c for i in rows.tolist() for c in (pairs[i].first, pairs[i].second)]
+        key = {id(c): n for n, c in enumerate({id(c): c for c in caps}.values())}
+        uniq = list({id(c): c for c in caps}.values())
+        cen, width = _cap_centroids_widths(V, uniq)
+        which = np.array([key[id(c)] for c in caps], np.int64)
+        dirs = np.repeat(D[rows], 2, axis=0) * np.tile([1.0, -1.0], rows.size)[:, None]
+        cpart = part[np.array([c.faces[0] for c in uniq], np.int64)][which]
+        length = _extent_back(V, F, part, cpart, cen[which], dirs)
+        bars[rows] = np.all((length > width[which]).reshape(-1, 2), axis=1)
+    return _PairArrays(T, D, n1, bars)
+
+
+def _cap_centroids_widths(V, caps: list):
+    """(#caps, 3) loop centroids and (#caps,) largest distances between loop points."""
+    size = np.array([c.loop.size for c in caps])
+    cen = np.zeros((len(caps), 3))
+    width = np.zeros(len(caps))
+    for n in np.unique(size).tolist():  # a few loop sizes
+        rows = np.flatnonzero(size == n)
+        P = V[np.array([caps[i].loop for i in rows.tolist()])]  # (r, n, 3)
+        cen[rows] = P.mean(axis=1)
+        width[rows] = np.linalg.norm(P[:, :, None] - P[:, None], axis=3).max(axis=(1, 2))
+    return cen, width
+
+
+#: Most (piece, vertex) products taken at once by :func:`_extent_back`.
+_EXTENT_CHUNK = 1 << 22
+
+
+def _extent_back(V, F, part, cpart, cen, dirs):
+    """(k,) ``max over the vertices x of piece k's part of (cen[k] - x) . dirs[k]``."""
+    out = np.full(cen.shape[0], -np.inf)
+    order = np.argsort(part, kind="stable")  # faces grouped by part
+    bounds = np.searchsorted(part[order], np.arange(int(part.max()) + 2))
+    for p in np.unique(cpart).tolist():  # the parts holding pieces (one per block or frame)
+        X = V[np.unique(F[order[bounds[p] : bounds[p + 1]]])]
+        rows = np.flatnonzero(cpart == p)
+        step = max(1, _EXTENT_CHUNK // max(X.shape[0], 1))
+        for s in range(0, rows.size, step):  # chunks of pieces
+            r = rows[s : s + step]
+            out[r] = np.einsum("rk,rk->r", cen[r], dirs[r]) - (dirs[r] @ X.T).min(axis=1)
+    return out
+
+
+def _junction_seen(V, F, part, pairs, arr: _PairArrays, R, tol) -> bool:
+    """Is a junction of the bar ends ``pairs`` seen from view ``R`` (:func:`junction_at`)?
+
+    Caps coinciding on screen that contain the view and gain depth are a false edge, decided
+    for all pairs at once; a bridge (hidden gap, crossing) is judged pair by pair only where
+    it may hold: two bars (:func:`may_be_junctions`), their bridge through empty space (one
+    winding-number call)."""
+    v = R[2]
+    gap = arr.T @ v
+    line = (np.linalg.norm(arr.T - gap[:, None] * v, axis=1) <= tol) & (np.abs(gap) > tol)
+    if np.any(line & (np.abs(arr.n1 @ v) <= 1e-6) & (gap >= 0)):
+        return True
+    sub = [pairs[i] for i in np.flatnonzero(~line & arr.bars).tolist()]
+    sub = [be for be, m in zip(sub, may_be_junctions(sub, R, tol, True).tolist()) if m]
+    blocked = bridges_blocked(V, F, R, sub)
+    sub = [be for be, bl in zip(sub, blocked.tolist()) if not bl]
+    if not sub:
+        return False
+    C, front = _camera(V, F, R)
+    return any(junction_at(V, F, C, R, be, tol, front, part, True, False) for be in sub)
+
+
 def find_model_view(
     V: Any,
     F: Any,
@@ -335,14 +438,10 @@ def find_model_view(
     R0 = view_frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
     part = parts_and_front(V, F, TT, R0)[0]
 
+    arr = _pair_arrays(V, F, part, pairs)
+
     def seen(v):
-        R = view_frame(v, up_for_view(v))
-        C, front = _camera(V, F, R)
-        may = [be for be, m in zip(pairs, may_be_junctions(pairs, R, tol, True).tolist()) if m]
-        blocked = bridges_blocked(V, F, R, may).tolist()
-        return any(
-            junction_at(V, F, C, R, be, tol, front, part, True, bl) for be, bl in zip(may, blocked)
-        )
+        return _junction_seen(V, F, part, pairs, arr, view_frame(v, up_for_view(v)), tol)
 
     err = None
     try:
@@ -361,9 +460,10 @@ def find_model_view(
     if near and (seen(v) or (judge is not None and judge(v, up))):
         return v, up
     # hidden gaps: the bar ends nearest each other first, a bounded number of them
-    cand = [be for be in pairs if be.d is not None and np.linalg.norm(np.cross(be.d, be.T)) > tol]
-    cand.sort(key=lambda be: float(np.linalg.norm(be.T)))
-    vb = _hidden_gap_view(V, F, TT, part, cand[:MAX_AUTO_BARS], tol, start, within)
+    off = arr.bars & (np.linalg.norm(np.cross(arr.D, arr.T), axis=1) > tol)  # off the bar's line
+    k = np.flatnonzero(off)
+    k = k[np.argsort(np.linalg.norm(arr.T[k], axis=1), kind="stable")][:MAX_AUTO_BARS]
+    vb = _hidden_gap_view(V, F, TT, part, [pairs[i] for i in k.tolist()], tol, start, within)
     if vb is not None:
         return vb, up_for_view(vb)
     vc = _crossing_view(V, F, TT, part, pairs, tol, start, within)
@@ -383,7 +483,7 @@ def find_model_view(
         raise err
     raise MescherError(
         f"view: expected a view from which junctions line up, found none (tried the view "
-        f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {len(cand)} pair(s) of "
+        f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {int(off.sum())} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
 
@@ -459,7 +559,10 @@ def _crossing_view(V, F, TT, part, pairs, tol, start, within=START_ANGLE):
             return found is not None and found[0] == "crossing"
 
         steps = np.arange(0.0, 2.0 * np.pi, CROSSING_STEP)
-        hit = np.array([crossing(th) for th in steps])
+        hit = _crossing_may_hold(
+            V, F, be, np.cos(steps)[:, None] * a + np.sin(steps)[:, None] * b, n
+        )
+        hit[hit] = [crossing(th) for th in steps[hit].tolist()]  # the few views it may hold from
         if not hit.any() or hit.all():
             continue
         k0 = int(np.flatnonzero(~hit)[0])  # runs of hits, from a miss on (circular)
@@ -530,10 +633,18 @@ def _hidden_gap_view(V, F, TT, part, cand, tol, start, within=START_ANGLE):
         sn = np.sin(steps)
         g = t2 / np.where(np.abs(sn) > 1e-9, sn, np.nan)
         steps = steps[(t1 - g * np.cos(steps) > tol) & (np.abs(g) > tol)]
+        g = t2 / np.sin(steps)
+        views = np.cos(steps)[:, None] * e1 + np.sin(steps)[:, None] * e2
         vb = None
-        for th in steps:  # until a view hiding the gap is met
-            v0 = np.cos(th) * e1 + np.sin(th) * e2
-            vb = _occluder_centred_view(V, F, TT, part, be, tol, v0)
+        for s in range(0, steps.size, _HIDE_BLOCK):  # blocks of views, until one hides the gap
+            b = slice(s, s + _HIDE_BLOCK)
+            may = _gap_may_hide(
+                V, F, part, be, tol, views[b], w, g[b], t1 - g[b] * np.cos(steps[b])
+            )
+            for v0 in views[b][may]:  # the few views the gap may hide behind
+                vb = _occluder_centred_view(V, F, TT, part, be, tol, v0)
+                if vb is not None:
+                    break
             if vb is not None:
                 break
         if vb is None or (start is not None and vb @ start < np.cos(within)):
@@ -542,3 +653,105 @@ def _hidden_gap_view(V, F, TT, part, cand, tol, start, within=START_ANGLE):
         if best is None or score < best[0]:
             best = (score, vb)
     return None if best is None else best[1]
+
+
+#: Views on a hidden gap's circle judged together by :func:`_gap_may_hide`.
+_HIDE_BLOCK = 16
+#: Most (view, sample point, face) triples :func:`_gap_may_hide` forms at once.
+_HIDE_CHUNK = 1 << 21
+
+
+def _gap_may_hide(V, F, part, be: BarEnds, tol, views, w, g, ell) -> np.ndarray:
+    """(n,) bool: may the bridge of ``be`` be hidden from each of ``views`` (n, 3), all on the
+    circle of views normal to ``w``, with ``T = ell d + g v``?
+
+    False only where :func:`junction_at` surely finds no hidden gap, judged for all views at
+    once: the bridge's axis runs through a solid (one winding-number call), or one of its
+    sample points is not covered by a face toward the viewer nearer than both pieces (the
+    test of ``_tube_hidden``, with a looser inside test: a superset).
+    """
+    d, P0 = be.d, V[be.first.loop]
+    c0 = P0.mean(axis=0)
+    along = (np.array([0.25, 0.5, 0.75])[None, :, None] * ell[:, None, None]) * d  # (n, 3, 3)
+    axis = c0 + along
+    wn = igl.winding_number(V, F, axis.reshape(-1, 3)).reshape(-1, 3)
+    out = ~np.any(np.abs(wn) > 0.5, axis=1)
+    S = (0.9 * P0 + 0.1 * c0)[None, None] + along[:, :, None]  # (n, 3, #loop, 3)
+    S = np.concatenate([S.reshape(views.shape[0], -1, 3), axis], axis=1)  # (n, m, 3)
+    own = np.isin(part, part[[be.first.faces[0], be.second.faces[0]]])
+    slack = np.where(own, float(np.ptp(P0, axis=0).max()), 0.0)
+    k = np.flatnonzero(out)
+    sz, zmax, _ = _sample_cover(V, F, views[k], w, S[k], slack)
+    out[k] = np.all(zmax > np.maximum(sz, sz + g[k, None]), axis=1)
+    return out
+
+
+def _crossing_may_hold(V, F, be: BarEnds, views, n) -> np.ndarray:
+    """(k,) bool: may :func:`junction_at` find ``be`` a crossing from each of ``views`` (all
+    normal to ``n``)?  False only where a sample point of the bridge is not covered by any face
+    toward the viewer farther than it by the end's screen width (the first test of
+    :func:`crossing_behind`, the pieces' own faces included: a superset)."""
+    P0 = V[be.first.loop]
+    c0 = P0.mean(axis=0)
+    ell = float(np.linalg.norm(be.T))  # the pieces are in line: T = ell d
+    s = np.array([0.25, 0.5, 0.75])[:, None, None]
+    S = np.vstack(
+        [(0.9 * P0 + 0.1 * c0 + s * ell * be.d).reshape(-1, 3), c0 + s[:, 0] * ell * be.d]
+    )
+    S = np.broadcast_to(S, (views.shape[0],) + S.shape)
+    u = np.cross(views, n)
+    # the screen width in any frame is at least the larger extent along two axes over sqrt 2
+    width = np.maximum(np.ptp(P0 @ n), np.ptp(P0 @ u.T, axis=0)) / np.sqrt(2.0)
+    sz, _, zmin = _sample_cover(V, F, views, n, S, np.zeros(F.shape[0]))
+    return np.all(zmin < sz - width[:, None] + 1e-9 * (1.0 + np.abs(sz)), axis=1)
+
+
+#: Views on a hidden gap's circle judged together by :func:`_gap_may_hide`.
+_HIDE_BLOCK = 16
+#: Most (view, sample point, face) triples :func:`_sample_cover` forms at once.
+_COVER_CHUNK = 1 << 21
+
+
+def _sample_cover(V, F, views, w, S, slack):
+    """Depths of the faces covering sample points on screen, for views all normal to ``w``.
+
+    Parameters
+    ----------
+    views : (n, 3) unit views, each normal to ``w`` (the screen is spanned by ``w`` and
+        ``v x w``).
+    S : (n, m, 3) sample points per view.
+    slack : (#F,) subtracted from each face's depth for ``zmax``.
+
+    Returns
+    -------
+    sz : (n, m) the samples' depths along their view.
+    zmax, zmin : (n, m) the largest ``depth - slack`` (-inf where none) and the smallest depth
+        (+inf where none) of the faces toward the viewer covering the sample on screen.
+    """
+    nv, m = S.shape[:2]
+    sz = np.einsum("kmj,kj->km", S, views)
+    zmax, zmin = np.full((nv, m), -np.inf), np.full((nv, m), np.inf)
+    Tw = V[F]
+    N = np.cross(Tw[:, 1] - Tw[:, 0], Tw[:, 2] - Tw[:, 0])
+    nN = np.linalg.norm(N, axis=1)
+    X = Tw @ w  # screen x along w, the same for every view
+    x1, x2 = X[:, 1] - X[:, 0], X[:, 2] - X[:, 0]
+    u = np.cross(views, w)  # screen y
+    step = max(1, _COVER_CHUNK // max(m * F.shape[0], 1))
+    for c in range(0, nv, step):  # chunks of views
+        k = slice(c, c + step)
+        Y, Z = np.moveaxis(Tw @ u[k].T, 2, 0), np.moveaxis(Tw @ views[k].T, 2, 0)  # (nk, #F, 3)
+        front = (N @ views[k].T).T > FRONT_NZ * nN - 1e-12 * nN  # (nk, #F)
+        sx, sy = S[k] @ w, np.einsum("kmj,kj->km", S[k], u[k])
+        y1, y2 = (Y[:, :, 1] - Y[:, :, 0])[:, None], (Y[:, :, 2] - Y[:, :, 0])[:, None]
+        den = x1 * y2 - y1 * x2  # (nk, 1, #F)
+        px, py = sx[:, :, None] - X[:, 0], sy[:, :, None] - Y[:, None, :, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            b1 = (px * y2 - py * x2) / den
+            b2 = (x1 * py - y1 * px) / den
+        b0 = 1.0 - b1 - b2
+        inside = (b0 >= -1e-6) & (b1 >= -1e-6) & (b2 >= -1e-6) & front[:, None, :]
+        zf = b0 * Z[:, None, :, 0] + b1 * Z[:, None, :, 1] + b2 * Z[:, None, :, 2]
+        zmax[k] = np.where(inside, zf - slack, -np.inf).max(axis=2)
+        zmin[k] = np.where(inside, zf, np.inf).min(axis=2)
+    return sz, zmax, zmin
