@@ -386,6 +386,8 @@ def find_model_view(
     1. Coincidences (:func:`meschers_igl.autoview.find_view`, a vote over vertex pairs that
        line up, refined to round-off): taken when a false edge (two caps coinciding on
        screen) or a hidden gap is seen from it -- cut files and capped solids.
+       Else caps in one plane with their offset ``T`` in it: the view ``T / |T|``
+       (:func:`_cap_views`; a capped tribar among blocks lining up more pairs by accident).
     2. Hidden gaps: the two pieces of a broken bar (:func:`bar_end_pairs`, bar direction
        ``d``, pieces ``T`` apart) line up on screen exactly for the views ``v`` in the plane
        of ``d`` and ``T``: one circle of views.  Along it, the view is the one that centres the
@@ -459,6 +461,11 @@ def find_model_view(
     # lines up pairs by accident (a staircase seen from below, a frame along its diagonal)
     if near and (seen(v) or (judge is not None and judge(v, up))):
         return v, up
+    # caps in one plane: from the view along their offset they coincide (a false edge), however
+    # many pairs of other parts line up by accident along another direction (a scene)
+    for vc in _cap_views(V, F, arr, tol, start, within):
+        if seen(vc):
+            return vc, up_for_view(vc)
     # hidden gaps: the bar ends nearest each other first, a bounded number of them
     off = arr.bars & (np.linalg.norm(np.cross(arr.D, arr.T), axis=1) > tol)  # off the bar's line
     k = np.flatnonzero(off)
@@ -486,6 +493,34 @@ def find_model_view(
         f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {int(off.sum())} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
+
+
+def _cap_views(V, F, arr: _PairArrays, tol, start, within) -> list:
+    """The views along the offsets ``T`` of caps lying in one plane (``n . T = 0``: from
+    ``T`` they coincide on screen, each seen edge-on -- a capped tribar's false edge), best
+    first: along the most such pairs, then nearest ``start``; those seeing over
+    :data:`MAX_EDGE_ON` of the model edge-on, or farther than ``within`` from ``start``, left
+    out.  Each is ``T / |T|`` exactly, the sign as :func:`find_view`'s (``v_z >= 0``)."""
+    L = np.linalg.norm(arr.T, axis=1)
+    U = arr.T[L > tol] / L[L > tol, None]
+    U = U[np.abs(np.einsum("ij,ij->i", arr.n1[L > tol], U)) <= 1e-6]
+    flip = (U[:, 2] < 0) | ((np.abs(U[:, 2]) <= 1e-12) & (U[:, 1] < 0))
+    U = np.where(flip[:, None], -U, U)
+    if U.shape[0] == 0:
+        return []
+    _, first, counts = np.unique(np.round(U / 1e-9), axis=0, return_index=True, return_counts=True)
+    W = U[first]
+    T = V[F]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    area = np.linalg.norm(n, axis=1)
+    nu = n / np.maximum(area, 1e-300)[:, None]
+    edge_on = (area[:, None] * (np.abs(nu @ W.T) < 1e-3)).sum(axis=0) / area.sum()
+    ok = edge_on <= MAX_EDGE_ON
+    near = np.zeros(W.shape[0]) if start is None else W @ start
+    if start is not None:
+        ok &= near >= np.cos(within)
+    order = np.lexsort((-near, -counts))
+    return [W[i] for i in order[ok[order]].tolist()]
 
 
 def _unit_start(start):
