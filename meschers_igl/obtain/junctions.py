@@ -1,6 +1,7 @@
-"""Junctions on the whole model: caps (planar patches bounded by one loop) paired as the two
-ends of a broken bar -- a false edge where they coincide on screen, a hidden gap where the
-bar runs behind an occluder -- and the model opened there and glued crosswise."""
+"""Junctions on the whole model: caps (planar patches bounded by one loop), or bar ends of
+other shapes, paired as the two ends of a broken bar -- a false edge where they coincide on
+screen, a hidden gap where the bar runs behind an occluder -- and the model opened there and
+glued crosswise."""
 
 from __future__ import annotations
 
@@ -24,11 +25,13 @@ CAP_NORMAL_TOL = 1e-9
 
 @dataclass(frozen=True)
 class Cap:
-    """A planar patch bounded by one loop (a bar's end face): its faces, loop and normal."""
+    """A bar's end bounded by one loop: a planar patch (a cap: its normal), or with ``flat``
+    False a pointed, roof-shaped or notched end (``normal``: the bar's direction out of it)."""
 
     faces: np.ndarray
     loop: np.ndarray
     normal: np.ndarray
+    flat: bool = True
 
 
 def planar_patches(V: np.ndarray, F: np.ndarray, TT: np.ndarray, tol: float) -> np.ndarray:
@@ -255,12 +258,16 @@ class BarEnds:
     d : (3,) float or None
         The bar's direction at ``first`` (its side faces' common direction, pointing out of
         the cap), None when the caps' sides do not run along one direction.
+    match : (n,) int64 or None
+        Ends that are not flat (:func:`pointed_end_pairs`): for each vertex of ``first.loop``,
+        the index in ``second.loop`` of the vertex on the same side edge of the bar.
     """
 
     first: Cap
     second: Cap
     T: np.ndarray
     d: np.ndarray | None
+    match: np.ndarray | None = None
 
 
 #: Without a view, at most this many cap pairs are compared (all pairs of caps with opposite
@@ -270,11 +277,17 @@ MAX_CAP_PAIRS = 20000
 
 
 def bar_end_pairs(
-    V: np.ndarray, F: np.ndarray, tol: float, TT: np.ndarray | None = None, R: Any = None
+    V: np.ndarray,
+    F: np.ndarray,
+    tol: float,
+    TT: np.ndarray | None = None,
+    R: Any = None,
+    pointed: bool | None = None,
 ) -> list:
     """Pairs of caps -- planar patches bounded by one loop -- with opposite normals whose loops
     are congruent by a translation: the candidates for the two ends of a broken bar.  Each
-    unordered pair comes once per orientation.
+    unordered pair comes once per orientation.  With ``pointed``, also the pairs of ends that
+    are not flat (:func:`pointed_end_pairs`).
 
     Parameters
     ----------
@@ -288,6 +301,8 @@ def bar_end_pairs(
         (caps that coincide, or that lie on one screen line along their bar) in linear time.
         Without it (the automatic view), every pair with opposite normals and equal loops is
         compared, up to :data:`MAX_CAP_PAIRS`.
+    pointed : bool, optional
+        Default: with a view ``R`` (the conversion), not without it.
 
     Returns
     -------
@@ -295,7 +310,17 @@ def bar_end_pairs(
     """
     if TT is None:
         TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
-    caps = find_caps(V, F, TT, planar_patches(V, F, TT, tol), tol)
+    patch = planar_patches(V, F, TT, tol)
+    caps = find_caps(V, F, TT, patch, tol)
+    out = _flat_pairs(V, F, TT, tol, R, caps)
+    if pointed or (pointed is None and R is not None):
+        Rf = None if R is None else np.asarray(R, dtype=np.float64)
+        out += pointed_end_pairs(V, F, TT, patch, tol, Rf, caps)
+    return out
+
+
+def _flat_pairs(V, F, TT, tol, R, caps) -> list:
+    """:func:`bar_end_pairs` of the flat caps."""
     if len(caps) < 2:
         return []
     size = np.array([c.loop.size for c in caps])
@@ -352,6 +377,163 @@ def bar_end_pairs(
         out.append(BarEnds(a, b, T, da if facing else None))
         out.append(BarEnds(b, a, -T, db if facing else None))
     return out
+
+
+#: A face is a side face of a bar along ``d`` when its unit normal has |n . d| below this.
+SIDE_TOL = 1e-6
+#: Ends that are not flat have at most this many faces (a pointed or notched bar end).
+MAX_END_FACES = 64
+#: Bar directions searched for ends that are not flat: the most frequent edge directions
+#: (a bar's side edges run along it), at most this many, each of at least 3 edges.
+MAX_END_DIRECTIONS = 6
+
+
+def _bar_directions(V: np.ndarray, F: np.ndarray):
+    """The directions shared by at least 3 edges, the most frequent first (at most
+    :data:`MAX_END_DIRECTIONS`): ``(k, 3)`` unit directions and, per direction, its edges."""
+    E = np.sort(np.r_[F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]], axis=1)
+    E = E[np.unique(E[:, 0] * V.shape[0] + E[:, 1], return_index=True)[1]]
+    u = V[E[:, 1]] - V[E[:, 0]]
+    u /= np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-300)
+    first = np.argmax(np.abs(u) > 1e-9, axis=1)  # sign: first non-zero component positive
+    u *= np.sign(u[np.arange(u.shape[0]), first])[:, None]
+    k = np.round(u / 1e-6).astype(np.int64) + (1 << 20)  # in [0, 2^21): one int64 key
+    key = (k[:, 0] << 42) | (k[:, 1] << 21) | k[:, 2]
+    _, inv, cnt = np.unique(key, return_inverse=True, return_counts=True)
+    top = np.argsort(-cnt, kind="stable")[:MAX_END_DIRECTIONS]
+    top = top[cnt[top] >= 3]
+    inv = inv.reshape(-1)
+    edges = [E[inv == t] for t in top.tolist()]
+    return np.array([u[inv == t][0] for t in top.tolist()]).reshape(-1, 3), edges
+
+
+def pointed_ends(V: np.ndarray, F: np.ndarray, TT: np.ndarray, patch: np.ndarray) -> list:
+    """Bar ends that are not square caps: for a bar direction ``d`` (:func:`_bar_directions`),
+    a connected set of at most :data:`MAX_END_FACES` faces none of which is a side face (unit
+    normal with |n . d| > :data:`SIDE_TOL`), each at an end of an edge along ``d`` (a side
+    edge of the bar), all turned one way along ``d``, bounded by one loop of side faces, and
+    not one planar patch square to ``d`` (a cap, :func:`find_caps`): a pointed, roof-shaped,
+    notched or bevelled end.  Only the faces at the side edges' ends are looked at (linear
+    in them, not in the model).
+
+    Returns
+    -------
+    list of Cap
+        ``flat`` False, ``normal`` the bar's direction out of the end.
+    """
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    corner_v = F.reshape(-1)
+    by_vertex = np.argsort(corner_v, kind="stable")  # corners grouped by vertex
+    start = np.searchsorted(corner_v[by_vertex], np.arange(V.shape[0] + 1))
+    out = []
+    dirs, edges = _bar_directions(V, F)
+    for d, Ed in zip(dirs, edges):  # a few directions
+        w = np.unique(Ed)
+        cnt = start[w + 1] - start[w]
+        at_w = np.repeat(start[w] - (np.cumsum(cnt) - cnt), cnt) + np.arange(cnt.sum())
+        fs = np.unique(by_vertex[at_w] // 3)  # the faces at the side edges' ends
+        s = n[fs] @ d
+        fs, s = fs[np.abs(s) > SIDE_TOL], s[np.abs(s) > SIDE_TOL]
+        if fs.size == 0:
+            continue
+        local = np.full(F.shape[0], -1, dtype=np.int64)
+        local[fs] = np.arange(fs.size)
+        nb = TT[fs]  # (k, 3)
+        ln = np.where(nb >= 0, local[np.maximum(nb, 0)], -1)
+        r, c = np.nonzero(ln >= 0)
+        A = sp.coo_matrix((np.ones(r.size), (r, ln[r, c])), (fs.size,) * 2)
+        label = csgraph.connected_components(A, directed=False)[1]
+        # a component is an end when each neighbour outside it is a side face
+        nbn = n[np.maximum(nb, 0)] @ d
+        leak = (nb < 0) | ((ln < 0) & (np.abs(nbn) > SIDE_TOL))
+        closed = np.bincount(label, weights=leak.any(axis=1), minlength=label.max() + 1) == 0
+        o = np.argsort(label, kind="stable")
+        at = np.flatnonzero(np.r_[True, label[o][1:] != label[o][:-1]])
+        size = np.diff(np.r_[at, o.size])
+        so = s[o]
+        one_way = (np.minimum.reduceat(so, at) > 0) | (np.maximum.reduceat(so, at) < 0)
+        po = patch[fs[o]]
+        square = (np.minimum.reduceat(po, at) == np.maximum.reduceat(po, at)) & (
+            np.minimum.reduceat(np.abs(so), at) >= 1.0 - CAP_NORMAL_TOL
+        )
+        keep = closed[label[o][at]] & (size <= MAX_END_FACES) & one_way & ~square
+        for a, k in zip(at[keep].tolist(), size[keep].tolist()):  # the few shaped ends
+            faces = np.sort(fs[o[a : a + k]])
+            loop = _boundary_loop(F, TT, faces)
+            if loop is not None:
+                out.append(Cap(faces, loop, d * np.sign(so[a]), flat=False))
+    return out
+
+
+def _boundary_loop(F: np.ndarray, TT: np.ndarray, faces: np.ndarray):
+    """The boundary of a set of faces as one loop of vertices (in the faces' orientation), or
+    None when it is not one simple loop."""
+    fe = np.repeat(faces, 3)
+    corner = np.tile(np.arange(3), faces.size)
+    nb = TT[faces].reshape(-1)
+    he = (nb < 0) | ~np.isin(nb, faces)
+    tail, head = F[fe[he], corner[he]], F[fe[he], (corner[he] + 1) % 3]
+    nxt = dict(zip(tail.tolist(), head.tolist()))
+    if tail.size == 0 or len(nxt) != tail.size:
+        return None  # a vertex with two outgoing boundary edges: not a simple loop
+    loop = [int(tail[0])]
+    while len(loop) <= tail.size and nxt[loop[-1]] != loop[0]:
+        loop.append(nxt[loop[-1]])
+    return np.asarray(loop, np.int64) if len(loop) == tail.size else None
+
+
+def pointed_end_pairs(
+    V: np.ndarray,
+    F: np.ndarray,
+    TT: np.ndarray,
+    patch: np.ndarray,
+    tol: float,
+    R: np.ndarray | None = None,
+    caps: list | None = None,
+) -> list:
+    """Pairs of bar ends, at least one of them not a square cap (:func:`pointed_ends`; the
+    other may be one of ``caps``, :func:`find_caps`), facing opposite ways along one bar
+    direction, whose loops are congruent by a translation once projected along the bar (one
+    cross-section: the side edges of one bar), each with the vertex correspondence; whether
+    they face each other depends on the view (:func:`junction_at`).
+
+    A bar broken with pointed, bevelled or notched ends is completed by a viewer as one bar
+    just as a bar broken with square caps (the ends' shapes lie in the gap, which the
+    occluder hides).  Each unordered pair comes once per orientation; ``T`` is the translation
+    between the loops' centroids.  With a view frame ``R``, only pairs whose ``T`` lies in the
+    plane of the bar and the view (the pieces in line on screen) are kept.
+    """
+    shaped = pointed_ends(V, F, TT, patch)
+    if not shaped:
+        return []
+    ends = shaped + [c for c in caps or [] if c.flat]
+    size = np.array([e.loop.size for e in ends])
+    nrm = np.array([e.normal for e in ends])
+    cen = np.array([V[e.loop].mean(axis=0) for e in ends])
+    later = np.arange(len(ends))
+    out: list = []
+    for i, (a, d) in enumerate(zip(shaped, nrm)):  # the few shaped ends
+        T = cen - cen[i]
+        j = (size == size[i]) & (nrm @ d <= -1.0 + CAP_NORMAL_TOL)
+        j &= (later > i) | (later >= len(shaped))  # each pair of shaped ends once
+        if R is not None:  # T = l d + g v: off the plane of d and the view by at most 2 tol
+            c = np.cross(d, R[2])
+            off = np.abs(T @ c) / max(np.linalg.norm(c), 1e-300)
+            if np.linalg.norm(c) <= 1e-9:  # seen along the bar: T along it
+                off = np.linalg.norm(np.cross(T, d), axis=1)
+            j &= off <= 2 * tol
+        Pa = V[a.loop] - np.outer(V[a.loop] @ d, d)  # projected along the bar
+        for k in np.flatnonzero(j).tolist():  # the candidates
+            b = ends[k]
+            Pb = V[b.loop] - np.outer(V[b.loop] @ d, d)
+            D = np.linalg.norm(Pa[:, None] + (T[k] - (T[k] @ d) * d) - Pb[None], axis=2)
+            m = np.argmin(D, axis=1)
+            if D[np.arange(m.size), m].max() > tol or np.unique(m).size != m.size:
+                continue
+            out.append(BarEnds(a, b, T[k], d, m))
+            out.append(BarEnds(b, a, -T[k], b.normal, np.argsort(m)))
+    return out[: 2 * MAX_CAP_PAIRS]
 
 
 def bridges_blocked(V: np.ndarray, F: np.ndarray, R: np.ndarray, pairs: list) -> np.ndarray:
@@ -456,7 +638,7 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None)
     gap = float(be.T @ v)
     if np.linalg.norm(be.T - gap * v) <= tol and abs(gap) > tol:
         # both caps contain the view and coincide on screen: a false edge
-        if abs(be.first.normal @ v) > 1e-6 or gap < 0:
+        if not (be.first.flat and be.second.flat) or abs(be.first.normal @ v) > 1e-6 or gap < 0:
             return None  # (each unordered pair once: the one gaining depth)
         return "false edge", gap, None
     d = be.d
@@ -477,6 +659,8 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None)
         return None
     S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
     if abs(g) <= tol:
+        if not (be.first.flat and be.second.flat):
+            return None  # a pointed end's faces are seen: the bar visibly stops there
         if max(abs(be.first.normal @ v), abs(be.second.normal @ v)) > CROSSING_EDGE_ON:
             return None  # an end face seen: the bar visibly stops there
         if not pieces_are_bars(V, F, part, be):
@@ -522,6 +706,9 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
       and the bar is continued from the first cap by ``l d`` (a tube of the same cross-section,
       the first piece's depth); its end loop coincides on screen with the second cap's loop,
       ``g`` apart in depth: the period.  Pieces in line in 3D (``g`` = 0) are left apart.
+      Ends that are not square caps (pointed, notched, bevelled: :func:`pointed_end_pairs`)
+      are bridged alike, the tube running along the first piece's side edges up to the
+      second end's loop moved by ``-g v`` (each side edge its own length).
 
     Parameters
     ----------
@@ -551,27 +738,29 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     if pairs is None:
         pairs = bar_end_pairs(V, F, tol, TT, R)
     part, C, front = parts_and_front(V, F, TT, R)
-    used, drop, junctions = set(), [], []
+    used, drop, junctions = np.zeros(F.shape[0], dtype=bool), [], []
     newV, newF, tube_code = [], [], []
     nV = V.shape[0]
     may = may_be_junctions(pairs, R, tol, bridge)
     pairs = [be for be, m in zip(pairs, may.tolist()) if m]
     blocked = bridges_blocked(V, F, R, pairs) if bridge else np.zeros(len(pairs), bool)
     for be, bl in zip(pairs, blocked.tolist()):  # the candidate pairs
-        ids = {id(be.first), id(be.second)}
-        if ids & used:
+        if used[be.first.faces].any() or used[be.second.faces].any():  # an end used already
             continue
         found = junction_at(V, F, C, R, be, tol, front, part, bridge, bl)
         if found is None:
             continue
         kind, gap, ell = found
-        used |= ids
+        used[be.first.faces] = used[be.second.faces] = True
         drop += [be.first.faces, be.second.faces]
         loop = be.first.loop
         if kind != "false edge":
             ends = nV + np.arange(loop.size)
             nV += loop.size
-            newV.append(V[loop] + ell * be.d)
+            if be.match is None:
+                newV.append(V[loop] + ell * be.d)
+            else:  # up to the other end's loop, moved along the view onto the first's depth
+                newV.append(V[be.second.loop[be.match]] - gap * R[2])
             nxt = np.roll(np.arange(loop.size), -1)
             p, q, pe, qe = loop, loop[nxt], ends, ends[nxt]
             newF += [np.stack([p, q, qe], 1), np.stack([p, qe, pe], 1)]
