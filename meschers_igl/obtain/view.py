@@ -147,6 +147,17 @@ def find_view(
     """
     V = as_points(V, "V", 3)
     F = as_faces(F, "F", V.shape[0])
+    out = _pick(_vote(V, F), V, F, max_views, max_edge_on)
+    if max_views == 1:
+        v, up, pairs = out[0]
+        return (v, up, pairs) if return_support else (v, up)
+    return out
+
+
+def _vote(V: np.ndarray, F: np.ndarray) -> tuple:
+    """The vote of :func:`find_view`: (voters S, pair differences D, lengths L, unit directions
+    U, pair ends i, j into S, votes per pair, distinct directions W, pair -> W); computed once
+    per model (the edge-on fallback picks from the same vote)."""
     S = _voters(V, F, np.random.default_rng(0))
     i, j = np.triu_indices(S.size, k=1)
     D = V[S[j]] - V[S[i]]
@@ -171,6 +182,13 @@ def find_view(
             "V: expected vertex pairs that line up along a common direction (a view in which "
             "parts of the model coincide on screen), found none; pass view= explicitly"
         )
+    return S, D, L, U, i, j, counts, W, inv
+
+
+def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
+    """Up to ``max_views`` refined ``(view, up, pairs)`` from ``vote``, best supported first,
+    each seeing at most ``max_edge_on`` of the model edge-on (:func:`find_view`)."""
+    S, D, L, U, i, j, counts, W, inv = vote
     # candidates by votes; a view must not see much of the model edge-on (a view along an
     # axis of a box model lines up many pairs but shows its side faces as lines)
     T = V[F]
@@ -206,9 +224,6 @@ def find_view(
         if v[2] < 0 or (abs(v[2]) <= 1e-12 and v[1] < 0):
             v = -v
         out.append((v, up_for_view(v), np.stack([S[i[support]], S[j[support]]], axis=1)))
-    if max_views == 1:
-        v, up, pairs = out[0]
-        return (v, up, pairs) if return_support else (v, up)
     return out
 
 
@@ -445,9 +460,10 @@ def find_model_view(
     def seen(v):
         return _junction_seen(V, F, part, pairs, arr, view_frame(v, up_for_view(v)), tol)
 
-    err = None
+    err = vote = None
     try:
-        v, up = find_view(V, F)
+        vote = _vote(V, F)
+        v, up, _ = _pick(vote, V, F, 1, MAX_EDGE_ON)[0]
     except MescherError as e:
         v, err = None, e
     # a cut model's junctions are its open loops, which the vote pairs (as autoview does),
@@ -476,7 +492,7 @@ def find_model_view(
     vc = _crossing_view(V, F, TT, part, pairs, tol, start, within)
     if vc is not None:
         return vc, up_for_view(vc)
-    for ve, upe, _ in _edge_on_views(V, F, v):  # better supported, refused as edge-on
+    for ve, upe, _ in _edge_on_views(vote, V, F, v):  # better supported, refused as edge-on
         if start is not None and ve @ start < np.cos(within):
             continue
         if seen(ve) or (judge is not None and judge(ve, upe)):
@@ -628,13 +644,13 @@ def _bisect(ok, out: float, inside: float, iters: int = 30) -> float:
     return inside
 
 
-def _edge_on_views(V, F, v) -> list:
+def _edge_on_views(vote, V, F, v) -> list:
     """The directions supported by more vertex pairs than the vote's view ``v`` (all, when
     ``v`` is None) that :func:`find_view` refused for seeing over :data:`MAX_EDGE_ON` of the
     model edge-on, but under :data:`EDGE_ON_FALLBACK`: at most :data:`MAX_EDGE_ON_VIEWS`
     ``(view, up, pairs)``, the best supported first."""
     try:
-        views = find_view(V, F, max_views=MAX_EDGE_ON_VIEWS, max_edge_on=EDGE_ON_FALLBACK)
+        views = _pick(vote, V, F, MAX_EDGE_ON_VIEWS, EDGE_ON_FALLBACK) if vote else []
     except MescherError:
         return []
     out = []
