@@ -466,8 +466,7 @@ def find_model_view(
         v, up, _ = _pick(vote, V, F, 1, MAX_EDGE_ON)[0]
     except MescherError as e:
         v, err = None, e
-    # a cut model's junctions are its open loops, which the vote pairs (as autoview does),
-    # when they glue from the vote's view (slits and holes that pair with nothing do not)
+    # a cut model's junctions: its open loops, when they glue from the vote's view (not slits)
     if v is not None and bool(boundary_loops(F)) and _loops_glue(V, F, v, up):
         if start is None or v @ start >= np.cos(within):
             return v, up
