@@ -23,13 +23,13 @@ __all__ = ["line_art"]
 def line_art(job: Any, s: Any) -> None:
     """Shaded render, line art and the lines over the render, of the input mescher."""
     from meschers_igl.line_pixels import line_agreement
-    from meschers_igl.lines import KINDS, line_drawing
+    from meschers_igl.lines import KINDS
     from pyvista_views.lineart import picture
 
     m0, o0 = s.coarse if s.coarse is not None else (s.m, s.order)
     cell = int(job.st.cell)
     bounds = default_bounds(xy_box(np.asarray(m0.xy)), (cell, cell))
-    lines = line_drawing(m0, o0, hidden=True)
+    lines = s.lines()
     shaded = job.renderer.shoot([("mescher", m0, o0, {"shading": "flat"})], bounds)
     art = picture(lines, (cell, cell), bounds=bounds)
     dashed = picture(lines, (cell, cell), bounds=bounds, hidden="dashed")

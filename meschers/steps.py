@@ -94,6 +94,7 @@ class Subject:
     exact: np.ndarray | None = field(default=None, repr=False)
     #: the input mescher and order, before the study's midpoint subdivision
     coarse: tuple | None = field(default=None, repr=False)
+    _lines: Any = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         xy = np.asarray(self.m.xy)
@@ -114,6 +115,17 @@ class Subject:
 
             self._solvers[method] = geodesic_solver(self.m, method)
         return self._solvers[method]
+
+    def lines(self):
+        """The line drawing of the input mescher in its order, hidden parts included
+        (:func:`meschers_igl.lines.line_drawing` with ``hidden=True``; its visible lines are
+        the drawing without them): the render and line-art steps draw the one drawing."""
+        if self._lines is None:
+            from meschers_igl.lines import line_drawing
+
+            m0, o0 = self.coarse if self.coarse is not None else (self.m, self.order)
+            self._lines = line_drawing(m0, o0, hidden=True)
+        return self._lines
 
     def smoothed(self, t: float):
         """``m`` with xy and the exact part of zeta smoothed for time ``t`` (one factorization
@@ -235,11 +247,8 @@ def _flat_lines(s: Subject, images: list, bounds) -> tuple[list, str]:
     faces away), only a line tells the steps apart.  The lines of the input mescher (the
     study's midpoint subdivision moves no point of the picture, and adds no line).  Without
     cairosvg the row stays plain and the returned note says so."""
-    from meschers_igl.lines import line_drawing
-
-    m0, o0 = s.coarse if s.coarse is not None else (s.m, s.order)
-    try:
-        drawn = lines_over(images, line_drawing(m0, o0), bounds, widths=FLAT_LINE_WIDTHS)
+    try:  # lines_over draws the visible lines only
+        drawn = lines_over(images, s.lines(), bounds, widths=FLAT_LINE_WIDTHS)
     except ImportError:  # cairosvg is optional (meschers[lineart])
         return images, "cairosvg not installed: flat row without lines"
     return drawn, "line drawing over the flat row"

@@ -69,3 +69,36 @@ def test_lines_over_refuses_renders_of_different_sizes():
     # lines outside the frame leave the image as it was
     far = (100.0, 101.0, 100.0, 101.0)
     np.testing.assert_array_equal(lines_over([blank], lines, far)[0], blank)
+
+
+def test_render_and_line_art_draw_one_drawing_whose_visible_part_is_the_plain_one(monkeypatch):
+    """The render step's lines and the line-art step come from one ``line_drawing`` call (the
+    hidden parts included), and its visible lines are exactly the drawing without them."""
+    import meschers.lineart_step as lineart_step
+    import meschers_igl.lines as lines_mod
+
+    g = get_model("penrose_stairs")
+    calls = []
+    real = lines_mod.line_drawing
+
+    def counted(*args, **kw):
+        calls.append(kw.get("hidden", False))
+        return real(*args, **kw)
+
+    monkeypatch.setattr(lines_mod, "line_drawing", counted)
+    (flat, _), _, job = _render_rows(monkeypatch, g)
+    assert calls == [True]
+    import meschers.steps as steps
+    from meschers.job import ModelJob, Section
+
+    job = ModelJob("models", "stairs", Section("stairs", "stairs", ""), job.st)
+    s = steps.Subject("stairs", g.mescher, g.order)
+    lineart_step.line_art(job, s)
+    steps._flat_lines(s, [np.zeros((8, 8, 3), np.uint8)], (-1.0, 1.0, -1.0, 1.0))
+    job.renderer.close()
+    assert calls == [True, True]  # one more subject, one more drawing; both steps share it
+    plain, full = real(g.mescher, g.order), s.lines()
+    got, want = full.polylines(visible=True), plain.polylines()
+    assert len(got) == len(want) > 0 and not full.visible.all()
+    for a, b in zip(got, want):
+        np.testing.assert_array_equal(a, b)
