@@ -282,7 +282,7 @@ def bar_end_pairs(
     tol: float,
     TT: np.ndarray | None = None,
     R: Any = None,
-    pointed: bool | None = None,
+    pointed: bool = True,
 ) -> list:
     """Pairs of caps -- planar patches bounded by one loop -- with opposite normals whose loops
     are congruent by a translation: the candidates for the two ends of a broken bar.  Each
@@ -302,7 +302,7 @@ def bar_end_pairs(
         Without it (the automatic view), every pair with opposite normals and equal loops is
         compared, up to :data:`MAX_CAP_PAIRS`.
     pointed : bool, optional
-        Default: with a view ``R`` (the conversion), not without it.
+        Default True.
 
     Returns
     -------
@@ -313,7 +313,7 @@ def bar_end_pairs(
     patch = planar_patches(V, F, TT, tol)
     caps = find_caps(V, F, TT, patch, tol)
     out = _flat_pairs(V, F, TT, tol, R, caps)
-    if pointed or (pointed is None and R is not None):
+    if pointed:
         Rf = None if R is None else np.asarray(R, dtype=np.float64)
         out += pointed_end_pairs(V, F, TT, patch, tol, Rf, caps)
     return out
@@ -621,6 +621,16 @@ def pieces_are_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, be: BarEnds)
     return all(out)
 
 
+def _end_seen(V, F, cap: Cap, v) -> bool:
+    """Is a face of the bar end ``cap`` seen from ``v`` (not edge-on to
+    :data:`CROSSING_EDGE_ON`)?"""
+    if cap.flat:
+        return bool(abs(cap.normal @ v) > CROSSING_EDGE_ON)
+    T = V[F[cap.faces]]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    return bool(np.max(np.abs(n @ v) / np.linalg.norm(n, axis=1)) > CROSSING_EDGE_ON)
+
+
 def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None):
     """What the bar ends ``be`` are from view ``R``: ("false edge", gap, None),
     ("hidden gap", g, ell), ("crossing", 0, ell) or None.
@@ -659,9 +669,7 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None)
         return None
     S = [0.9 * P0 + 0.1 * c0 + s * ell * d for s in (0.25, 0.5, 0.75)] + [axis]
     if abs(g) <= tol:
-        if not (be.first.flat and be.second.flat):
-            return None  # a pointed end's faces are seen: the bar visibly stops there
-        if max(abs(be.first.normal @ v), abs(be.second.normal @ v)) > CROSSING_EDGE_ON:
+        if _end_seen(V, F, be.first, v) or _end_seen(V, F, be.second, v):
             return None  # an end face seen: the bar visibly stops there
         if not pieces_are_bars(V, F, part, be):
             return None  # blocks as long as they are wide: separate objects

@@ -118,3 +118,54 @@ def test_shaped_ends_in_sight_are_a_broken_bar(shape):
     assert not [j for j in report.junctions if j.kind in ("hidden gap", "crossing")]
     assert not m.is_impossible(order=order)
     assert np.all(np.asarray(m.periods()) == 0.0)
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_the_automatic_view_lines_shaped_ends_up(shape):
+    """``view="auto"`` finds a view within half a degree of the diagonal (exactly it for the
+    mirror-image ends; shapes that move the gap's middle along the bar move the view that
+    centres the crossing bar on it) from which the pieces line up behind the crossing bar; the
+    period is their offset across the bar, L sqrt(2) along x and z, over the view's share
+    across the bar."""
+    V, F, _ = shaped_cube(shape)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m, order, report = model_to_mescher(V, F, view="auto")
+    v = report.view
+    assert abs(v @ ISO_VIEW) >= np.cos(np.radians(0.5))
+    if shape in ("pointed", "bevel"):
+        assert np.isclose(abs(v @ ISO_VIEW), 1.0, atol=1e-12)
+    expected = L * np.sqrt(2.0) / np.linalg.norm(v[[0, 2]])
+    assert np.isclose(np.abs(np.asarray(m.periods())).max(), expected, rtol=1e-9)
+    assert m.is_impossible(order=order).kind == "zeta"
+
+
+def _bevelled_pieces(h: float, tilt: int):
+    """Two square bars along x (x in [0, 2.5] and [3.5, 6], y and z in [0, 1]) whose facing
+    ends are bevelled in mirror: the end plane leans by ``h`` per unit along axis ``tilt``
+    (2: z, a plane containing y; 1: y), and a bar along z lying behind their gap (y in [4, 5])."""
+    from visible_models import box_block, convex_block, separate_blocks
+
+    e = np.zeros(3)
+    e[tilt] = h
+    side = [[0, -1, 0, 0], [0, 1, 0, -1], [0, 0, -1, 0], [0, 0, 1, -1]]
+    a = convex_block(
+        np.array([[-1, 0, 0, 0], *side, [1, -e[1], -e[2], -2.5]], float), np.array([1, 0.5, 0.5])
+    )
+    b = convex_block(
+        np.array([[1, 0, 0, -6], *side, [-1, -e[1], -e[2], 3.5]], float), np.array([5, 0.5, 0.5])
+    )
+    V, polys = separate_blocks([a, b, box_block([2.5, 4, -3], [3.5, 5, 4])])
+    return V, triangulate(polys)
+
+
+@pytest.mark.parametrize("tilt, kinds", [(2, ["crossing"]), (1, [])])
+def test_bevelled_ends_seen_edge_on_are_a_crossing(tilt, kinds):
+    """Seen along -y, ends bevelled in planes containing the view show no end face: the bar is
+    completed behind the bar in its gap (a crossing); bevelled towards the viewer, the end
+    faces are seen and the bar visibly stops."""
+    V, F = _bevelled_pieces(0.2, tilt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        _, _, report = model_to_mescher(V, F, view=(0.0, -1.0, 0.0), up=(0.0, 0.0, 1.0))
+    assert [j.kind for j in report.junctions if j.kind == "crossing"] == kinds
