@@ -1,7 +1,8 @@
 """Real models of impossible figures, as people publish them, through the one door.
 
 For each model file in FOLDER (with its ``views.json``: view, up, the depth gaps between
-vertices that coincide on screen) and each view -- the given one and ``view="auto"`` -- prints
+vertices that coincide on screen) and each view -- the given one and ``view="auto"``, each
+followed by a ``+mh`` row with ``perceive="manhattan"`` where the converter suggests it -- prints
 the route taken, whether the mescher is impossible and how (``zeta``: a period; ``order``: the
 depth order cannot be realised), its periods against the coincident-pair gaps, the silhouette
 IoU and the least luminance correlation over four lights against PyVista's z-buffer of the
@@ -122,7 +123,7 @@ def main(argv=None):
         f"{'file':22s} {'view':5s} {'route':7s} {'imp':5s} {'periods':>18s} gap  IoU   corr  time"
     )
     n_imp = {False: 0, True: 0}
-    n_perceived = 0
+    n_perceived = {False: 0, True: 0}
     n = 0
     for name, d in views.items():
         if name.startswith("_") or not (folder / name).is_file():
@@ -135,7 +136,7 @@ def main(argv=None):
             )
             n_imp[auto] += kind is not None
             print(f"{name[:22]:22s} {'auto' if auto else 'given':5s} {line}")
-            if hint and not auto:  # the converter suggests perceived right angles: take it
+            if hint:  # the converter suggests perceived right angles: take it
                 line, (kind, _) = _row(
                     folder / name,
                     (d["view"], d["up"]),
@@ -146,11 +147,15 @@ def main(argv=None):
                     perceive="manhattan",
                 )
                 # perceived depths against the model's own order: only a period counts
-                n_perceived += kind == "zeta"
+                n_perceived[auto] += kind == "zeta"
                 print(f"{name[:22]:22s} {'+mh':5s} {line}")
+    took = {
+        a: f"{n_imp[a] + n_perceived[a]}/{n} taking the suggested perceive='manhattan'"
+        for a in n_imp
+    }
     print(
-        f"impossible: {n_imp[False]}/{n} from the given view ({n_imp[False] + n_perceived}/{n} "
-        f"taking the suggested perceive='manhattan'), {n_imp[True]}/{n} from view='auto'"
+        f"impossible: {n_imp[False]}/{n} from the given view ({took[False]}), {n_imp[True]}/{n} "
+        f"from view='auto' ({took[True]})"
     )
 
 

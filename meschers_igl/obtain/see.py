@@ -32,7 +32,7 @@ from .glue import (
 from .junctions import closed_surface
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame
 from .records import ConversionReport, VisibleModel
-from .view import find_model_view
+from .view import START_ANGLE, find_model_view, relief_fronts, up_for_view
 
 
 def see_model(
@@ -58,8 +58,9 @@ def see_model(
         Triangles (any orientation: each part is oriented outward by its signed volume).
     view : (3,) array_like or "auto", default: (0, 0, 1)
         Direction from the model toward the camera; ``"auto"``: the view from which the
-        model's junctions line up (:func:`find_model_view`: vertex pairs that coincide, or
-        the pieces of a bar broken behind an occluder; reported in ``report.view``).
+        model's junctions line up (:func:`find_model_view`; reported in ``report.view``), or a
+        relief's front (:func:`relief_fronts`) from which the perceived reading is impossible:
+        with ``perceive``, or when nothing lines up (possible as carved, with a warning).
     up : (3,) array_like, default: (0, 1, 0)
         Screen up (with ``view="auto"``: world +z projected, as modelling tools do).
     perceive : {None, "manhattan"}, default: None
@@ -103,8 +104,17 @@ def see_model(
     found = isinstance(view, str)
     snap = snap and not found  # a found view is exact already
     if isinstance(view, str):
-        judge = lambda v, u: _false_edge_seen(V, F, v, u, tol_abs)  # noqa: E731
-        view, up = find_model_view(V, F, tol_abs, start=view_start, judge=judge)
+        try:
+            view, up = _auto_view(V, F, tol_abs, view_start, perceive)
+        except MescherError as err:
+            vm = (
+                None
+                if perceive
+                else _relief_read(V, F, tol_abs, rel, view_start, bridge, hidden, err)
+            )
+            if vm is None:
+                raise
+            return vm
     R = view_frame(view, up)
     report.view, report.up = R[2].copy(), R[1].copy()
     pinch_warning(F, report)
@@ -137,11 +147,15 @@ def see_model(
         if snapped is not None:
             return snapped
     if found and perceive is None and not _has_junction(report, tol_abs):
-        raise MescherError(
+        err = MescherError(
             f"view: expected a view from which junctions line up, found "
             f"{np.round(R[2], 4).tolist()} (lining up bar ends) from which none is glued; pass "
             "view= or view_start="
         )
+        vm = _relief_read(V, F, tol_abs, rel, view_start, bridge, hidden, err)
+        if vm is None:
+            raise err
+        return vm
     _expectation_warning(report, V, F, C, front)
     return VisibleModel(F=Fm, xy=xy[first], Z=Zb, arcs=arcs, report=report)
 
@@ -321,6 +335,85 @@ def _expectation_warning(report, V, F, C, front) -> None:
     msg = "the result is possible (no junction glued, no period); try " + " or ".join(hints)
     report.warnings.append(msg)
     warnings.warn(f"see_model: {msg}", MescherWarning, stacklevel=4)
+
+
+def _auto_view(V, F, tol_abs, start, perceive):
+    """``view="auto"``: (view, up).  Without ``perceive``, the view from which junctions line
+    up (:func:`find_model_view`).  With ``perceive="manhattan"`` the figure is read with right
+    angles: of that view and a relief's fronts (:func:`relief_fronts`: the view a person takes
+    of a relief, a physically realisable trick carved in layers), the first from which the
+    perceived depths gain along a loop; else the first of them (a possible reading)."""
+
+    def judge(v, u):
+        return _false_edge_seen(V, F, v, u, tol_abs)
+
+    if perceive is None:
+        return find_model_view(V, F, tol_abs, start=start, judge=judge)
+    views, err = [], None
+    try:
+        views.append(find_model_view(V, F, tol_abs, start=start, judge=judge))
+    except MescherError as e:
+        err = e
+    views += [(v, up_for_view(v)) for v in _fronts(V, F, start)]
+    for v, u in views:  # a few candidates: the junction view, the relief's two sides
+        if _perceived_period(V, F, v, u, tol_abs):
+            return v, u
+    if not views:
+        raise err
+    return views[0]
+
+
+def _fronts(V, F, start) -> list:
+    """:func:`relief_fronts`, those within :data:`START_ANGLE` of ``start`` when given."""
+    fronts = relief_fronts(V, F)
+    if start is None:
+        return fronts
+    s = np.asarray(start, np.float64).reshape(-1)
+    if s.shape != (3,) or not np.linalg.norm(s) > 0:
+        return []  # refused by find_model_view with its own message
+    return [v for v in fronts if v @ s >= np.cos(START_ANGLE) * np.linalg.norm(s)]
+
+
+def _perceived_period(V, F, v, up, tol) -> bool:
+    """Do the depths read with right angles (``perceive="manhattan"``) from ``v`` gain along a
+    loop by more than ``10 tol`` (a period a person perceives)?"""
+    diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MescherWarning)
+        try:
+            vm = see_model(V, F, v, up, "manhattan", tol=tol / diag, hidden=False, snap=False)
+        except MescherError:
+            return False
+    return depths_have_period(vm.F, vm.Z, 10.0 * tol)
+
+
+def _relief_read(V, F, tol_abs, rel, start, bridge, hidden, err) -> VisibleModel | None:
+    """No view lines up a junction (``err``), but a relief read with right angles is impossible
+    from its front: the model seen from that front (possible, as carved), with a warning that
+    suggests ``perceive="manhattan"``; None when it is no such relief."""
+    for v in _fronts(V, F, start):  # its two sides, the carved one first
+        up = up_for_view(v)
+        if not _perceived_period(V, F, v, up, tol_abs):
+            continue
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", MescherWarning)
+            vm = see_model(V, F, v, up, tol=rel, bridge=bridge, hidden=hidden, snap=False)
+        vm.report.reason = (
+            f"the relief's front, its thin axis toward its carved side (no junction lines up: "
+            f"{err}); {vm.report.reason}"
+        )
+        if _has_junction(vm.report, tol_abs):
+            return vm  # a junction lines up from the front after all
+        vm.report.warnings = [w for w in vm.report.warnings if not w.startswith("the result is")]
+        msg = (
+            f"view='auto': no view lines up a junction; the relief seen from its front "
+            f"{(np.round(v, 4) + 0.0).tolist()} is possible as carved, impossible read with right "
+            "angles: try perceive='manhattan'"
+        )
+        vm.report.warnings.append(msg)
+        warnings.warn(f"see_model: {msg}", MescherWarning, stacklevel=3)
+        return vm
+    return None
 
 
 def _false_edge_seen(V, F, v, up, tol) -> bool:

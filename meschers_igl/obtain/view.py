@@ -227,6 +227,64 @@ def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
     return out
 
 
+#: A model is a relief when its least width is at most this share of its smaller extent across.
+RELIEF_RATIO = 0.5
+
+
+def relief_fronts(V: Any, F: Any) -> list[np.ndarray]:
+    """The views a person takes of a relief: along its thin axis, the carved side first.
+
+    A relief (a bas-relief, a physically realisable trick carved in layers) is made to be seen
+    from the front, along the direction in which it is thinnest: the least width of the model
+    over the normals of its convex hull's facets (exact for a slab with a flat back or a face
+    on the hull; the principal axis of least spread for a flat sheet).  The carved side is the
+    one whose facing faces lie less on its outer plane (by area): a relief's layers, not its
+    flat back; on a tie (carved on both sides) the side with ``v_z >= 0`` first.
+
+    Parameters
+    ----------
+    V : (#V, 3) array_like of float, F : (#F, 3) array_like of int
+
+    Returns
+    -------
+    list of (3,) float64
+        ``[front, -front]``, or ``[]`` when the model is not thin: its least width over
+        :data:`RELIEF_RATIO` times its smaller extent across that axis.
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    V = as_points(V, "V", 3)
+    F = as_faces(F, "F", V.shape[0])
+    P = V[np.unique(F)]
+    X = P - P.mean(axis=0)
+    normals = np.linalg.svd(X, full_matrices=False)[2][-1:]  # the axis of least spread
+    try:
+        normals = np.vstack([normals, ConvexHull(P).equations[:, :3]])
+    except QhullError:
+        pass  # flat or degenerate: the axis of least spread is the normal
+    width = np.ptp(P @ normals.T, axis=0)
+    n = normals[int(np.argmin(width))]
+    n = n / np.linalg.norm(n)
+    Y = X - np.outer(X @ n, n)  # the model flattened onto its plane
+    across = np.ptp(Y @ np.linalg.svd(Y, full_matrices=False)[2][:2].T, axis=0).min()
+    if not across > 0 or width.min() > RELIEF_RATIO * across:
+        return []
+    T = V[F]
+    N = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    area = np.linalg.norm(N, axis=1)
+    c, h = (N @ n) / np.maximum(area, 1e-300), T @ n  # (#F,), (#F, 3)
+    flat = []
+    for s, end in ((1.0, h.max()), (-1.0, h.min())):  # each side's faces, on its outer plane?
+        w = area * (s * c > 1e-6)
+        on = np.all(np.abs(h - end) <= 1e-6 * across, axis=1)
+        flat.append(float(w @ on / w.sum()) if w.sum() > 0 else 1.0)
+    if n[2] < 0 or (abs(n[2]) <= 1e-12 and n[1] < 0):
+        n, flat = -n, flat[::-1]  # the convention first on a tie
+    if flat[0] > flat[1] + 1e-9:
+        n = -n  # the other side is carved, this one flat
+    return [n + 0.0, -n + 0.0]  # no negative zeros
+
+
 # ------------------------------------------------------------------------------ automatic view
 #: A hidden gap is looked for on circles passing within this angle of a start view.
 START_ANGLE = np.radians(10.0)
