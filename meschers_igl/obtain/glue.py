@@ -1,5 +1,7 @@
 """Gluing the visible map: each shared screen edge is continuous, a false edge (glued
-crosswise: its depth gap becomes a period) or a true occlusion (cut, with a depth-order arc)."""
+crosswise: its depth gap becomes a period) or a true occlusion (cut, with a depth-order arc).
+A step whose riser hides behind the upper tread's front edge is joined by a thin riser band
+carrying the real depth step (:func:`hidden_step_edges`, :func:`add_step_bands`)."""
 
 from __future__ import annotations
 
@@ -8,6 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
+from .clip import face_planes, merge_points, plane_depth, split_t_junctions
 from .records import FalseEdges, Glue, Junction
 
 
@@ -44,12 +47,14 @@ def interior_edges(Fa: np.ndarray, n: int):
     return h1, h2, he
 
 
-def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None):
+def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None):
     """Per shared screen edge: glue (continuous or false edge) or cut with an arc.
 
     ``ftol`` (#F,): per model face, the tolerance of its own part (``tol`` relative to the
     part's size, not the scene's): a false edge needs both model edges to coincide on screen
     to their parts' precision, so blocks a hair apart in a large scene are not glued.
+    Model faces from ``n_model`` on are riser bands (:func:`add_step_bands`): their edges are
+    never a silhouette, so they take no part in a false edge.
     """
     ftol = np.full(F.shape[0], tol) if ftol is None else ftol
     h1, h2, he = interior_edges(Fa, xy.shape[0])
@@ -72,7 +77,8 @@ def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None):
         s = src[fs]
         k = edge_on_source(xy, E, s, C, F, np.minimum(ftol[src[f1]], ftol[src[f2]]))
         nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
-        return k >= 0, (k >= 0) & ((nb < 0) | ~front[np.maximum(nb, 0)])
+        on = (k >= 0) & (s < (F.shape[0] if n_model is None else n_model))
+        return on, on & ((nb < 0) | ~front[np.maximum(nb, 0)])
 
     (on1, e1), (on2, e2) = ends(f1), ends(f2)
     far1 = (dp + dq) > 0  # face 2 nearer
@@ -245,3 +251,138 @@ def depths_have_period(F: np.ndarray, Z: np.ndarray, tol: float) -> bool:
     )
     z = lsqr(D, zeta, atol=1e-14, btol=1e-14, iter_lim=10 * n)[0]
     return bool(np.abs(D @ z - zeta).max(initial=0.0) > tol)
+
+
+# ------------------------------------------------------------------------------ hidden steps
+#: Screen width of the riser band of a hidden step, relative to the model's size: a sliver
+#: (seen edge-on by a person) well above the tolerance, so it stays a face of its own.
+STEP_BAND = 1e-3
+
+
+def hidden_step_edges(xy, Fa, src, pl, C, F, N, front, glue: Glue, tol: float):
+    """Far half-edges (``3 f + k``) of the cuts that are steps with a hidden riser, and the
+    near side's source face of each.
+
+    A tread's front edge lies over a lower tread of the same orientation: the cut's two sides
+    have parallel source planes (the gap is the same along the edge), the nearer side lies on
+    an edge of its model face whose other face looks away (the riser, hidden behind the edge)
+    and that riser reaches down to the farther tread's plane (a step, not a slab floating over
+    a floor).  One far half-edge per far face.
+    """
+    cut = np.flatnonzero(~glue.glued)
+    if cut.size == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    h1, h2 = glue.h1[cut], glue.h2[cut]
+    Z = plane_depth_of(xy, Fa, pl, src)
+    d = he_depth(Z, h2)[:, ::-1] - he_depth(Z, h1)  # side 2 minus side 1 at tail and head
+    far1 = d.sum(axis=1) > 0
+    hn, hf = np.where(far1, h2, h1), np.where(far1, h1, h2)
+    sn, sf = src[hn // 3], src[hf // 3]
+    n = N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
+    ok = (np.abs(d[:, 0] - d[:, 1]) <= tol) & (np.abs(d).min(axis=1) > tol)
+    ok &= np.linalg.norm(n[sn] - n[sf], axis=1) <= 1e-6
+    kn = hn % 3
+    E = np.stack([Fa[hn // 3, (kn + 1) % 3], Fa[hn // 3, (kn + 2) % 3]], axis=1)
+    k = edge_on_source(xy, E, sn, C, F, tol)
+    TT = np.asarray(igl.triangle_triangle_adjacency(F)[0])
+    riser = np.where(k >= 0, TT[sn, np.maximum(k, 0)], -1)
+    ok &= (riser >= 0) & ~front[np.maximum(riser, 0)]
+    P = C[F[np.maximum(riser, 0)]]  # (m, 3, 3) the riser's corners, camera frame
+    below = P[..., 2] - plane_depth(P[..., :2], pl[sf][:, None, :])
+    ok &= below.min(axis=1) <= tol  # the riser reaches the far tread's plane
+    ok &= _meets_riser(C, F, N, TT, sf, np.maximum(riser, 0), tol)
+    hf, sn = hf[ok], sn[ok]
+    _, first = np.unique(hf // 3, return_index=True)
+    return hf[first], sn[first]
+
+
+def _meets_riser(C, F, N, TT, sf, riser, tol) -> np.ndarray:
+    """(m,) does the far tread (model face ``sf`` or a coplanar neighbour) have an edge in the
+    plane of ``riser``: the lower tread ends at the riser, as a step's does (a bar seen over
+    another bar does not)."""
+    n = N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
+    cand = np.concatenate([sf[:, None], TT[sf]], axis=1)  # (m, 4): the face and its neighbours
+    valid = cand >= 0
+    cand = np.maximum(cand, 0)
+    P = C[F[cand]]  # (m, 4, 3, 3)
+    # a neighbour counts when it lies in the far face's plane
+    off = np.einsum("mfvk,mk->mfv", P - C[F[sf, 0]][:, None, None, :], n[sf])
+    valid &= np.abs(off).max(axis=2) <= tol
+    dist = np.abs(np.einsum("mfvk,mk->mfv", P - C[F[riser, 0]][:, None, None, :], n[riser]))
+    on = dist <= tol
+    edge_in = (on & on[:, :, [1, 2, 0]]).any(axis=2)
+    return (edge_in & valid).any(axis=1)
+
+
+def plane_depth_of(xy, Fa, pl, src) -> np.ndarray:
+    """(#F, 3) corner depths of the screen faces from their source faces' planes."""
+    return plane_depth(xy[Fa], pl[src][:, None, :])
+
+
+def add_step_bands(xy, Fa, src, pl, C, F, N, front, ftol, hf, near, width: float, tol: float):
+    """Carve a riser band along each hidden step's far half-edge ``hf``: the far face
+    ``(c, p, q)`` becomes the band ``p, q, q', p'`` (``p' = p + t (c - p)``, screen width
+    ``width``) and the rest ``(p', q', c)``; the band runs from the near tread's (source face
+    ``near``) depth at
+    ``p, q`` to the far tread's at ``p', q'`` (a riser a person sees edge-on).  The band's two
+    triangles become model faces of their own (appended to ``C``, ``F``, ``N``, ``front``,
+    ``pl``, ``ftol``), so the gluing finds them continuous with both treads.  Neighbours whose
+    edges now pass through ``p'`` or ``q'`` are split.
+
+    Returns the extended ``(xy, Fa, src, pl, C, F, N, front, ftol)``, or None when no face is
+    wide enough for a band.
+    """
+    f, k = hf // 3, hf % 3
+    c, p, q = Fa[f, k], Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3]
+    pq = xy[q] - xy[p]
+    L = np.linalg.norm(pq, axis=1)
+    cp = xy[c] - xy[p]
+    h = np.abs(pq[:, 0] * cp[:, 1] - pq[:, 1] * cp[:, 0]) / np.maximum(L, 1e-300)
+    t = np.minimum(width / np.maximum(h, 1e-300), 0.25)
+    keep = t * np.minimum(L, h) > 5.0 * tol
+    if not keep.any():
+        return None
+    f, c, p, q, t, near = f[keep], c[keep], p[keep], q[keep], t[keep], near[keep]
+    m = f.size
+    n0 = xy.shape[0]
+    xy = np.vstack([xy, xy[p] + t[:, None] * (xy[c] - xy[p]), xy[q] + t[:, None] * (xy[c] - xy[q])])
+    p2, q2 = n0 + np.arange(m), n0 + m + np.arange(m)
+    # the band in 3D: near tread at p, q; far tread at p', q'
+    zn = plane_depth(xy[np.stack([p, q], 1)], pl[near][:, None, :])
+    zf = plane_depth(xy[np.stack([p2, q2], 1)], pl[src[f]][:, None, :])
+    c0 = C.shape[0]
+    P3 = np.concatenate(
+        [
+            np.c_[xy[p], zn[:, 0]],
+            np.c_[xy[q], zn[:, 1]],
+            np.c_[xy[q2], zf[:, 1]],
+            np.c_[xy[p2], zf[:, 0]],
+        ]
+    )
+    i = c0 + np.arange(m)
+    Fnew = np.concatenate(
+        [np.stack([i, i + m, i + 2 * m], 1), np.stack([i, i + 2 * m, i + 3 * m], 1)]
+    )
+    C = np.vstack([C, P3])
+    f0 = F.shape[0]
+    F = np.vstack([F, Fnew])
+    N = np.vstack([N, np.cross(C[Fnew[:, 1]] - C[Fnew[:, 0]], C[Fnew[:, 2]] - C[Fnew[:, 0]])])
+    front = np.concatenate([front, np.ones(2 * m, dtype=bool)])
+    pl = np.vstack([pl, face_planes(C, Fnew)])
+    ftol = np.concatenate([ftol, np.full(2 * m, tol)])
+    out = np.ones(Fa.shape[0], dtype=bool)
+    out[f] = False
+    Fa = np.vstack(
+        [Fa[out], np.stack([p, q, q2], 1), np.stack([p, q2, p2], 1), np.stack([p2, q2, c], 1)]
+    )
+    src = np.concatenate([src[out], f0 + np.arange(m), f0 + m + np.arange(m), src[f]])
+    # bands of faces sharing an edge may put their points on it at one place: one vertex there
+    lab = merge_points(xy, tol)
+    rep = np.full(int(lab.max()) + 1, xy.shape[0])
+    np.minimum.at(rep, lab, np.arange(xy.shape[0]))
+    Fa = rep[lab[Fa]]
+    good = (Fa[:, 0] != Fa[:, 1]) & (Fa[:, 1] != Fa[:, 2]) & (Fa[:, 2] != Fa[:, 0])
+    used, Fa = np.unique(Fa[good], return_inverse=True)
+    xy, Fa, src = xy[used], Fa.reshape(-1, 3), src[good]
+    Fa, src = split_t_junctions(xy, Fa, src, tol)
+    return xy, Fa, src, pl, C, F, N, front, ftol

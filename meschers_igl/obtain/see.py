@@ -21,10 +21,13 @@ from .cleanup import (
 )
 from .clip import FRONT_NZ, REL_GRID, REL_TOL, plane_depth, visible_map
 from .glue import (
+    STEP_BAND,
+    add_step_bands,
     classify,
     cut_and_glue,
     depths_have_period,
     false_edge_junctions,
+    hidden_step_edges,
     reglue,
     split_cut_faces,
     stuck_cuts,
@@ -285,15 +288,28 @@ def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, pe
 
     Returns (Fm, corner_vertex, xy, Z, arcs, false_edges, bridges, is_bridge, source)."""
     E = axes_model = None
-    for _ in range(4):  # occlusion edges that stay glued through their end fans get split
+    n_model, model, steps = F.shape[0], (C, F), perceive is None
+    for _ in range(5):  # occlusion edges that stay glued through their end fans get split
         Z = plane_depth(xy[Fa], pl_all[src][:, None, :])
-        glue, arcs, fe = classify(xy, Fa, src, Z, C, F, front, tol_abs, ftol)
+        glue, arcs, fe = classify(xy, Fa, src, Z, C, F, front, tol_abs, ftol, n_model)
+        if steps:  # once: steps with a hidden riser get their riser band, then glue again
+            steps = False
+            hf, near = hidden_step_edges(xy, Fa, src, pl_all, C, F, N, front, glue, tol_abs)
+            ext = None
+            if hf.size:
+                width = STEP_BAND * tol_abs / REL_TOL
+                ext = add_step_bands(
+                    xy, Fa, src, pl_all, C, F, N, front, ftol, hf, near, width, tol_abs
+                )
+            if ext is not None:
+                xy, Fa, src, pl_all, C, F, N, front, ftol = ext
+                continue
         is_bridge = np.zeros(Fa.shape[0], dtype=bool)
         bridges: list = []
         Fb, sb, Zb = Fa, src, Z
         if bridge:
             Fb, sb, Zb, is_bridge, glue, arcs, bridges = bridge_hidden_gaps(
-                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs, C[F][:, :, :2], (C, F)
+                xy, Fa, src, Z, pl_all, N, glue, arcs, fe, tol_abs, C[F][:, :, :2], model
             )
         if perceive == "manhattan":
             if E is None:
@@ -307,7 +323,7 @@ def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, pe
         if stuck.size == 0:
             break
         xy, Fa, src = split_cut_faces(xy, Fa, src, h1[stuck], h2[stuck])
-    return Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb
+    return Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge | (sb >= n_model), sb
 
 
 def _expectation_warning(report, V, F, C, front) -> None:
