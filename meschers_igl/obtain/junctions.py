@@ -15,87 +15,48 @@ import scipy.sparse.csgraph as csgraph
 from scipy.spatial import cKDTree
 
 from ..errors import MescherError
+from .caps import (
+    CAP_NORMAL_TOL,
+    MAX_CAP_PAIRS,
+    Cap,
+    CapTable,
+    cap_table,
+    find_caps,
+    junction_candidates,
+    opposite_pairs,
+    planar_patches,
+    side_directions,
+)
 from .clip import FRONT_NZ
 from .records import Junction, VisibleModel
 
+__all__ = [
+    "CAP_NORMAL_TOL",
+    "MAX_CAP_PAIRS",
+    "BarEnds",
+    "Cap",
+    "bar_end_pairs",
+    "bridges_blocked",
+    "close_junctions",
+    "closed_surface",
+    "crossing_behind",
+    "find_caps",
+    "junction_at",
+    "may_be_junctions",
+    "parts_and_front",
+    "pairs_may_be_bars",
+    "pieces_are_bars",
+    "planar_patches",
+    "pointed_end_pairs",
+    "pointed_ends",
+]
+
 # ------------------------------------------------------------------------------ closed surface
-#: Unit normals closer than this (1 - cos) count as equal or opposite when caps are paired.
-CAP_NORMAL_TOL = 1e-9
-
-
-@dataclass(frozen=True)
-class Cap:
-    """A bar's end bounded by one loop: a planar patch (a cap: its normal), or with ``flat``
-    False a pointed, roof-shaped or notched end (``normal``: the bar's direction out of it)."""
-
-    faces: np.ndarray
-    loop: np.ndarray
-    normal: np.ndarray
-    flat: bool = True
-
-
-def planar_patches(V: np.ndarray, F: np.ndarray, TT: np.ndarray, tol: float) -> np.ndarray:
-    """(#F,) label of the coplanar patch of each face (faces joined across shared edges)."""
-    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    f = np.repeat(np.arange(F.shape[0]), 3)
-    g = TT.reshape(-1)
-    ok = g >= 0
-    f, g = f[ok], g[ok]
-    same = (np.einsum("ij,ij->i", n[f], n[g]) >= 1.0 - CAP_NORMAL_TOL) & (
-        np.abs(np.einsum("ij,ij->i", V[F[g, 0]] - V[F[f, 0]], n[f])) <= tol
-    )
-    A = sp.coo_matrix((np.ones(int(same.sum())), (f[same], g[same])), shape=(F.shape[0],) * 2)
-    return csgraph.connected_components(A, directed=False)[1]
-
-
-def find_caps(V, F, TT, patch, tol) -> list:
-    """Patches bounded by a single loop whose normal has an opposite among the patches (the
-    candidates for the two ends of a broken bar); others are never caps."""
-    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    k = int(patch.max()) + 1
-    first = np.full(k, F.shape[0])
-    np.minimum.at(first, patch, np.arange(F.shape[0]))
-    pn = n[first]
-    key = np.round(pn / 1e-6).astype(np.int64)
-    have = {tuple(r) for r in key.tolist()}
-    cand = np.flatnonzero([tuple(-x for x in r) in have for r in key.tolist()])  # per patch
-    # boundary half-edges of each patch: its faces' half-edges whose neighbour is elsewhere
-    fe = np.repeat(np.arange(F.shape[0]), 3)
-    nb = TT.reshape(-1)
-    bd = (nb < 0) | (patch[np.maximum(nb, 0)] != patch[fe])
-    corner = np.tile(np.arange(3), F.shape[0])
-    tail, head = F[fe, corner], F[fe, (corner + 1) % 3]
-    in_cand = np.isin(patch[fe], cand) & bd
-    out = []
-    pe = patch[fe[in_cand]]
-    order = np.argsort(pe, kind="stable")
-    pe, t, h = pe[order], tail[in_cand][order], head[in_cand][order]
-    if pe.size == 0:
-        return out
-    starts = np.flatnonzero(np.r_[True, pe[1:] != pe[:-1]])
-    fo = np.argsort(patch, kind="stable")  # faces grouped by patch
-    fstart = np.searchsorted(patch[fo], np.arange(k + 1))
-    for s, e in zip(starts.tolist(), np.r_[starts[1:], pe.size].tolist()):  # candidate caps
-        nxt = dict(zip(t[s:e].tolist(), h[s:e].tolist()))
-        if len(nxt) != e - s:
-            continue  # a vertex with two outgoing boundary edges: not a simple loop
-        loop = [t[s]]
-        while len(loop) <= e - s and nxt[loop[-1]] != loop[0]:
-            loop.append(nxt[loop[-1]])
-        if len(loop) != e - s:
-            continue  # more than one loop (a patch with a hole)
-        p = int(pe[s])
-        out.append(Cap(fo[fstart[p] : fstart[p + 1]], np.asarray(loop, np.int64), pn[p]))
-    return out
-
-
 #: Most distances (pairs x loop size^2) compared at once by :func:`_match_loop_pairs`.
 _MATCH_CHUNK = 1 << 22
 
 
-def _match_loop_pairs(V, caps, size, ij, tol):
+def _match_loop_pairs(V, table: CapTable, ij, tol):
     """Which pairs of caps ``ij`` (equal loop sizes) have loops congruent by a translation.
 
     Loops ``A``, ``B`` match when ``B[perm] == A + T`` to ``tol`` for the translation ``T``
@@ -110,14 +71,13 @@ def _match_loop_pairs(V, caps, size, ij, tol):
     """
     ok = np.zeros(ij.shape[0], dtype=bool)
     Ts = np.zeros((ij.shape[0], 3))
+    size = table.size
     for n in np.unique(size[ij[:, 0]]).tolist() if ij.size else []:  # a few loop sizes
         rows = np.flatnonzero(size[ij[:, 0]] == n)
-        L = np.array([c.loop for c in caps if c.loop.size == n] or [np.zeros(n, np.int64)])
-        at = np.cumsum(size == n) - 1  # cap -> row of L
         step = max(1, _MATCH_CHUNK // (n * n))
         for s in range(0, rows.size, step):  # chunks of pairs
             r = rows[s : s + step]
-            A, B = V[L[at[ij[r, 0]]]], V[L[at[ij[r, 1]]]]
+            A, B = V[table.loop_rows(ij[r, 0])], V[table.loop_rows(ij[r, 1])]
             T = B.mean(axis=1) - A.mean(axis=1)
             D = np.linalg.norm((A + T[:, None])[:, :, None] - B[:, None], axis=3)
             perm = np.argmin(D, axis=2)
@@ -129,51 +89,67 @@ def _match_loop_pairs(V, caps, size, ij, tol):
     return ok, Ts
 
 
-def _side_direction(V, F, TT, cap: Cap, tol: float):
-    """The common direction of the side faces next to a cap (a prism's lateral edges), or None."""
-    fs = cap.faces
-    nbs = TT[fs].reshape(-1)
-    nbs = np.unique(nbs[(nbs >= 0) & ~np.isin(nbs, fs)])
-    if nbs.size < 2:
-        return None  # a loose patch (no side faces): not a bar's end
-    n = np.cross(V[F[nbs, 1]] - V[F[nbs, 0]], V[F[nbs, 2]] - V[F[nbs, 0]])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    # two side planes that are not parallel meet along the bar's direction
-    c = np.cross(n[0], n)
-    k = int(np.argmax(np.linalg.norm(c, axis=1)))
-    if np.linalg.norm(c[k]) < 1e-6:
-        return None
-    d = c[k] / np.linalg.norm(c[k])
-    if np.max(np.abs(n @ d)) > 1e-6:
-        return None  # the side faces do not share one direction: not a bar's end
-    return d if d @ cap.normal > 0 else -d
+#: Most (sample point, face) screen-box tests :func:`_covering` forms at once.
+_COVER_CHUNK = 1 << 22
+
+
+def _covering(P: np.ndarray, T: np.ndarray, tol: float):
+    """The faces covering camera-frame points on screen, for all points at once.
+
+    A face covers point ``k`` when its screen box holds it (to ``tol``) and its barycentric
+    coordinates there are all at least -1e-9.
+
+    Parameters
+    ----------
+    P : (k, 3) float64
+        Camera-frame points.
+    T : (m, 3, 3) float64
+        Camera-frame triangles.
+
+    Returns
+    -------
+    point, face : (c,) int64
+        The covering (point, face) pairs.
+    z : (c,) float64
+        The face's depth at the point.
+    """
+    from ..geometry2d import barycentric
+
+    x = P[:, :2]
+    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
+    # the faces whose box meets the points' box (a superset of each point's)
+    near = np.flatnonzero(np.all((lo <= x.max(axis=0) + tol) & (hi >= x.min(axis=0) - tol), axis=1))
+    lo, hi = lo[near], hi[near]
+    ks, fs = [np.zeros(0, np.int64)], [np.zeros(0, np.int64)]
+    step = max(1, _COVER_CHUNK // max(near.size, 1))
+    for s in range(0, x.shape[0], step):  # chunks of points
+        xs = x[s : s + step, None]
+        k, f = np.nonzero(np.all((lo <= xs + tol) & (hi >= xs - tol), axis=2))
+        ks.append(k + s)
+        fs.append(near[f])
+    k, f = np.concatenate(ks), np.concatenate(fs)
+    B = barycentric(x[k], T[f, :, :2])
+    inside = np.all(B >= -1e-9, axis=1)
+    k, f, B = k[inside], f[inside], B[inside]
+    return k, f, (B * T[f, :, 2]).sum(axis=1)
 
 
 def _tube_hidden(points, depth_gap, C, F, front, R, tol, own, margin) -> bool:
     """Are the 3D ``points`` (on a bridge) behind model faces nearer than both pieces?
 
-    Faces of the pieces' own parts (``own``, (#F,) bool) count only when they are nearer by
-    more than ``margin`` (a bar's width): two blocks a hair apart cover the hair between them
-    with their own faces, which hides nothing a viewer would complete.
+    Each point must be covered on screen (:func:`_covering`) by a face toward the viewer
+    nearer than ``max(z, z + depth_gap) + tol``.  Faces of the pieces' own parts (``own``,
+    (#F,) bool) count only when they are nearer by more than ``margin`` (a bar's width): two
+    blocks a hair apart cover the hair between them with their own faces, which hides
+    nothing a viewer would complete.
     """
-    from ..geometry2d import barycentric
-
     P = points @ R.T
     T = C[F[front]]
     slack = np.where(own[front], margin, 0.0)
-    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
-    for x, z in zip(P[:, :2], P[:, 2]):  # a dozen sample points
-        cand = np.flatnonzero(np.all((lo <= x + tol) & (hi >= x - tol), axis=1))
-        if cand.size == 0:
-            return False
-        B = barycentric(np.repeat(x[None], cand.size, 0), T[cand, :, :2])
-        inside = np.all(B >= -1e-9, axis=1)
-        if not inside.any():
-            return False
-        zf = (B[inside] * T[cand[inside], :, 2]).sum(axis=1) - slack[cand[inside]]
-        if zf.max() <= max(z, z + depth_gap) + tol:
-            return False
-    return True
+    k, f, z = _covering(P, T, tol)
+    zmax = np.full(P.shape[0], -np.inf)
+    np.maximum.at(zmax, k, z - slack[f])
+    return bool(np.all(zmax > np.maximum(P[:, 2], P[:, 2] + depth_gap) + tol))
 
 
 #: The ends of a bar broken at a crossing are seen edge-on (their planes hold the view, up to
@@ -201,6 +177,17 @@ def _own_bar_faces(V, F, be: BarEnds, tol) -> np.ndarray:
     return np.isin(patch, patch[np.r_[caps, nbs[nbs >= 0]]])
 
 
+def _far_cover(P: np.ndarray, T: np.ndarray, tol: float, width: float) -> np.ndarray:
+    """(k,) per camera-frame point ``P`` among the triangles ``T`` (:func:`_covering`): 1
+    covered by a face farther than ``width`` and by nothing nearer than ``tol``, 2 covered by
+    such a far face and by something nearer (the pieces), 0 not covered by a far face, -1
+    covered only by nearer faces."""
+    k, _, z = _covering(P, T, tol)
+    far = np.bincount(k[z < P[k, 2] - width], minlength=P.shape[0]) > 0
+    near = np.bincount(k[z > P[k, 2] + tol], minlength=P.shape[0]) > 0
+    return np.where(far, 1 + near, -near.astype(np.int64))
+
+
 def crossing_behind(points, c0, span, C, F, front, R, tol, width) -> bool:
     """Is the gap ``c0 -> c0 + span`` of a bar broken in line filled on screen by one bar
     lying behind it (the impossible cube's crossing)?
@@ -211,31 +198,11 @@ def crossing_behind(points, c0, span, C, F, front, R, tol, width) -> bool:
     gap's middle must be as long as the gap, within :data:`CROSSING_SLACK` of it -- a bar
     crossing the gap, not a wall or floor behind everything (which covers far beyond it).
     """
-    from ..geometry2d import barycentric
-
     T = C[F[front]]
-    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
-
-    def far_cover(P):
-        """(k,) per camera-space point: 1 covered by a face farther than ``width`` and by
-        nothing nearer, 2 covered by such a far face and by something nearer (the pieces), 0
-        not covered by a far face, -1 covered only by nearer faces."""
-        out = np.zeros(P.shape[0], dtype=np.int64)
-        for k, (x, z) in enumerate(zip(P[:, :2], P[:, 2])):  # a few dozen samples
-            cand = np.flatnonzero(np.all((lo <= x + tol) & (hi >= x - tol), axis=1))
-            if cand.size == 0:
-                continue
-            B = barycentric(np.repeat(x[None], cand.size, 0), T[cand, :, :2])
-            inside = np.all(B >= -1e-9, axis=1)
-            zf = (B[inside] * T[cand[inside], :, 2]).sum(axis=1)
-            far, near = np.any(zf < z - width), np.any(zf > z + tol)
-            out[k] = (1 + near) if far else -int(near)
-        return out
-
-    if not np.all(far_cover(points @ R.T) == 1):
+    if not np.all(_far_cover(points @ R.T, T, tol, width) == 1):
         return False
     s = np.linspace(-1.0, 2.0, 61)  # the axis from one gap length before to one after
-    cover = far_cover((c0[None] + s[:, None] * span[None]) @ R.T) >= 1
+    cover = _far_cover((c0[None] + s[:, None] * span[None]) @ R.T, T, tol, width) >= 1
     mid = int(np.argmin(np.abs(s - 0.5)))
     a = b = mid
     while a > 0 and cover[a - 1]:
@@ -270,12 +237,6 @@ class BarEnds:
     match: np.ndarray | None = None
 
 
-#: Without a view, at most this many cap pairs are compared (all pairs of caps with opposite
-#: normals and equal loops); a model with more (thousands of equal boxes) gets no hidden-gap
-#: search for view="auto" (with a view, the pairs are found on screen, in linear time).
-MAX_CAP_PAIRS = 20000
-
-
 def bar_end_pairs(
     V: np.ndarray,
     F: np.ndarray,
@@ -300,7 +261,10 @@ def bar_end_pairs(
         A view frame: only pairs that can be junctions from it are returned, found on screen
         (caps that coincide, or that lie on one screen line along their bar) in linear time.
         Without it (the automatic view), every pair with opposite normals and equal loops is
-        compared, up to :data:`MAX_CAP_PAIRS`.
+        compared when there are at most :data:`MAX_CAP_PAIRS` of them; with more (a scene of
+        equal blocks, a fine mesh whose facets have opposite facets), the pairs that may be a
+        junction from some view (:func:`~.caps.junction_candidates`: caps in one plane, or
+        two bars facing each other), the nearest first, up to :data:`MAX_CAP_PAIRS`.
     pointed : bool, optional
         Default True.
 
@@ -311,72 +275,62 @@ def bar_end_pairs(
     if TT is None:
         TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
     patch = planar_patches(V, F, TT, tol)
-    caps = find_caps(V, F, TT, patch, tol)
-    out = _flat_pairs(V, F, TT, tol, R, caps)
+    table = cap_table(V, F, TT, patch)
+    out = _flat_pairs(V, F, TT, patch, tol, R, table)
     if pointed:
         Rf = None if R is None else np.asarray(R, dtype=np.float64)
-        out += pointed_end_pairs(V, F, TT, patch, tol, Rf, caps)
+        out += pointed_end_pairs(V, F, TT, patch, tol, Rf, table)
     return out
 
 
-def _flat_pairs(V, F, TT, tol, R, caps) -> list:
-    """:func:`bar_end_pairs` of the flat caps."""
-    if len(caps) < 2:
+def _flat_pairs(V, F, TT, patch, tol, R, table: CapTable) -> list:
+    """:func:`bar_end_pairs` of the flat caps (all of them at once)."""
+    if len(table) < 2:
         return []
-    size = np.array([c.loop.size for c in caps])
-    nkey = np.round(np.array([c.normal for c in caps]) / 1e-6).astype(np.int64)
-    cen = np.array([V[c.loop].mean(axis=0) for c in caps])
-    sides: dict[int, Any] = {}
-
-    def side(i):
-        if i not in sides:
-            sides[i] = _side_direction(V, F, TT, caps[i], tol)
-        return sides[i]
-
+    size = table.size
+    cen = table.centroids(V)
+    D = side_directions(V, F, TT, patch, table)
     if R is None:
-        groups: dict[tuple, list] = {}
-        for i, key in enumerate(map(tuple, np.c_[size, nkey].tolist())):  # one per cap
-            groups.setdefault(key, []).append(i)
-        cand = []
-        for i in range(len(caps)):  # caps, and their opposite group
-            cand += [(i, j) for j in groups.get((size[i], *(-nkey[i]).tolist()), []) if j > i]
-            if len(cand) > MAX_CAP_PAIRS:
-                return []
+        ij, _ = opposite_pairs(size, table.normal, MAX_CAP_PAIRS)
+        if ij is None:
+            part = _components(F, TT)
+            ij = junction_candidates(V, F, part, table, D, cen, tol, MAX_CAP_PAIRS)
     else:
         R = np.asarray(R, dtype=np.float64)
         s2 = cen @ R[:2].T
-        cand = cKDTree(s2).query_pairs(tol, output_type="ndarray").tolist()
+        cand = [cKDTree(s2).query_pairs(tol, output_type="ndarray")]
         # caps on one screen line along their bar: key (direction angle, offset of the line)
-        rows, keys = [], []
-        for i in range(len(caps)):  # one per cap
-            d = side(i)
-            if d is None:
-                continue
-            u = R[:2] @ d
-            if np.linalg.norm(u) <= 1e-9:
-                continue
-            u /= np.linalg.norm(u)
-            if u[0] < 0 or (u[0] == 0 and u[1] < 0):
-                u = -u
-            rows.append(i)
-            keys.append([np.arctan2(u[1], u[0]), u[0] * s2[i, 1] - u[1] * s2[i, 0]])
-        if rows:
-            K = np.asarray(keys) * [np.linalg.norm(np.ptp(s2, axis=0)) + 1.0, 1.0]
-            lp = cKDTree(K).query_pairs(10 * tol, output_type="ndarray")
-            cand += np.asarray(rows)[lp].tolist()
-    out = []
-    ij = np.asarray(sorted({(min(p), max(p)) for p in cand}), np.int64).reshape(-1, 2)
-    nrm = np.array([c.normal for c in caps])
+        rows = np.flatnonzero(~np.isnan(D[:, 0]))
+        U = D[rows] @ R[:2].T
+        nu = np.linalg.norm(U, axis=1)
+        rows, U = rows[nu > 1e-9], U[nu > 1e-9] / nu[nu > 1e-9, None]
+        U[(U[:, 0] < 0) | ((U[:, 0] == 0) & (U[:, 1] < 0))] *= -1.0
+        if rows.size:
+            off = U[:, 0] * s2[rows, 1] - U[:, 1] * s2[rows, 0]
+            K = np.c_[np.arctan2(U[:, 1], U[:, 0]), off]
+            K *= [np.linalg.norm(np.ptp(s2, axis=0)) + 1.0, 1.0]
+            cand.append(rows[cKDTree(K).query_pairs(10 * tol, output_type="ndarray")])
+        ij = np.unique(np.sort(np.vstack(cand).reshape(-1, 2), axis=1), axis=0)
+    nrm = table.normal
     ij = ij[size[ij[:, 0]] == size[ij[:, 1]]]
     ij = ij[np.einsum("ij,ij->i", nrm[ij[:, 0]], nrm[ij[:, 1]]) <= -1.0 + CAP_NORMAL_TOL]
-    ok, Ts = _match_loop_pairs(V, caps, size, ij, tol)
+    ok, Ts = _match_loop_pairs(V, table, ij, tol)
+    out = []
     for (i, j), T in zip(ij[ok].tolist(), Ts[ok]):  # the pairs of congruent caps
-        a, b = caps[i], caps[j]
-        da, db = side(i), side(j)
-        facing = da is not None and db is not None and da @ db <= -1.0 + 1e-9
+        a, b = table.cap(i), table.cap(j)
+        da, db = D[i], D[j]
+        facing = not np.isnan(da[0] + db[0]) and da @ db <= -1.0 + 1e-9
         out.append(BarEnds(a, b, T, da if facing else None))
         out.append(BarEnds(b, a, -T, db if facing else None))
     return out
+
+
+def _components(F, TT) -> np.ndarray:
+    """(#F,) the connected part of each face (faces joined across shared edges)."""
+    f = np.repeat(np.arange(F.shape[0]), 3)
+    ok = TT.reshape(-1) >= 0
+    A = sp.coo_matrix((np.ones(int(ok.sum())), (f[ok], TT.reshape(-1)[ok])), (F.shape[0],) * 2)
+    return csgraph.connected_components(A, directed=False)[1]
 
 
 #: A face is a side face of a bar along ``d`` when its unit normal has |n . d| below this.
@@ -490,13 +444,14 @@ def pointed_end_pairs(
     patch: np.ndarray,
     tol: float,
     R: np.ndarray | None = None,
-    caps: list | None = None,
+    caps: list | CapTable | None = None,
 ) -> list:
     """Pairs of bar ends, at least one of them not a square cap (:func:`pointed_ends`; the
-    other may be one of ``caps``, :func:`find_caps`), facing opposite ways along one bar
-    direction, whose loops are congruent by a translation once projected along the bar (one
-    cross-section: the side edges of one bar), each with the vertex correspondence; whether
-    they face each other depends on the view (:func:`junction_at`).
+    other may be one of ``caps``, :func:`find_caps` or its :class:`~.caps.CapTable`), facing
+    opposite ways along one bar direction, whose loops are congruent by a translation once
+    projected along the bar (one cross-section: the side edges of one bar), each with the
+    vertex correspondence; whether they face each other depends on the view
+    (:func:`junction_at`).
 
     A bar broken with pointed, bevelled or notched ends is completed by a viewer as one bar
     just as a bar broken with square caps (the ends' shapes lie in the gap, which the
@@ -507,16 +462,23 @@ def pointed_end_pairs(
     shaped = pointed_ends(V, F, TT, patch)
     if not shaped:
         return []
-    ends = shaped + [c for c in caps or [] if c.flat]
-    size = np.array([e.loop.size for e in ends])
-    nrm = np.array([e.normal for e in ends])
-    cen = np.array([V[e.loop].mean(axis=0) for e in ends])
-    later = np.arange(len(ends))
+    if isinstance(caps, CapTable):
+        flat, fsize, fnrm, fcen = caps.cap, caps.size, caps.normal, caps.centroids(V)
+    else:
+        fl = [c for c in caps or [] if c.flat]
+        flat, fsize = fl.__getitem__, np.array([c.loop.size for c in fl], np.int64)
+        fnrm = np.array([c.normal for c in fl]).reshape(-1, 3)
+        fcen = np.array([V[c.loop].mean(axis=0) for c in fl]).reshape(-1, 3)
+    ns = len(shaped)
+    size = np.r_[[e.loop.size for e in shaped], fsize]
+    nrm = np.vstack([[e.normal for e in shaped], fnrm])
+    cen = np.vstack([[V[e.loop].mean(axis=0) for e in shaped], fcen])
+    later = np.arange(size.size)
     out: list = []
     for i, (a, d) in enumerate(zip(shaped, nrm)):  # the few shaped ends
         T = cen - cen[i]
         j = (size == size[i]) & (nrm @ d <= -1.0 + CAP_NORMAL_TOL)
-        j &= (later > i) | (later >= len(shaped))  # each pair of shaped ends once
+        j &= (later > i) | (later >= ns)  # each pair of shaped ends once
         if R is not None:  # T = l d + g v: off the plane of d and the view by at most 2 tol
             c = np.cross(d, R[2])
             off = np.abs(T @ c) / max(np.linalg.norm(c), 1e-300)
@@ -525,7 +487,7 @@ def pointed_end_pairs(
             j &= off <= 2 * tol
         Pa = V[a.loop] - np.outer(V[a.loop] @ d, d)  # projected along the bar
         for k in np.flatnonzero(j).tolist():  # the candidates
-            b = ends[k]
+            b = shaped[k] if k < ns else flat(k - ns)
             Pb = V[b.loop] - np.outer(V[b.loop] @ d, d)
             D = np.linalg.norm(Pa[:, None] + (T[k] - (T[k] @ d) * d) - Pb[None], axis=2)
             m = np.argmin(D, axis=1)
@@ -621,6 +583,52 @@ def pieces_are_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, be: BarEnds)
     return all(out)
 
 
+#: Most (piece, vertex) products :func:`pairs_may_be_bars` forms at once.
+_EXTENT_CHUNK = 1 << 22
+
+
+def pairs_may_be_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, pairs: list) -> np.ndarray:
+    """(#pairs,) bool: :func:`pieces_are_bars` for all pairs at once, as a superset (within
+    1e-9 of the model's size): False for pairs without a bar direction pointing out of the
+    first cap, and where a piece is surely not longer along the bar than its cap is wide.
+
+    Each piece's length is ``c . d - min x . d`` over its part's vertices ``x`` (one matrix
+    product per part holding pieces), its width the largest distance between its loop's
+    points (per loop size)."""
+    out = np.zeros(len(pairs), dtype=bool)
+    rows = [i for i, be in enumerate(pairs) if be.d is not None and be.first.normal @ be.d > 0]
+    if not rows:
+        return out
+    caps = [c for i in rows for c in (pairs[i].first, pairs[i].second)]
+    dirs = (
+        np.repeat([pairs[i].d for i in rows], 2, axis=0) * np.tile([1.0, -1.0], len(rows))[:, None]
+    )
+    size = np.array([c.loop.size for c in caps])
+    cen, width = np.zeros((size.size, 3)), np.zeros(size.size)
+    for n in np.unique(size).tolist():  # a few loop sizes
+        k = np.flatnonzero(size == n)
+        P = V[np.array([caps[i].loop for i in k.tolist()])]
+        cen[k] = P.mean(axis=1)
+        step = max(1, _EXTENT_CHUNK // (n * n))
+        for s in range(0, k.size, step):  # chunks of pieces
+            Q = P[s : s + step]
+            width[k[s : s + step]] = np.linalg.norm(Q[:, :, None] - Q[:, None], axis=3).max((1, 2))
+    cpart = part[np.array([c.faces[0] for c in caps])]
+    length = np.full(size.size, -np.inf)
+    fo = np.argsort(part, kind="stable")
+    bounds = np.searchsorted(part[fo], np.arange(int(part.max()) + 2))
+    for p in np.unique(cpart).tolist():  # the parts holding pieces
+        X = V[np.unique(F[fo[bounds[p] : bounds[p + 1]]])]
+        k = np.flatnonzero(cpart == p)
+        step = max(1, _EXTENT_CHUNK // X.shape[0])
+        for s in range(0, k.size, step):  # chunks of pieces
+            r = k[s : s + step]
+            length[r] = np.einsum("ij,ij->i", cen[r], dirs[r]) - (dirs[r] @ X.T).min(axis=1)
+    slack = 1e-9 * (1.0 + float(np.abs(V).max()))
+    out[rows] = np.all((length + slack > width).reshape(-1, 2), axis=1)
+    return out
+
+
 def _end_seen(V, F, cap: Cap, v) -> bool:
     """Is a face of the bar end ``cap`` seen from ``v`` (not edge-on to
     :data:`CROSSING_EDGE_ON`)?"""
@@ -688,10 +696,9 @@ def junction_at(V, F, C, R, be: BarEnds, tol, front, part, bridge, blocked=None)
 
 
 def parts_and_front(V, F, TT, R):
-    f = np.repeat(np.arange(F.shape[0]), 3)
-    ok = TT.reshape(-1) >= 0
-    A = sp.coo_matrix((np.ones(int(ok.sum())), (f[ok], TT.reshape(-1)[ok])), (F.shape[0],) * 2)
-    part = csgraph.connected_components(A, directed=False)[1]
+    """The connected part of each face, camera-frame vertices ``V R^T`` and the faces turned
+    toward the viewer (by more than :data:`~.clip.FRONT_NZ`)."""
+    part = _components(F, TT)
     C = V @ R.T
     N = np.cross(C[F[:, 1]] - C[F[:, 0]], C[F[:, 2]] - C[F[:, 0]])
     front = N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300)
@@ -751,7 +758,13 @@ def close_junctions(V, F, R, tol: float, bridge: bool = True, pairs: list | None
     nV = V.shape[0]
     may = may_be_junctions(pairs, R, tol, bridge)
     pairs = [be for be, m in zip(pairs, may.tolist()) if m]
-    blocked = bridges_blocked(V, F, R, pairs) if bridge else np.zeros(len(pairs), bool)
+    blocked = np.zeros(len(pairs), bool)
+    if bridge:  # a bridge needs two bars (all pairs at once); a false edge does not
+        bars = pairs_may_be_bars(V, F, part, pairs)
+        keep = bars | may_be_junctions(pairs, R, tol, False)
+        pairs, bars = [be for be, k in zip(pairs, keep.tolist()) if k], bars[keep]
+        blocked = np.zeros(len(pairs), bool)  # (junction_at finds no bridge between non-bars)
+        blocked[bars] = bridges_blocked(V, F, R, [pairs[i] for i in np.flatnonzero(bars)])
     for be, bl in zip(pairs, blocked.tolist()):  # the candidate pairs
         if used[be.first.faces].any() or used[be.second.faces].any():  # an end used already
             continue
