@@ -126,11 +126,9 @@ class Compiling:
     work that needs a group waits for it (:func:`wait_compiled`).
 
     Each interpreter compiles its groups one after another, the groups a model needs first
-    first.  Few interpreters: each pays numba's own first-compilation set-up before it compiles
-    anything, and each takes a core from the work.  Where the platform can (POSIX ``fork``, and
-    this process runs no other thread yet), each is a fork of this process, which has imported
-    everything already: a fresh interpreter would pay its start and the imports again (about
-    2-3 CPU seconds each, measured).
+    first.  Few interpreters: each pays the interpreter's start, the imports and numba's own
+    first-compilation set-up (several CPU seconds) before it compiles anything, and each takes
+    a core from the work.
 
     While it runs, the environment variable ``MESCHERS_COMPILING`` names a folder of markers
     (``GROUP.wait`` for each group it compiles, ``GROUP.done`` once that group is compiled or
@@ -151,13 +149,9 @@ class Compiling:
                 pass
         self._previous = os.environ.get(_ENV)
         os.environ[_ENV] = self.folder
-        shares = _share(cold, processes)
-        # forked now, from the one thread there is (a fork from a thread could inherit a lock
-        # another thread holds); else the compiling thread starts fresh interpreters
-        self._forked = [_fork_warm(g, self.folder) for g in shares] if _can_fork() else []
         self._thread = threading.Thread(
             target=self._run,
-            args=(shares,),
+            args=(_share(cold, processes),),
             name="meschers-compile",
             daemon=True,
         )
@@ -176,17 +170,6 @@ class Compiling:
             pass
 
     def _compile(self, shares: list[list[str]]) -> None:
-        if self._forked:
-            for groups, pid, log in self._forked:
-                _, status = os.waitpid(pid, 0)
-                if status != 0:
-                    log.seek(0)
-                    last = (log.read().strip().splitlines() or ["?"])[-1]
-                    self.failed.append(f"{', '.join(groups)}: {last}")
-                log.close()
-                for g in groups:
-                    self._mark(g)
-            return
         running = []
         for groups in shares:
             log = tempfile.TemporaryFile(mode="w+")
@@ -230,35 +213,6 @@ class Compiling:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def _can_fork() -> bool:
-    return hasattr(os, "fork") and sys.platform != "darwin" and threading.active_count() == 1
-
-
-def _fork_warm(groups: list[str], folder: str) -> tuple[list[str], int, Any]:
-    """Fork a process that compiles ``groups`` (:func:`warm_groups`), its output into a
-    temporary file; ``(groups, pid, file)``."""
-    log = tempfile.TemporaryFile(mode="w+")
-    sys.stdout.flush()
-    sys.stderr.flush()
-    pid = os.fork()
-    if pid == 0:  # the child: never returns into the parent's code
-        code = 1
-        try:
-            os.dup2(log.fileno(), 1)
-            os.dup2(log.fileno(), 2)
-            sys.stdout = sys.stderr = log  # also where the parent had replaced them
-            warm_groups(groups, folder)
-            code = 0
-        except BaseException:  # noqa: BLE001 -- reported by the parent from the log
-            import traceback
-
-            traceback.print_exc(file=log)
-        finally:
-            log.flush()
-            os._exit(code)
-    return groups, pid, log
 
 
 def _seconds(group: str) -> float:

@@ -189,28 +189,3 @@ def test_one_process_marks_each_group_done_as_it_finishes(tmp_path, monkeypatch)
         "order.done",
         "render.done",
     ]
-
-
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="no fork on this platform")
-def test_a_forked_compiler_that_fails_is_reported_and_its_groups_released(monkeypatch):
-    """The forked compiling process shares this one's code: what it raises reaches the report
-    (its last line), and the groups it held are marked done so that nobody waits for them."""
-    from meschers import warmup
-
-    def boom(group):
-        raise RuntimeError(f"no compiler for {group}")
-
-    monkeypatch.setattr(warmup, "warm_group", boom)
-    monkeypatch.setattr(warmup, "_can_fork", lambda: True)
-    said: list[str] = []
-    running = warmup.Compiling(["order", "paths"], 2, said.append)
-    assert len(running._forked) == 2  # two forks, no fresh interpreter
-    folder = running.folder
-    running.wait(["order", "paths"])
-    assert os.path.exists(os.path.join(folder, "order.done"))
-    running.close()
-    assert said[0].startswith("kernels compiled in ")
-    assert sorted(said[1:]) == [
-        "compiling kernels failed for order: RuntimeError: no compiler for order",
-        "compiling kernels failed for paths: RuntimeError: no compiler for paths",
-    ]
