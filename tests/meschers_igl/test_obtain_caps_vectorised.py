@@ -34,6 +34,7 @@ from meschers_igl.obtain.junctions import (
     pairs_may_be_bars,
     parts_and_front,
     pieces_are_bars,
+    winding_numbers,
 )
 from meschers_igl.operators import view_frame
 
@@ -351,3 +352,15 @@ def test_a_frame_beside_many_equal_blocks_keeps_its_broken_bar():
         (ell, g), *_ = np.linalg.lstsq(M, be.T, rcond=None)
         assert abs(abs(g) - gap) <= 1e-9 * gap
         assert np.linalg.norm(M @ [ell, g] - be.T) <= 1e-9
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_winding_numbers_equal_libigls(seed):
+    """The direct sum over faces (a few points) equals libigl's winding number, on closed
+    meshes (0 or 1) and on an open sheet (fractional values)."""
+    rng = np.random.default_rng(seed)
+    for V, F in (shapes.torus(30, 12), shapes.block_grid(2), shapes.grid(6, 6)):
+        P = rng.uniform(V.min(axis=0) - 1.0, V.max(axis=0) + 1.0, size=(10, 3))
+        np.testing.assert_allclose(
+            winding_numbers(V, F, P), igl.winding_number(V, F, P), atol=1e-12
+        )
