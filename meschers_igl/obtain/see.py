@@ -38,6 +38,22 @@ from .records import ConversionReport, VisibleModel
 from .view import START_ANGLE, find_model_view, relief_fronts, up_for_view
 
 
+def _visible_report(report, junctions, arcs, is_bridge, source, perceive) -> None:
+    """Fill ``report`` for the visible route: its junctions, reason, arcs and each face's
+    source face (-1 for a bridge's)."""
+    report.junctions = junctions
+    report.route = "visible"
+    if not report.reason:
+        report.reason = (
+            "perceived depths are read on the visible surface"
+            if perceive
+            else "no junction to open on the whole model: the surface the viewer sees"
+        )
+    report.n_arcs = int(arcs.shape[0])
+    report.source_face = np.where(is_bridge, -1, source)
+    report.arcs = arcs
+
+
 def see_model(
     V: Any,
     F: Any,
@@ -132,19 +148,9 @@ def see_model(
     ftol = _part_tolerances(V, F, part, tol_abs, rel)
     g = _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report)
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
-    report.junctions = false_edge_junctions(xy, fe) + bridges
-    report.route = "visible"
-    if not report.reason:
-        report.reason = (
-            "perceived depths are read on the visible surface"
-            if perceive
-            else "no junction to open on the whole model: the surface the viewer sees"
-        )
-    report.n_arcs = int(arcs.shape[0])
-    report.source_face = np.where(is_bridge, -1, sb)
+    _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
     first[Fm.reshape(-1)] = corner_vertex
-    report.arcs = arcs
     if snap and perceive is None and hidden is not False and not _has_junction(report, tol_abs):
         snapped = _snap_view(V, F, R, tol_abs, rel, bridge, hidden)
         if snapped is not None:
