@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import MescherError
 
-__all__ = ["region_polygons"]
+__all__ = ["node_constraints", "region_polygons"]
 
 
 def pixel_to_screen(res: int) -> float:
@@ -104,3 +104,49 @@ def _straighten(line, px: float, tolerance_px: float):
         mid = 0.5 * (c[1:] + c[:-1])
         c = np.vstack([mid, mid[:1]]) if closed else np.vstack([c[:1], mid, c[-1:]])
     return shapely.simplify(shapely.LineString(c), tolerance_px * px, preserve_topology=False)
+
+
+def node_constraints(chains, grid: float) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices and segments of polylines, snap-rounded to ``grid`` and noded.
+
+    A constrained triangulation needs a planar straight-line graph: segments that meet only at
+    shared vertices.  Boundaries traced from a picture may leave a vertex a rounding error off
+    another segment (a T-junction the segment does not know of), or two segments crossing;
+    Triangle's quality refinement can then crash the process (a segfault, which no ``try``
+    catches).  Snap rounding (GEOS through ``shapely.unary_union(..., grid_size=grid)``) moves
+    every vertex to the grid, merges vertices of one grid cell and splits every segment at each
+    vertex and crossing it passes within the grid: the result is a planar graph whose segments
+    cover the input's to within ``grid``.
+
+    Parameters
+    ----------
+    chains : sequence of (k_i, 2) array_like
+        Polylines (screen units); those with fewer than two points are ignored.
+    grid : float
+        The snapping grid (``> 0``; e.g. a thousandth of a pixel).
+
+    Returns
+    -------
+    verts : (#V, 2) float64
+        Distinct vertices on the grid.
+    segs : (#S, 2) int64
+        Sorted vertex pairs, each once, no segment of length 0.
+    """
+    import shapely
+
+    if not (np.isfinite(grid) and grid > 0):
+        raise MescherError(f"grid: expected a positive number, found {grid}")
+    lines = [shapely.linestrings(np.asarray(c, dtype=np.float64)) for c in chains if len(c) >= 2]
+    if not lines:
+        return np.zeros((0, 2)), np.zeros((0, 2), dtype=np.int64)
+    noded = shapely.unary_union(shapely.multilinestrings(lines), grid_size=grid)
+    coords, part = shapely.get_coordinates(shapely.get_parts(noded), return_index=True)
+    within = part[1:] == part[:-1]  # consecutive points of one line: a segment
+    a, b = coords[:-1][within], coords[1:][within]
+    key = np.round(np.concatenate([a, b]) / grid).astype(np.int64)
+    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    inv = inv.reshape(-1)
+    verts = np.concatenate([a, b])[first]
+    segs = np.sort(np.stack([inv[: len(a)], inv[len(a) :]], axis=1), axis=1)
+    segs = np.unique(segs[segs[:, 0] != segs[:, 1]], axis=0)
+    return verts, segs.astype(np.int64)
