@@ -37,6 +37,7 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 from .faces import _three_means, _two_groups, split_shared_shade
+from .occlusion import hidden_occlusions
 from .regions import region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
@@ -421,197 +422,87 @@ def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray)
     return np.ascontiguousarray(np.asarray(Vc)[used, :2]), remap[Fc]
 
 
-def hidden_occlusions(
-    labels: np.ndarray,
-    xy: np.ndarray,
-    F: np.ndarray,
-    region: np.ndarray,
-    edges: np.ndarray,
-    ids: np.ndarray,
-    pairs: np.ndarray,
-    occluding: np.ndarray,
-    normals: np.ndarray,
-    reflex_deg: float = 20.0,
-    min_px: float = 2.0,
-    pivot_deg: float = 12.0,
-    margin: float = 0.15,
-):
-    """Occlusion lines that go on between two faces of the same shade, where no picture shows them.
+def _one_contact(F: np.ndarray, edges: np.ndarray, cut: np.ndarray, lines: list) -> np.ndarray:
+    """``cut`` and the edges of each of ``lines`` (index arrays into ``edges``, in turn), each
+    line without its edges on the boundary (outline or holes) where its piece of the cut
+    touches the boundary already.
 
-    Where the boundary between two regions ``A`` and ``R`` turns from an occlusion into a
-    crease at a junction ``E`` where ``A`` has a convex corner and ``R`` a reflex one (over
-    ``180 + reflex_deg`` degrees), ``A`` is the face in front and its object goes on with a
-    face of ``R``'s shade (a stair's next tread over the tread below, joined to ``A`` along the
-    crease).  That face's contour goes on too, invisible: along its other edge direction, the
-    screen projection of ``A``'s normal (which lies in ``R``'s plane).
-    ``A`` must also hold the occluding boundary in its plane better than ``R`` (an occluding
-    contour is an edge of the face in front).  The line is followed from ``E`` through ``R``'s
-    pixels to a notch of the figure's outline or of a hole, at least ``min_px`` pixels on.
-
-    Parameters
-    ----------
-    labels : (N, N) int
-        Shade region per pixel, -1 outside the figure (:class:`Segmentation`).
-    xy : (#V, 2) float
-    F : (#F, 3) int
-    region : (#F,) int
-        Region of each face.
-    edges : (#E, 2) int
-    ids, pairs : (B,) int, (B, 2) int
-        Region-boundary edges and their two regions (:func:`region_boundaries`).
-    occluding : (B,) bool
-        Which of them are occlusions (not along their crease).
-    normals : (3, 3) float
-        Region normals (:func:`normals_from_shading`).
-    reflex_deg : float
-    min_px : float
-    margin : float
-        The front side must fit the chain's direction better by this much (``|sin|``).
-    pivot_deg : float
-        The line ends at a notch of the outline or of a hole (a corner of the figure over
-        ``180 + reflex_deg`` degrees: the next tread's edge ends where the lower tread's edge
-        disappears behind it), the nearest one within this angle of its direction.
-
-    Returns
-    -------
-    list of (2, 2) float64 arrays
-        Each hidden line from its junction ``E`` to where it leaves the figure (screen units).
-    """
-
-    N = labels.shape[0]
-    px = 2.0 / N
-    nv, K = len(xy), int(normals.shape[0])
-    axes2 = normals[:, :2] / np.maximum(
-        np.linalg.norm(normals[:, :2], axis=1, keepdims=True), 1e-12
-    )
-    # the angle each region takes around each vertex: corner angles summed per (vertex, region)
-    P3 = xy[F]
-    u = np.roll(P3, -1, axis=1) - P3
-    w = np.roll(P3, 1, axis=1) - P3
-    ang = np.abs(np.arctan2(u[..., 0] * w[..., 1] - u[..., 1] * w[..., 0], (u * w).sum(-1)))
-    key = (F * K + region[:, None]).ravel()
-    around = np.bincount(key, weights=ang.ravel(), minlength=nv * K).reshape(nv, K)
-    reflex = np.pi + math.radians(reflex_deg)
-    # junctions: a vertex with an occlusion and a crease edge between the same two regions
-    ends = edges[ids]  # (B, 2)
-    pk = np.sort(pairs, axis=1)
-
-    def incident(sel):  # {(vertex, region, region)} of the boundary edges selected
-        p = np.repeat(pk[sel], 2, axis=0)
-        return set(zip(ends[sel].ravel().tolist(), p[:, 0].tolist(), p[:, 1].tolist()))
-
-    junctions = incident(occluding) & incident(~occluding)
-    front = {}  # (vertex, region pair) -> front region, at the ends of the chains
-    for va, vb, a_, b_, f in occlusion_chains(xy, ends, pk, occluding, normals, margin):
-        front[(va, a_, b_)] = f
-        front[(vb, a_, b_)] = f
-    # the figure's angle at each vertex: outline and hole corners are under 2 pi; notches reflex
-    total = around.sum(axis=1)
-    notch = np.nonzero((total < 2.0 * np.pi - 1e-6) & (total > reflex))[0]
-    starts = []
-    for v, a, b in sorted(junctions):  # a handful
-        A = front.get((v, a, b))
-        if A is None:
-            continue
-        R = b if A == a else a
-        if around[v, R] > reflex and around[v, A] < np.pi - math.radians(reflex_deg):
-            starts.append((v, A, R))
-    out = []
-    if notch.size == 0:
-        return out
-    cos_pivot = math.cos(math.radians(pivot_deg))
-    for v, a, r in starts:
-        E = xy[v]
-        to = xy[notch] - E
-        dist = np.linalg.norm(to, axis=1)
-        for sgn in (1.0, -1.0):
-            # the notch the hidden edge reaches: nearest within pivot_deg of the edge direction
-            cos = (to @ (sgn * axes2[a])) / np.maximum(dist, 1e-300)
-            ok = np.nonzero((cos > cos_pivot) & (dist >= min_px * px))[0]
-            if ok.size == 0:
-                continue
-            X = xy[notch[ok[np.argmin(dist[ok])]]]
-            # it crosses R's pixels only (the last 1.5 pixels reach the outline)
-            L = float(np.linalg.norm(X - E))
-            t = np.arange(0.5 * px, L - 1.5 * px, 0.5 * px)
-            Q = E[None] + t[:, None] * ((X - E) / L)[None]
-            j = np.clip(np.floor((Q[:, 0] + 1.0) / px).astype(np.int64), 0, N - 1)
-            i = np.clip(np.floor((1.0 - Q[:, 1]) / px).astype(np.int64), 0, N - 1)
-            if t.size and np.all(labels[i, j] == r):
-                out.append(np.stack([E, X]))
-    return out
-
-
-def occlusion_chains(
-    xy: np.ndarray,
-    ends: np.ndarray,
-    pairs: np.ndarray,
-    occluding: np.ndarray,
-    normals: np.ndarray,
-    margin: float = 0.15,
-) -> list[tuple[int, int, int, int, int]]:
-    """Occlusion chains and the face in front of each.
-
-    A chain is a path of connected occlusion edges between the same two regions.  The front
-    face holds its chain's direction in its plane (an occluding contour is an edge of the face
-    in front): of the two sides, the one whose in-plane axes (screen projections of the other
-    two normals) the chain's end-to-end direction follows better, by ``margin`` in ``|sin|``.
-
-    Parameters
-    ----------
-    xy : (#V, 2) float
-    ends : (B, 2) int
-        Vertices of the region-boundary edges.
-    pairs : (B, 2) int
-        Their two regions, sorted.
-    occluding : (B,) bool
-    normals : (K, 3) float
-    margin : float
-
-    Returns
-    -------
-    list of (tip_a, tip_b, region_a, region_b, front)
-        Chains with two tips (no loops, no branches) and a clear front.
+    A connected cut that meets the boundary twice would cut the surface apart (from a hole to
+    the outline: the loop that carries the figure's period); one contact only opens it.  A
+    line that joins two pieces of the cut that touch the boundary already is left out.
     """
     import scipy.sparse.csgraph as csgraph
 
-    K = int(normals.shape[0])
-    axes2 = normals[:, :2] / np.maximum(
-        np.linalg.norm(normals[:, :2], axis=1, keepdims=True), 1e-12
-    )
-    occ_i = np.nonzero(occluding)[0]
-    out: list[tuple[int, int, int, int, int]] = []
-    if occ_i.size == 0:
-        return out
-    ends_o = ends[occ_i]
-    pid = pairs[occ_i, 0] * K + pairs[occ_i, 1]
-    # join edges that share a vertex and a region pair: nodes are (vertex, pair)
-    node, inv = np.unique(
-        np.stack([ends_o.ravel(), np.repeat(pid, 2)], 1), axis=0, return_inverse=True
-    )
-    inv = inv.reshape(-1, 2)
-    G = sp.coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])), shape=(len(node),) * 2)
-    n_ch, ch = csgraph.connected_components(G, directed=False)
-    deg = np.bincount(inv.ravel(), minlength=len(node))
-    for c in range(n_ch):  # a handful of chains
-        nodes = np.nonzero(ch == c)[0]
-        tips = nodes[deg[nodes] == 1]
-        if tips.size != 2:
-            continue
-        va, vb = int(node[tips[0], 0]), int(node[tips[1], 0])
-        dv = xy[vb] - xy[va]
-        if np.linalg.norm(dv) < 1e-12:
-            continue
-        dv = dv / np.linalg.norm(dv)
-        a_, b_ = divmod(int(node[tips[0], 1]), K)
-        fit = []
-        for side in (a_, b_):  # |sin| to the side's nearest in-plane axis
-            other = [k for k in range(K) if k != side]
-            fit.append(min(abs(dv[0] * axes2[k, 1] - dv[1] * axes2[k, 0]) for k in other))
-        if abs(fit[0] - fit[1]) < margin:
-            continue
-        out.append((va, vb, a_, b_, a_ if fit[0] < fit[1] else b_))
-    return out
+    from ..topology import boundary_loops
+
+    on = np.zeros(len(edges) and int(edges.max()) + 1, dtype=bool)
+    for lp in boundary_loops(F):
+        on[lp] = True
+    cut = np.asarray(cut, dtype=np.int64)
+
+    def contacts(ln):  # boundary vertices on the cut's pieces that ln joins
+        both = np.union1d(cut, ln)
+        e = edges[both]
+        G = sp.coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(len(on),) * 2)
+        _, comp = csgraph.connected_components(G, directed=False)
+        mine = np.isin(comp, comp[edges[ln].ravel()])
+        return np.count_nonzero(on & mine & (np.bincount(e.ravel(), minlength=len(on)) > 0))
+
+    for ln in lines:  # a dozen lines
+        if ln.size and contacts(ln) > 1:
+            ln = ln[~on[edges[ln]].any(axis=1)]
+            if ln.size and contacts(ln) > 1:  # it joins two pieces that touch already
+                continue
+        cut = np.union1d(cut, ln)
+    return cut
+
+
+def _hidden_constraints(hidden: list, pixel: float):
+    """The hidden lines as constraints (shapely lines) and as the stretches to cut.
+
+    Each starts a quarter pixel back so that it crosses the boundary it starts on (noding; the
+    stub outside is not cut); one that ends on another hidden line crosses it by a quarter
+    pixel (not cut either), the others run 1.5 pixels past the last figure pixel, across the
+    straightened outline.
+    """
+    import shapely
+
+    ext, ident = [], []
+    for k, seg_ in enumerate(hidden):
+        u = (seg_[1] - seg_[0]) / np.linalg.norm(seg_[1] - seg_[0])
+        on = any(_ends_on(seg_[1], s_, 1e-6 * pixel) for j, s_ in enumerate(hidden) if j != k)
+        end = seg_[1] + (0.0 if on else 1.5) * pixel * u
+        ext.append(shapely.LineString([seg_[0] - 0.25 * pixel * u, end + 0.25 * on * pixel * u]))
+        ident.append(np.stack([seg_[0], end]))
+    return ext, ident
+
+
+def _ends_on(p: np.ndarray, seg: np.ndarray, tol: float) -> bool:
+    """Whether the point ``p`` lies on the segment ``seg`` ((2, 2)), within ``tol``."""
+    d = seg[1] - seg[0]
+    t = float(np.clip((p - seg[0]) @ d / (d @ d), 0.0, 1.0))
+    return bool(np.linalg.norm(seg[0] + t * d - p) < tol)
+
+
+def _piece_weights(
+    xy: np.ndarray, F: np.ndarray, region: np.ndarray, small: float, weight: float = 1e-3
+) -> np.ndarray:
+    """(#F,) ``weight`` for the faces of pieces (faces of one region joined across edges)
+    smaller than ``small`` (screen area), 1 for the others."""
+    import scipy.sparse.csgraph as csgraph
+
+    from ..topology import edge_faces, edge_topology
+
+    edges, fe, _ = edge_topology(F, len(xy))
+    ef = edge_faces(fe, len(edges))
+    ok = np.nonzero(ef[:, 1] >= 0)[0]
+    ok = ok[region[ef[ok, 0]] == region[ef[ok, 1]]]
+    G = sp.coo_matrix((np.ones(len(ok)), (ef[ok, 0], ef[ok, 1])), shape=(len(F),) * 2)
+    _, piece = csgraph.connected_components(G, directed=False)
+    P = xy[F]
+    e1, e2 = P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]
+    area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    return np.where(np.bincount(piece, weights=area)[piece] < small, weight, 1.0)
 
 
 def _edges_on_lines(xy: np.ndarray, edges: np.ndarray, segments, tol: float) -> np.ndarray:
@@ -677,6 +568,7 @@ def mescher_from_picture(
     tolerance_px: float = 0.75,
     occlusion_deg: float = 15.0,
     complete: bool = True,
+    small_px: float = 8.0,
 ) -> tuple[Mescher, np.ndarray, dict]:
     """The initialization from a picture: segment, triangulate with holes, lift from shading.
 
@@ -699,11 +591,19 @@ def mescher_from_picture(
     occlusion_deg : float
     complete : bool, default: True
         Also cut along the occlusion lines the picture cannot show, between faces of one shade
-        (:func:`hidden_occlusions`; a stair's tread over the one below).  These run on to the
-        outline or a hole, where they really end.  They are read from jogs a few pixels long:
-        on the Penrose stairs at 128 x 128 seen from (1, 1, 2) (rises of 3.5 pixels) the six
-        found lie on the model's hidden edges (two more, where a flight turns, are missed);
+        (:func:`.occlusion.hidden_occlusions`; a stair's tread over the one below).  These run
+        on to the outline or a hole, where they really end, or to another hidden line; a piece
+        of the cut never touches the boundary twice (:func:`_one_contact`), so the loop that
+        carries the period stays whole.  They are read from jogs a few pixels long: on the
+        Penrose stairs at 128 x 128 seen from (1, 1, 2) (rises of 3.5 pixels) all eight step
+        edges are found, the two where a flight turns as a tread edge going on behind the next
+        tread and the corner it turns at (the lift's period within 5% of the true climb);
         seen isometrically (rises of 2.5 pixels) the two found are wrong (down the walls).
+    small_px : float
+        Pieces (faces of one region joined across edges) under this many square pixels weigh
+        ``1e-3`` in the lift: a sliver of an end face under a stair's wall has a shape and a
+        normal the picture hardly fixes, and held to them it would bend the step it touches
+        (on the Penrose stairs the lift's period goes from 10% to 5% under the true climb).
 
     Returns
     -------
@@ -717,7 +617,6 @@ def mescher_from_picture(
         (3,) the unit light used (given or estimated), ``unseen_turn`` (two orientations both
         at the ambient shade: the picture does not show how their faces turn).
     """
-    import shapely
 
     seg = segment_picture(target, background, light=light, ambient=ambient)
     if len(seg.shades) != 3:
@@ -747,25 +646,21 @@ def mescher_from_picture(
         if complete
         else []
     )
-    hidden_edges = np.zeros(0, dtype=np.int64)
+    hidden_edges = []
     if hidden:
-        # the hidden lines become constraints; each starts a quarter pixel back so that it
-        # crosses the boundary it starts on (noding), the stub outside R is not cut
-        # and runs 1.5 pixels past the last figure pixel, across the straightened outline
-        ext, ident = [], []
-        for seg_ in hidden:
-            u = (seg_[1] - seg_[0]) / np.linalg.norm(seg_[1] - seg_[0])
-            ext.append(shapely.LineString([seg_[0] - 0.25 * pixel * u, seg_[1] + 1.5 * pixel * u]))
-            ident.append(np.stack([seg_[0], seg_[1] + 1.5 * pixel * u]))
+        ext, ident = _hidden_constraints(hidden, pixel)
         polys, preg, lines = region_polygons(seg.labels, tolerance_px, ext)
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
         occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
-        hidden_edges = _edges_on_lines(xy, edges, ident, 1e-3 * pixel)
+        hidden_edges = [_edges_on_lines(xy, edges, [i_], 1e-3 * pixel) for i_ in ident]
     # visible occlusions stop short of the outline; hidden ones run on to it (they end there)
-    cut = np.union1d(_off_outline(F, xy, edges, ids[occl]), hidden_edges)
+    # unless their cut touches the boundary already: it then stops short too
+    cut = _one_contact(F, edges, _off_outline(F, xy, edges, ids[occl]), hidden_edges)
     xy, F = cut_along(xy, F, edges, cut)
-    m = lift(xy, F, normals[region])
+    # pieces of a few pixels (a sliver of an end face under a stair's wall) have shapes and
+    # normals the picture hardly fixes: they follow their neighbours instead of voting
+    m = lift(xy, F, normals[region], _piece_weights(xy, F, region, small_px * pixel * pixel))
     unseen = seg.normals is not None and int(np.sum(seg.shades - ambient < 2 / 255)) >= 2
     info = {
         "normals": normals,
@@ -791,11 +686,14 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
     ``face_normals`` (``info["normals"][region]``) each face's normal is held to its shade
     region's by a small penalty (:data:`.turn.PICTURE_TURN`).  The periods move at ``1e-2``
     depth units per step: where the lift met a step it could not see, the faces it bent shade
-    wrongly, and the image pulls the periods toward the picture's (Penrose stairs: 1.14 from
-    the picture, 1.28 after 300 steps against the true 1.39; 1.18 at ``1e-3``).  Where
-    ``info`` (of :func:`mescher_from_picture`) says two orientations are both turned away from
-    the light, any turn of their faces shades them alike, the image cannot hold the periods
-    and they stay as the lines gave them (``lr_periods = 0``).
+    wrongly, and the image pulls the periods toward the picture's.  Where ``info`` (of
+    :func:`mescher_from_picture`) says two orientations are both turned away from the light,
+    any turn of their faces shades them alike, the image cannot hold the periods and they stay
+    as the lines gave them (``lr_periods = 0``); so they do where the lift cut hidden lines
+    (``info["hidden_lines"]``): the steps no picture shows are then cut, not bent, and the
+    image has nothing to say about their height (Penrose stairs seen from (1, 1, 2), light
+    (0.19, -0.2, 0.96): 1.32 from the picture against the true 1.39, 1.28 after 300 steps
+    at ``1e-2``).
     """
     from .optimize import InverseOptions
 
@@ -813,7 +711,7 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
         eval_every=20,
         turn=PICTURE_TURN,
     )
-    if info is not None and info.get("unseen_turn"):
+    if info is not None and (info.get("unseen_turn") or len(info.get("hidden_lines", ())) > 0):
         kw["lr_periods"] = 0.0
     kw.update(overrides)
     return InverseOptions(**kw)
