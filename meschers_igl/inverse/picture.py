@@ -38,10 +38,14 @@ from ..errors import MescherError
 from ..mescher import Mescher
 from .faces import _three_means, _two_groups, split_shared_shade
 from .occlusion import hidden_occlusions
-from .regions import region_polygons
+from .regions import node_constraints, region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
 from .turn import PICTURE_TURN, _slope_wishes, _weighted_least_squares
+
+#: The grid (in pixels) region boundaries are snap-rounded to before triangulating: far below
+#: anything a picture shows, far above rounding error.
+NODE_GRID_PX = 1e-3
 
 
 @dataclass
@@ -232,18 +236,9 @@ def triangulate_regions(
         raise MescherError("polygons: expected at least one non-empty region, found none")
     union = shapely.union_all(polygons)
     chains = _split_near_outline([np.asarray(g.coords) for g in lines], union.boundary, pixel)
-    pts = np.concatenate(chains)
-    key = np.round(pts * 1e9).astype(np.int64)
-    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    verts = pts[first]
-    segs, off = [], 0
-    for ch in chains:
-        idx = inv[off : off + len(ch)]
-        segs.append(np.stack([idx[:-1], idx[1:]], axis=1))
-        off += len(ch)
-    segs = np.concatenate(segs)
-    segs = np.unique(np.sort(segs, axis=1), axis=0)
-    segs = segs[segs[:, 0] != segs[:, 1]]
+    # a planar straight-line graph: Triangle's refinement may crash the process on a vertex a
+    # rounding error off a foreign segment (regions.node_constraints)
+    verts, segs = node_constraints(chains, NODE_GRID_PX * pixel)
     holes = []
     for p in getattr(union, "geoms", [union]):
         for r in p.interiors:
