@@ -13,6 +13,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 import pytest
+from builders import merge_meshes
 from visible_models import ISO_UP, ISO_VIEW, hidden_gap_frame, triangulate, u_tribar
 
 from meschers_igl import shapes
@@ -263,12 +264,7 @@ def _scene():
     parts.append(shapes.boxes(lo, lo + [1.0, 1.0, 7.0]))
     V, P, _ = u_tribar()
     parts.append(weld(V + [0.0, 40.0, 0.0], triangulate(P), 1e-9)[:2])
-    Vs, Fs, n = [], [], 0
-    for V, F in parts:
-        Vs.append(V)
-        Fs.append(F + n)
-        n += V.shape[0]
-    return np.vstack(Vs), np.vstack(Fs)
+    return merge_meshes(parts)
 
 
 def test_junction_candidates_hold_every_pair_that_may_be_a_junction():
