@@ -52,6 +52,7 @@ _LAZY = {
     "boundary_loop_periods": "metrics",
     "figure_period": "metrics",
     "axis_aligned_share": "metrics",
+    "picture_axes": "metrics",
     "mescher_from_picture": "picture",
     "fit_options": "picture",
     "segment_picture": "picture",

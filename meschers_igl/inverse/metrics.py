@@ -108,3 +108,70 @@ def axis_aligned_share(
     a = a / np.linalg.norm(a, axis=1, keepdims=True)
     cos = np.abs(np.asarray(face_normals)[f] @ a.T).max(axis=1)
     return float(np.mean(cos >= np.cos(np.radians(max_deg))))
+
+
+def picture_axes(V, F, view, max_deg: float = 10.0) -> np.ndarray:
+    """(3, 3) the three main face directions a picture of a 3D model shows (either sign).
+
+    Greedy over the face normals: the direction with the most projected area within
+    ``max_deg`` of it, then the one with the most of what remains (more than ``max_deg`` from
+    the first), then from both.  A face of area ``A`` and unit normal ``n`` covers
+    ``A |n . view|`` of an orthographic picture (before occlusion); a face seen edge-on is not in
+    the picture whatever its area.  The absolute value takes either orientation (files are not
+    always outward).  For a model of boxes these are its axes; for a sheared model (a tribar
+    made a real torus by shearing the bars a picture shows edge-on) the directions of the faces
+    seen, which a person reads; for a relief, its real (not quite right-angled) face directions.
+
+    Parameters
+    ----------
+    V : (#V, 3) float
+    F : (#F, 3) int
+    view : (3,) float
+        Direction from the model toward the viewer (any length but zero).
+    max_deg : float
+
+    Returns
+    -------
+    (3, 3) float64
+        Unit directions, rows in order of projected area, in the frame of ``V``.
+
+    Raises
+    ------
+    MescherError
+        Malformed ``V``, ``F`` or ``view``, or no face seen from ``view``.
+    """
+    from ..errors import MescherError
+
+    V = np.asarray(V, dtype=np.float64)
+    F = np.asarray(F)
+    v = np.asarray(view, dtype=np.float64)
+    if V.ndim != 2 or V.shape[1] != 3:
+        raise MescherError(f"V: expected (#V, 3) vertex positions, found shape {V.shape}")
+    if F.ndim != 2 or F.shape[1] != 3 or not np.issubdtype(F.dtype, np.integer):
+        raise MescherError(f"F: expected (#F, 3) integer triangles, found {F.dtype} {F.shape}")
+    if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
+        raise MescherError(f"view: expected a nonzero (3,) direction, found {v!r}")
+    v = v / np.linalg.norm(v)
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    area = np.linalg.norm(n, axis=1)
+    ok = area > 1e-12 * area.max(initial=0.0)
+    n = n[ok] / area[ok, None]
+    seen = area[ok] * np.abs(n @ v)
+    if seen.sum() <= 0:
+        raise MescherError("view: expected some face seen from it, found every face edge-on")
+    # faces of one orientation (a box model's) vote once; the rest in blocks of rows, so that
+    # many distinct normals (a relief) need no #F x #F matrix
+    n, inv = np.unique(np.round(n, 9), axis=0, return_inverse=True)
+    seen = np.bincount(inv.ravel(), seen, minlength=len(n))
+    n = n / np.linalg.norm(n, axis=1, keepdims=True)
+    cos = math.cos(math.radians(max_deg))
+    score = np.concatenate(
+        [(np.abs(n[i : i + 2048] @ n.T) > cos) @ seen for i in range(0, len(n), 2048)]
+    )
+    taken = np.zeros(len(n), dtype=bool)
+    axes = []
+    for _ in range(3):
+        k = int(np.argmax(np.where(taken, -1.0, score)))
+        axes.append(n[k])
+        taken |= np.abs(n @ n[k]) > cos
+    return np.stack(axes)
