@@ -36,6 +36,7 @@ from .junctions import (
     parts_and_front,
     pieces_are_bars,
 )
+from .view_stairs import MIN_ELEVATION, penrose_stairs_view, stair_chain
 
 #: Vertices taking part in the vote (all pairs among them are tried).
 MAX_VOTERS = 1500
@@ -456,6 +457,13 @@ def find_model_view(
 ):
     """``view="auto"`` for any model: the view from which its junctions line up.
 
+    0. Penrose stairs (:func:`~meschers_igl.obtain.view_stairs.penrose_stairs_view`): an open
+       ring of flights is seen from above, from where its bottom step sits on screen where the
+       step after its top would be (their junction is usually hidden behind a wall, which the
+       searches below miss); screen up is then the stairs' up axis projected.  On any other
+       staircase (a chain of treads, :func:`~meschers_igl.obtain.view_stairs.stair_chain`),
+       without ``start``, a view below ``MIN_ELEVATION`` over its treads is refused (seen from
+       the side, columns line up by accident).
     1. Coincidences (:func:`meschers_igl.autoview.find_view`, a vote over vertex pairs that
        line up, refined to round-off): taken when a false edge (two caps coinciding on
        screen) or a hidden gap is seen from it -- cut files and capped solids.
@@ -496,7 +504,8 @@ def find_model_view(
     Returns
     -------
     view, up : (3,) float64
-        Unit view (toward the camera) and screen up (world +z projected).
+        Unit view (toward the camera) and screen up (world +z projected; for stairs, their
+        up axis projected).
 
     Raises
     ------
@@ -508,6 +517,24 @@ def find_model_view(
     diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
     tol = REL_TOL * diag if tol is None else float(tol)
     start = _unit_start(start)
+    chain = stair_chain(V, F, tol)
+    stairs = penrose_stairs_view(
+        V, F, tol, start, within if start is not None else np.pi, chain=chain
+    )
+    if stairs is not None:  # an open ring of flights whose top and bottom steps line up
+        return stairs
+    v, up = _junction_view(V, F, tol, start, judge, within)
+    if start is None and chain is not None and v @ chain.up < np.sin(MIN_ELEVATION):
+        el = np.degrees(np.arcsin(np.clip(v @ chain.up, -1.0, 1.0)))
+        raise MescherError(  # seen from the side, columns of stairs line up by accident
+            f"view: expected a view from which junctions line up and the stairs' treads are "
+            f"seen from above, found {np.round(v, 4).tolist()} at {el:.3g} degrees; pass view="
+        )
+    return v, up
+
+
+def _junction_view(V, F, tol, start, judge, within):
+    """Steps 1-4 of :func:`find_model_view`: (view, up) from which a junction lines up."""
     TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
     pairs = bar_end_pairs(V, F, tol, TT)
     R0 = view_frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
