@@ -35,6 +35,7 @@ from .glue import (
 from .junctions import closed_surface
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame
 from .records import ConversionReport, VisibleModel
+from .stairs import glue_step_junctions, step_junctions
 from .view import START_ANGLE, find_model_view, relief_fronts, up_for_view
 
 
@@ -310,6 +311,9 @@ def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, pe
             if ext is not None:
                 xy, Fa, src, pl_all, C, F, N, front, ftol = ext
                 continue
+        if perceive is None:  # the top of a staircase seen over a wall rising to its bottom
+            j = step_junctions(xy, Fa, src, pl_all, C, F, N, front, glue, tol_abs, n_model)
+            glue, arcs, fe = glue_step_junctions(glue, arcs, fe, Fa, *j)
         is_bridge = np.zeros(Fa.shape[0], dtype=bool)
         bridges: list = []
         Fb, sb, Zb = Fa, src, Z
