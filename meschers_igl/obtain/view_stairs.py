@@ -91,8 +91,8 @@ def _plan(X: np.ndarray, up: np.ndarray) -> np.ndarray:
 
 def _up_axes(nu: np.ndarray, area: np.ndarray) -> np.ndarray:
     """(k, 3) the most common face normals by area (at most :data:`MAX_UP_AXES`)."""
-    key = np.round(nu / 1e-3).astype(np.int64)
-    _, inv, _ = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    key = np.round(nu / 1e-3).astype(np.int64) + 1000  # components on a 1e-3 grid
+    _, inv = np.unique((key[:, 0] * 2001 + key[:, 1]) * 2001 + key[:, 2], return_inverse=True)
     inv = inv.reshape(-1)
     w = np.bincount(inv, weights=area)
     S = np.stack([np.bincount(inv, weights=area * nu[:, c]) for c in range(3)], axis=1)
@@ -137,20 +137,40 @@ def _tread_patches(V, F, lab, nu, area, up, tol):
     return faces, P_level, P_area, C, seg, plab[fe]
 
 
-def _point_segment(P: np.ndarray, A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """(p, s) plan distances from points ``P`` (p, 2) to segments ``A``-``B`` (s, 2)."""
-    d = B - A
-    dd = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
-    t = np.clip(np.einsum("psj,sj->ps", P[:, None] - A[None], d) / dd, 0.0, 1.0)
-    return np.linalg.norm(P[:, None] - (A[None] + t[..., None] * d[None]), axis=2)
+#: Most (point, segment) distances :func:`_touching` forms at once.
+_TOUCH_CHUNK = 1 << 21
 
 
-def _touching(seg2: np.ndarray, owner: np.ndarray, i: int, j: int, tol: float) -> bool:
-    """Do patches ``i`` and ``j`` touch in plan (a vertex of one on an edge of the other)?"""
-    si, sj = seg2[owner == i], seg2[owner == j]
-    d1 = _point_segment(si.reshape(-1, 2), sj[:, 0], sj[:, 1]).min()
-    d2 = _point_segment(sj.reshape(-1, 2), si[:, 0], si[:, 1]).min()
-    return min(float(d1), float(d2)) <= tol
+def _touching(seg2: np.ndarray, owner: np.ndarray, i, j, tol: float) -> np.ndarray:
+    """(k,) bool: do patches ``i[k]`` and ``j[k]`` touch in plan -- a boundary vertex of one
+    within ``tol`` of a boundary segment of the other -- for all pairs at once.
+
+    Parameters
+    ----------
+    seg2 : (s, 2, 2) float64
+        Plan boundary segments of every patch; ``owner`` (s,) their patch.
+    """
+    seg2 = seg2[np.argsort(owner, kind="stable")]
+    cnt = np.bincount(owner)
+    first = np.r_[0, np.cumsum(cnt)[:-1]]
+    d = np.full(i.size, np.inf)
+    for a, b in ((i, j), (j, i)):  # a's vertices on b's segments, then the other way
+        n = cnt[a] * cnt[b]
+        step = max(1, _TOUCH_CHUNK // max(int(n.max(initial=1)), 1))
+        for lo in range(0, a.size, step):  # chunks of pairs
+            k = np.arange(lo, min(lo + step, a.size))
+            rep = np.repeat(k, n[k])
+            local = np.arange(rep.size) - np.repeat(np.cumsum(n[k]) - n[k], n[k])
+            P = seg2[first[a[rep]] + local // cnt[b[rep]], 0]
+            S = seg2[first[b[rep]] + local % cnt[b[rep]]]
+            e = S[:, 1] - S[:, 0]
+            ee = np.maximum(np.einsum("ij,ij->i", e, e), 1e-300)
+            t = np.clip(np.einsum("ij,ij->i", P - S[:, 0], e) / ee, 0.0, 1.0)
+            dist = np.sqrt(((P - S[:, 0] - t[:, None] * e) ** 2).sum(axis=1))
+            has = k[n[k] > 0]  # rep is sorted: one run per pair
+            runs = np.r_[0, np.cumsum(n[has])[:-1]]
+            d[has] = np.minimum(d[has], np.minimum.reduceat(dist, runs) if dist.size else [])
+    return d <= tol
 
 
 def stair_chain(V: Any, F: Any, tol: float | None = None) -> StairChain | None:
@@ -201,14 +221,20 @@ def _chain_for_axis(V, F, lab, nu, area, up, tol) -> StairChain | None:
     seg2 = _plan(seg, up)
     radius = np.zeros(len(faces))
     np.maximum.at(radius, owner, np.linalg.norm(seg2[:, 0] - c2[owner], axis=1))
-    dl = level[None, :] - level[:, None]
-    dc = np.linalg.norm(c2[:, None] - c2[None], axis=2)
-    wmin = np.minimum(width[:, None], width[None, :])
-    may = (dl > tol) & (dl <= wmin) & (dc <= radius[:, None] + radius[None] + 10 * tol)
+    # candidate pairs: plan centroids near enough for the patches to touch
+    reach = 2.0 * float(radius.max()) + 10 * tol
+    ij = cKDTree(c2).query_pairs(reach, output_type="ndarray").reshape(-1, 2)
+    swap = level[ij[:, 0]] > level[ij[:, 1]]
+    ij[swap] = ij[swap][:, ::-1]  # lower first
+    i, j = ij[:, 0], ij[:, 1]
+    dl = level[j] - level[i]
+    dc = np.linalg.norm(c2[i] - c2[j], axis=1)
+    wmin = np.minimum(width[i], width[j])
+    may = (dl > tol) & (dl <= wmin) & (dc <= radius[i] + radius[j] + 10 * tol)
     may &= dc >= 0.5 * wmin
-    i, j = np.nonzero(may)
-    keep = [k for k in range(i.size) if _touching(seg2, owner, int(i[k]), int(j[k]), 10 * tol)]
-    i, j = i[keep], j[keep]
+    i, j = i[may], j[may]
+    touch = _touching(seg2, owner, i, j, 10 * tol)
+    i, j = i[touch], j[touch]
     # the longest path up (the levels order the graph)
     order = np.argsort(level, kind="stable")
     rank = np.empty_like(order)
