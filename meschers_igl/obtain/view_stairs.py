@@ -20,8 +20,14 @@ structure does:
    is seen edge-on, every step of the chain moves on screen, and the missing step's tread and
    riser show on screen as the model's own step does: sample points of the missing tread see the
    other end's tread, those of its riser (when it faces the viewer) a face parallel to the riser
-   (:func:`wrap_seen`).  A straight flight (no turn), a spiral (no flight, or its wrap seen from
-   straight above) or a stepped grid (treads side by side) gives no view.
+   (:func:`wrap_seen`), and every tread shows but where the steps above it hide it (a tall wall
+   hiding a tread gives the trick away: :func:`treads_seen`).  Of the two wraps, the one seeing
+   most of the treads.  A straight flight (no turn), a spiral (no flight, or its wrap seen from
+   straight above or past a tall wall) or a stepped grid (treads side by side) gives no view.
+
+The view is exact (a difference of tread centroids) when the top and bottom treads have the
+same shape, as modellers build them; it is then the view from which every step, the wrap
+included, shows one riser.
 """
 
 from __future__ import annotations
