@@ -278,9 +278,9 @@ def penrose_flights(chain: StairChain) -> Flights | None:
     """The flights of ``chain`` when they make an open ring, else None.
 
     A flight is a run of consecutive steps moving in one horizontal direction (within
-    :data:`FLIGHT_ANGLE`).  A ring: three or four flights, the middle ones at least two steps
-    long, each turning from the last by at least :data:`MIN_TURN` and all the same way, by less
-    than a whole turn in all.
+    :data:`FLIGHT_ANGLE`).  A ring: three or four flights, each turning from the last by at
+    least :data:`MIN_TURN` and all the same way, by less than a whole turn in all (a spiral
+    turning at every step makes as many flights as steps, at least :data:`MIN_STEPS` - 1).
     """
     up = chain.up
     D = np.diff(chain.centroids, axis=0)
@@ -293,7 +293,7 @@ def penrose_flights(chain: StairChain) -> Flights | None:
     new = np.r_[True, np.einsum("ij,ij->i", u[1:], u[:-1]) < np.cos(FLIGHT_ANGLE)]
     start = np.r_[np.flatnonzero(new), u.shape[0]]
     n_f = start.size - 1
-    if not 3 <= n_f <= 4 or np.any(np.diff(start)[1:-1] < 2):
+    if not 3 <= n_f <= 4:
         return None
     d = np.array([u[s:e].sum(axis=0) for s, e in zip(start[:-1], start[1:])])
     d /= np.linalg.norm(d, axis=1)[:, None]

@@ -112,6 +112,16 @@ def penrose_ring(k: int, rise: float = 0.2, solid: bool = False):
     return V, F, w, cells, np.r_[s, 0.0]
 
 
+def rect_ring(W: int, H: int, rise: float, solid: bool = False):
+    """An open ring on a ``W x H`` rectangle: flights of ``H``, ``W``, ``H - 1`` steps and one
+    (+y, +x, -y, -x); with ``H = 2`` the third flight is a single step.  Returns (V, F, w)."""
+    cells, s = cell_path([("+y", H), ("+x", W), ("-y", H - 1), ("-x", 1)])
+    heights = 1.0 + rise * np.arange(len(cells))
+    V, F = closed_solid(cells, heights) if solid else columns(cells, heights)
+    w = np.r_[cells[-1] + s - cells[0], heights[-1] + rise - heights[0]]
+    return V, F, w
+
+
 def _pose(V, seed):
     R = random_rotation(seed)
     return V @ R.T + np.array([2.0, -5.0, 7.0]), R
@@ -146,6 +156,16 @@ def test_auto_finds_the_wrap_of_a_penrose_ring_in_any_pose(k, solid):
     d = np.linalg.norm(moved[:, None, :2] - seen[None, :, :2], axis=2)
     assert np.all(d.min(axis=1) <= 1e-9 * np.linalg.norm(w))
     assert dt < 2.0  # seconds; about 0.05 s on a quiet machine
+
+
+@pytest.mark.parametrize("solid", [False, True])
+@pytest.mark.parametrize("W,H,rise", [(4, 3, 0.2), (5, 2, 0.15), (3, 4, 0.1)])
+def test_auto_finds_the_wrap_of_rings_with_flights_of_any_length(W, H, rise, solid):
+    """Flights of different lengths, one of them a single step (``H = 2``), low rises."""
+    V0, F, w = rect_ring(W, H, rise, solid)
+    V, R = _pose(V0, W + 7 * H)
+    v, _ = find_model_view(V, F)
+    assert _angle(v, R @ w) <= 1e-9
 
 
 @pytest.mark.parametrize("k", [3, 4, 5])
