@@ -309,3 +309,13 @@ def test_the_wrap_is_found_on_a_triangle_soup():
     assert len(stair_chain(S, G).treads) == len(stair_chain(V, F).treads) == 13
     v, _ = penrose_stairs_view(S, G)
     assert _angle(v, w) <= 1e-6  # float32 corners: 1e-7 relative
+
+
+@pytest.mark.parametrize("solid", [False, True])
+def test_the_mirror_ring_turning_the_other_way_is_found(solid):
+    """The ring mirrored (x -> -x, faces reversed) turns the other way round its well."""
+    V, F, w, _, _ = penrose_ring(4, solid=solid)
+    M = np.diag([-1.0, 1.0, 1.0])
+    Vm, R = _pose(V @ M, 21)
+    v, _ = find_model_view(Vm, F[:, ::-1])
+    assert _angle(v, R @ M @ w) <= 1e-9
