@@ -28,6 +28,7 @@ from .glue import (
     depths_have_period,
     false_edge_junctions,
     hidden_step_edges,
+    narrow_step_bands,
     reglue,
     split_cut_faces,
     stuck_cuts,
@@ -333,6 +334,8 @@ def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, pe
         if stuck.size == 0:
             break
         xy, Fa, src = split_cut_faces(xy, Fa, src, h1[stuck], h2[stuck])
+    if perceive is None:  # glued: the riser bands narrowed below any pixel
+        xy, Zb = narrow_step_bands(xy, Fb, sb, Zb, pl_all, C, F, n_model, tol_abs)
     return Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge | (sb >= n_model), sb
 
 
