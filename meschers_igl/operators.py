@@ -38,6 +38,7 @@ __all__ = [
     "massmatrix",
     "mollify",
     "star1_from_half_cot",
+    "up_for_view",
     "vertex_normals",
     "view_frame",
 ]
@@ -71,6 +72,17 @@ def view_frame(view=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0)) -> np.ndarray:
     right /= n
     u = np.cross(v, right)
     return np.stack([right, u, v])
+
+
+def up_for_view(view: object) -> np.ndarray:
+    """Screen up for ``view``: world +z projected onto the screen plane (+y if view is vertical)."""
+    v = np.asarray(view, dtype=np.float64)
+    v = v / np.linalg.norm(v)
+    for axis in (np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])):
+        u = axis - (axis @ v) * v
+        if np.linalg.norm(u) > 1e-6:
+            return u / np.linalg.norm(u)
+    raise MescherError(f"view: expected a finite direction, found {v.tolist()}")  # unreachable
 
 
 def corner_depths(zeta: np.ndarray, face_edges: np.ndarray, signs: np.ndarray) -> np.ndarray:

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..errors import MescherError
-from ..operators import view_frame
+from ..operators import up_for_view, view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
 from .clip import FRONT_NZ, REL_TOL
@@ -53,17 +53,6 @@ MAX_EDGE_ON = 0.2
 EDGE_ON_FALLBACK = 0.3
 #: At most this many such better-supported views are judged.
 MAX_EDGE_ON_VIEWS = 3
-
-
-def up_for_view(view: Any) -> np.ndarray:
-    """Screen up for ``view``: world +z projected onto the screen plane (+y if view is vertical)."""
-    v = np.asarray(view, dtype=np.float64)
-    v = v / np.linalg.norm(v)
-    for axis in (np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])):
-        u = axis - (axis @ v) * v
-        if np.linalg.norm(u) > 1e-6:
-            return u / np.linalg.norm(u)
-    raise MescherError(f"view: expected a finite direction, found {v.tolist()}")  # unreachable
 
 
 def _voters(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -308,7 +297,6 @@ def _occluder_centred_view(V, F, TT, part, be: BarEnds, tol, v0, iters: int = 50
     gap (seen from ``v0``) on the gap: ``v`` along ``c_occ - p`` with ``c_occ`` the occluding
     part's (area-weighted) centroid and ``p`` the gap's middle on the first piece's line."""
     from ..geometry2d import barycentric
-    from .view import up_for_view
 
     w = np.cross(be.d, be.T)
     w /= np.linalg.norm(w)

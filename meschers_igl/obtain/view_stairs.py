@@ -332,8 +332,7 @@ def visible_faces(V: np.ndarray, F: np.ndarray, view: np.ndarray, P: np.ndarray)
     at least -1e-9).
     """
     from ..geometry2d import barycentric
-    from ..operators import view_frame
-    from .view import up_for_view
+    from ..operators import up_for_view, view_frame
 
     R = view_frame(view, up_for_view(view))
     C, Q = V @ R.T, P @ R.T
