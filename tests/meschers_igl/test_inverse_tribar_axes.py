@@ -172,3 +172,55 @@ def test_sheared_tribar_region_normals_are_the_picture_axes(light):
     # in steps of 0.25 degrees; 0.1 to 1.5 degrees were measured over six lights
     assert _same_directions(info["normals"], axes, 3.0)
     assert np.bincount(region, minlength=3).min() > 0
+
+
+def test_outer_ground_leaves_the_holes_out():
+    from meschers_igl.inverse.faces import _outer_ground
+
+    mask = np.zeros((9, 9), dtype=bool)
+    mask[1:8, 1:8] = True
+    mask[3:6, 3:6] = False  # a hole
+    outer = _outer_ground(mask)
+    assert not outer[3:6, 3:6].any() and not outer[mask].any()
+    assert outer.sum() == 81 - 49
+    # a band across the image leaves two grounds, both on the border; with a ring, a
+    # background pixel in a corner is the ground and the one the ring encloses a hole
+    band = np.zeros((6, 6), dtype=bool)
+    band[2:4, :] = True
+    assert np.array_equal(_outer_ground(band), ~band)
+    ring = np.ones((5, 5), dtype=bool)
+    ring[2, 2] = False
+    ring[0, 0] = False
+    out = _outer_ground(ring)
+    assert out[0, 0] and not out[2, 2]
+
+
+def test_relief_shared_shade_split_reads_a_hole_outline_as_a_line_inside():
+    """The Reutersvärd relief lit so that two face directions are turned away (one shade).
+
+    Each pixel of the dark shade is put on one of its two faces by the lines at the ends of
+    its chord; a chord that runs out onto the central hole has often crossed unseen edges
+    between dark faces where the bars turn around the hole.  Against the faces the model's
+    own z-buffer shows there (an independent picture), the split puts 329 of the figure's
+    5501 pixels on the wrong face when a hole's outline counts as the outline (the whole
+    face in the nook under the top cube among them) and 278 when it counts as a line inside;
+    about 150 of those are one-pixel steps along the unseen creases, which no line shows.
+    """
+    pytest.importorskip("pyvista")
+    from meschers.inverse_cli import zbuffer_picture
+    from meschers_igl.inverse.picture import segment_picture
+
+    m = _real_model("ImpossibleTriangle.obj")
+    light = _unit((-0.897, -0.442, 0.029))
+    ground = (0.55, 0.7, 0.9)
+    image, _ = zbuffer_picture(m, 128, light=light, ambient=0.2, background=ground)
+    seg = segment_picture(image, ground, light=light, ambient=0.2)
+    assert seg.normals is not None  # two shades: the lines split the shared one
+    vis = _visible_faces(m, 128)
+    np.testing.assert_array_equal(vis >= 0, seg.labels >= 0)
+    V, F = m.V @ m.camera_frame().T, np.asarray(m.F)
+    n = _unit_rows(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]))
+    n *= np.sign(n[:, 2:3] + 1e-300)  # toward the viewer
+    truth = np.argmax(n[vis[vis >= 0]] @ seg.normals.T, axis=1)
+    wrong = int(np.sum(truth != seg.labels[vis >= 0]))
+    assert wrong < 295, wrong  # 278 measured (329 with every outline first)
