@@ -31,19 +31,20 @@ def _chains(xy, Fa, hs):
     return out
 
 
-def _on_visible_edges(poly, tri, A, B, edge_keys: np.ndarray, n_points: int) -> bool:
+def _on_visible_edges(poly, tri, A, B, Fa: np.ndarray) -> bool:
     """Does a triangle of the strip ``poly`` (triangulated as ``tri``) have an edge, other than
     one of the chains' own edges ``A`` and ``B``, that is already an edge of the visible map
-    (``edge_keys``: ``u * n_points + v`` with ``u < v``)?  Such a strip runs along a visible
-    edge, not behind the occluder (edges of a scene that coincide exactly, seen along an axis):
-    bridging it would give that edge a third face."""
+    ``Fa``?  Such a strip runs along a visible edge, not behind the occluder (edges of a scene
+    that coincide exactly, seen along an axis): bridging it would give that edge a third face."""
     own = {tuple(sorted(p)) for C in (A, B) for p in zip(C[:-1], C[1:])}
     t = np.asarray([[poly[i] for i in tr] for tr in tri], dtype=np.int64)
     e = np.sort(t[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     e = np.array([p for p in map(tuple, e.tolist()) if p not in own], dtype=np.int64)
     if e.size == 0:
         return False
-    return bool(np.isin(e[:, 0] * np.int64(n_points) + e[:, 1], edge_keys).any())
+    n = np.int64(max(int(Fa.max(initial=0)), int(e.max())) + 1)
+    fe = np.sort(Fa[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    return bool(np.isin(e[:, 0] * n + e[:, 1], fe[:, 0] * n + fe[:, 1]).any())
 
 
 def bridge_hidden_gaps(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=None):
@@ -76,9 +77,6 @@ def bridge_hidden_gaps(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=Non
             f0 = he[Fa[he // 3, (he % 3 + 1) % 3] == ch[0]][0] // 3
             chains.append((g, ch, int(src[f0])))
     T = xy[Fa]
-    # the visible map's edges (u * n + v, u < v): a strip along one of them is not hidden
-    e = np.sort(Fa[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    edge_keys = np.unique(e[:, 0] * np.int64(xy.shape[0]) + e[:, 1])
     new_faces, new_src, bridges, used = [], [], [], set()
     for ia, (ga, A, sa) in enumerate(chains):  # few chains
         best = None
@@ -124,9 +122,7 @@ def bridge_hidden_gaps(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=Non
         _, ib, poly, sb, gap, plane = best
         P = xy[poly]
         tri = _polygon_triangles(P)
-        if tri is None or _on_visible_edges(
-            poly, tri, chains[ia][1], chains[ib][1], edge_keys, xy.shape[0]
-        ):
+        if tri is None or _on_visible_edges(poly, tri, chains[ia][1], chains[ib][1], Fa):
             continue
         used |= {ia, ib}
         new_faces += [[poly[i] for i in t] for t in tri]
