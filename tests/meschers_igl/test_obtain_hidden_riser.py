@@ -14,9 +14,10 @@ import warnings
 
 import numpy as np
 import pytest
+from visible_models import convert_quietly
 
 from meschers_igl.errors import MescherWarning
-from meschers_igl.obtain import model_to_mescher, see_model
+from meschers_igl.obtain import see_model
 from meschers_igl.obtain.glue import STEP_BAND
 from meschers_igl.operators import view_frame
 from meschers_igl.shapes import boxes
@@ -58,15 +59,6 @@ def stepped_grid(n: int = 3, rise: float = 0.3):
     return boxes(lo, hi)
 
 
-def _convert(V, F, view, up=(0.0, 0.0, 1.0)):
-    v = np.asarray(view, float)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", MescherWarning)
-        m, order, report = model_to_mescher(V, F, view=v / np.linalg.norm(v), up=up)
-    p = np.abs(np.asarray(m.periods()))
-    return m, order, report, p[p > 1e-6 * m.scale()]
-
-
 def _n_bands(report) -> int:
     return int(np.count_nonzero(report.source_face < 0))
 
@@ -77,7 +69,7 @@ def test_penrose_columns_climb_per_turn(s):
     the least one turn: |w| (the hidden risers of the flights climbing away join the treads;
     without them the tread loop is cut and only the depth order is impossible)."""
     V, F, w = penrose_columns(s)
-    m, order, report, p = _convert(V, F, w)
+    m, order, report, p = convert_quietly(V, F, w)
     climb = float(np.linalg.norm(w))
     assert m.is_impossible(order=order).kind == "zeta"
     assert p.size >= 1
@@ -92,7 +84,7 @@ def test_penrose_columns_any_pose():
     rng = np.random.default_rng(7)
     Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
     Q *= np.sign(np.linalg.det(Q))
-    m, order, report, p = _convert(V @ Q.T, F, Q @ w, Q @ np.array([0.0, 0.0, 1.0]))
+    m, order, report, p = convert_quietly(V @ Q.T, F, Q @ w, Q @ np.array([0.0, 0.0, 1.0]))
     assert m.is_impossible(order=order).kind == "zeta"
     np.testing.assert_allclose(p.min(), np.linalg.norm(w), rtol=1e-6)
 
@@ -103,7 +95,7 @@ def test_penrose_columns_from_a_general_view_are_possible(s, view):
     """The ring is a real object (a spiral with a drop): from a view where nothing lines up,
     the riser bands join its treads and no period appears."""
     V, F, _ = penrose_columns(s)
-    m, order, report, p = _convert(V, F, view)
+    m, order, report, p = convert_quietly(V, F, view)
     assert _n_bands(report) > 0  # the rule was used
     assert p.size == 0
     assert not m.is_impossible(order=order)
@@ -114,7 +106,7 @@ def test_ordinary_stairs_stay_possible(view):
     """A straight flight with its risers facing away and its side wall in front of the lower
     treads (the wall's step edges cut them too): the bands add no period."""
     V, F = straight_flight()
-    m, order, report, p = _convert(V, F, view)
+    m, order, report, p = convert_quietly(V, F, view)
     if view[1] > 0:  # risers face -y: hidden from these views
         assert _n_bands(report) > 0
     assert p.size == 0
@@ -124,7 +116,7 @@ def test_ordinary_stairs_stay_possible(view):
 @pytest.mark.parametrize("view", [(2.0, 1.0, 2.0), (1.0, 1.0, 1.0), (-1.0, -2.0, 3.0)])
 def test_stepped_grid_stays_possible(view):
     V, F = stepped_grid()
-    m, order, _, p = _convert(V, F, view)
+    m, order, _, p = convert_quietly(V, F, view)
     assert p.size == 0
     assert not m.is_impossible(order=order)
 

@@ -15,13 +15,10 @@ sight, a box in front of a wall, a flight before a wall on a floor.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
+from visible_models import convert_quietly
 
-from meschers_igl.errors import MescherWarning
-from meschers_igl.obtain import model_to_mescher
 from meschers_igl.obtain.stairs import MAX_JUNCTION_RISE
 from meschers_igl.shapes import boxes
 
@@ -80,15 +77,6 @@ def ring_solid(W: int, H: int, r: float, base: float = -2.5):
     return V, F, len(cells)
 
 
-def _convert(V, F, view, up=(0.0, 0.0, 1.0)):
-    v = np.asarray(view, float)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", MescherWarning)
-        m, order, report = model_to_mescher(V, F, view=v / np.linalg.norm(v), up=up)
-    p = np.abs(np.asarray(m.periods()))
-    return m, order, report, p[p > 1e-6 * m.scale()]
-
-
 RINGS = [(4, 3, 0.2), (5, 2, 0.15), (3, 4, 0.1)]
 
 
@@ -100,7 +88,7 @@ def test_penrose_ring_period_is_the_climb_per_turn(make, W, H, r, b):
     ``N`` risers seen along the view, ``r N / v_z``, and every period a whole number of it."""
     V, F, N = make(W, H, r)
     w = np.array([W - 2.0, b, r * N])
-    m, order, report, p = _convert(V, F, w)
+    m, order, report, p = convert_quietly(V, F, w)
     climb = r * N / (w[2] / np.linalg.norm(w))
     np.testing.assert_allclose(climb, np.linalg.norm(w), rtol=1e-12)  # the construction
     assert m.is_impossible(order=order).kind == "zeta"
@@ -118,7 +106,7 @@ def test_penrose_ring_any_pose(make):
     w = np.array([W - 2.0, 0.7, r * N])
     Q, _ = np.linalg.qr(np.random.default_rng(3).normal(size=(3, 3)))
     Q *= np.sign(np.linalg.det(Q))
-    m, order, _, p = _convert(V @ Q.T, F, Q @ w, Q @ np.array([0.0, 0.0, 1.0]))
+    m, order, _, p = convert_quietly(V @ Q.T, F, Q @ w, Q @ np.array([0.0, 0.0, 1.0]))
     assert m.is_impossible(order=order).kind == "zeta"
     np.testing.assert_allclose(p.min(), np.linalg.norm(w), rtol=1e-6)
 
@@ -133,7 +121,7 @@ def test_junction_strip_of_a_few_risers(make, k):
     assert 1.0 + k <= MAX_JUNCTION_RISE
     V, F, N = make(W, H, r)
     w = np.array([W - 2.0, 0.7, r * (N + k)])
-    m, order, _, p = _convert(V, F, w)
+    m, order, _, p = convert_quietly(V, F, w)
     assert m.is_impossible(order=order).kind == "zeta"
     np.testing.assert_allclose(p.min(), np.linalg.norm(w), rtol=1e-6)
 
@@ -152,7 +140,7 @@ def test_ring_with_its_drop_in_sight_is_possible(make, view):
     """The ring is a real spiral with a drop: where the drop is seen, or the strip below the
     bottom tread is taller than MAX_JUNCTION_RISE risers, no step junction is glued."""
     V, F, _ = make(*RINGS[0])
-    m, order, report, p = _convert(V, F, view)
+    m, order, report, p = convert_quietly(V, F, view)
     assert p.size == 0
     assert not m.is_impossible(order=order)
 
@@ -164,7 +152,7 @@ def test_box_in_front_of_a_wall_is_possible():
     hi = np.array([[3.0, 4.0, 0.0], [1.0, 1.0, 1.0], [2.5, 2.5, 2.0]])
     V, F = boxes(lo, hi)
     for view in [(0.3, -1.0, 0.8), (0.0, -1.0, 0.5), (-0.4, -1.0, 1.2)]:
-        m, order, report, p = _convert(V, F, view)
+        m, order, report, p = convert_quietly(V, F, view)
         assert p.size == 0
         assert not m.is_impossible(order=order)
 
@@ -178,6 +166,6 @@ def test_flight_before_a_wall_is_possible():
     hi += [[1.5, n + 1.5, 0.5]]
     V, F = boxes(np.array(lo), np.array(hi))
     for view in [(0.3, -1.0, 1.0), (-0.3, -1.0, 1.1)]:
-        m, order, report, p = _convert(V, F, view)
+        m, order, report, p = convert_quietly(V, F, view)
         assert p.size == 0
         assert not m.is_impossible(order=order)

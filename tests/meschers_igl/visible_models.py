@@ -366,3 +366,19 @@ def hidden_gap_cube(L=6.0, t=1.0, hole=0.6, split=0.5):
     occ = box_block(c - np.array([s / 2, s / 2, hz]), c + np.array([s / 2, s / 2, hz]))
     V, polys = separate_blocks([frame, occ])
     return V, polys, float(L * np.sqrt(3.0))
+
+
+def convert_quietly(V, F, view, up=(0.0, 0.0, 1.0)):
+    """``model_to_mescher`` from the unit ``view`` with its warnings silenced, and the periods
+    above 1e-6 of the size: (m, order, report, |periods|)."""
+    import warnings
+
+    from meschers_igl.errors import MescherWarning
+    from meschers_igl.obtain import model_to_mescher
+
+    v = np.asarray(view, float)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MescherWarning)
+        m, order, report = model_to_mescher(V, F, view=v / np.linalg.norm(v), up=up)
+    p = np.abs(np.asarray(m.periods()))
+    return m, order, report, p[p > 1e-6 * m.scale()]
