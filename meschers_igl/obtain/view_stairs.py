@@ -307,7 +307,7 @@ def penrose_flights(chain: StairChain) -> Flights | None:
 
 def wrap_views(chain: StairChain, flights: Flights) -> list:
     """The two wrap views: ``(v, after_top, s, h)`` with ``v`` along ``c_t + s + h n - c_0``
-    (``v . n > 0``), the missing step taken from the top flight (``after_top``) or the
+    (``v @ n > 0``), the missing step taken from the top flight (``after_top``) or the
     bottom one."""
     up, c = chain.up, chain.centroids
     out = []
