@@ -612,10 +612,13 @@ def pieces_are_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, be: BarEnds)
 _EXTENT_CHUNK = 1 << 22
 
 
-def pairs_may_be_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, pairs: list) -> np.ndarray:
-    """(#pairs,) bool: :func:`pieces_are_bars` for all pairs at once, as a superset (within
-    1e-9 of the model's size): False for pairs without a bar direction pointing out of the
-    first cap, and where a piece is surely not longer along the bar than its cap is wide.
+def pairs_may_be_bars(
+    V: np.ndarray, F: np.ndarray, part: np.ndarray, pairs: list, slack: float | None = None
+) -> np.ndarray:
+    """(#pairs,) bool: :func:`pieces_are_bars` for all pairs at once, as a superset within
+    ``slack`` (default 1e-9 of the model's size; 0: exactly the rule): False for pairs without
+    a bar direction pointing out of the first cap, and where a piece is not longer along the
+    bar than its cap is wide by more than ``slack``.
 
     Each piece's length is ``c . d - min x . d`` over its part's vertices ``x`` (one matrix
     product per part holding pieces), its width the largest distance between its loop's
@@ -649,7 +652,8 @@ def pairs_may_be_bars(V: np.ndarray, F: np.ndarray, part: np.ndarray, pairs: lis
         for s in range(0, k.size, step):  # chunks of pieces
             r = k[s : s + step]
             length[r] = np.einsum("ij,ij->i", cen[r], dirs[r]) - (dirs[r] @ X.T).min(axis=1)
-    slack = 1e-9 * (1.0 + float(np.abs(V).max()))
+    if slack is None:
+        slack = 1e-9 * (1.0 + float(np.abs(V).max()))
     out[rows] = np.all((length + slack > width).reshape(-1, 2), axis=1)
     return out
 

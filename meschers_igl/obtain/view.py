@@ -33,6 +33,7 @@ from .junctions import (
     bridges_blocked,
     junction_at,
     may_be_junctions,
+    pairs_may_be_bars,
     parts_and_front,
     pieces_are_bars,
 )
@@ -358,59 +359,14 @@ class _PairArrays:
 
 def _pair_arrays(V, F, part, pairs: list) -> _PairArrays:
     """:class:`_PairArrays` of ``pairs``; ``bars`` as :func:`pieces_are_bars` decides it, for
-    all pairs at once (a piece's length is its part's extent along the bar back from its cap,
-    the cap's width the largest distance between its loop's points)."""
+    all pairs at once (:func:`pairs_may_be_bars` without slack)."""
     k = len(pairs)
     T = np.array([be.T for be in pairs], np.float64).reshape(k, 3)
     n1 = np.array([be.first.normal for be in pairs], np.float64).reshape(k, 3)
     D = np.zeros((k, 3))
     has_d = np.fromiter((be.d is not None for be in pairs), bool, k)
     D[has_d] = np.array([pairs[i].d for i in np.flatnonzero(has_d).tolist()]).reshape(-1, 3)
-    bars = has_d & (np.einsum("ij,ij->i", n1, D) > 0)
-    rows = np.flatnonzero(bars)
-    if rows.size:  # each piece: (cap centroid, direction back into the piece, width, part)
-        caps = [c for i in rows.tolist() for c in (pairs[i].first, pairs[i].second)]
-        key = {id(c): n for n, c in enumerate({id(c): c for c in caps}.values())}
-        uniq = list({id(c): c for c in caps}.values())
-        cen, width = _cap_centroids_widths(V, uniq)
-        which = np.array([key[id(c)] for c in caps], np.int64)
-        dirs = np.repeat(D[rows], 2, axis=0) * np.tile([1.0, -1.0], rows.size)[:, None]
-        cpart = part[np.array([c.faces[0] for c in uniq], np.int64)][which]
-        length = _extent_back(V, F, part, cpart, cen[which], dirs)
-        bars[rows] = np.all((length > width[which]).reshape(-1, 2), axis=1)
-    return _PairArrays(T, D, n1, bars)
-
-
-def _cap_centroids_widths(V, caps: list):
-    """(#caps, 3) loop centroids and (#caps,) largest distances between loop points."""
-    size = np.array([c.loop.size for c in caps])
-    cen = np.zeros((len(caps), 3))
-    width = np.zeros(len(caps))
-    for n in np.unique(size).tolist():  # a few loop sizes
-        rows = np.flatnonzero(size == n)
-        P = V[np.array([caps[i].loop for i in rows.tolist()])]  # (r, n, 3)
-        cen[rows] = P.mean(axis=1)
-        width[rows] = np.linalg.norm(P[:, :, None] - P[:, None], axis=3).max(axis=(1, 2))
-    return cen, width
-
-
-#: Most (piece, vertex) products taken at once by :func:`_extent_back`.
-_EXTENT_CHUNK = 1 << 22
-
-
-def _extent_back(V, F, part, cpart, cen, dirs):
-    """(k,) ``max over the vertices x of piece k's part of (cen[k] - x) . dirs[k]``."""
-    out = np.full(cen.shape[0], -np.inf)
-    order = np.argsort(part, kind="stable")  # faces grouped by part
-    bounds = np.searchsorted(part[order], np.arange(int(part.max()) + 2))
-    for p in np.unique(cpart).tolist():  # the parts holding pieces (one per block or frame)
-        X = V[np.unique(F[order[bounds[p] : bounds[p + 1]]])]
-        rows = np.flatnonzero(cpart == p)
-        step = max(1, _EXTENT_CHUNK // max(X.shape[0], 1))
-        for s in range(0, rows.size, step):  # chunks of pieces
-            r = rows[s : s + step]
-            out[r] = np.einsum("rk,rk->r", cen[r], dirs[r]) - (dirs[r] @ X.T).min(axis=1)
-    return out
+    return _PairArrays(T, D, n1, pairs_may_be_bars(V, F, part, pairs, slack=0.0))
 
 
 def _junction_seen(V, F, part, pairs, arr: _PairArrays, R, tol) -> bool:
