@@ -43,6 +43,7 @@ from scipy.spatial import cKDTree
 from ..validate import as_faces, as_points
 from .caps import unit_normals
 from .clip import FRONT_NZ
+from .junctions import _covering
 
 #: A tread's normal is the up axis to ``1 - cos(angle)`` at most this.
 TREAD_NORMAL_TOL = 1e-6
@@ -320,18 +321,13 @@ def wrap_views(chain: StairChain, flights: Flights) -> list:
     return out
 
 
-#: Most (sample point, face) pairs :func:`visible_faces` tests at once.
-_SEEN_CHUNK = 1 << 22
-
-
 def visible_faces(V: np.ndarray, F: np.ndarray, view: np.ndarray, P: np.ndarray) -> np.ndarray:
     """(k,) the face seen at each point's place on screen from ``view`` (-1: none).
 
     The face seen is the nearest to the camera (largest depth along ``view``) of the faces
-    toward the viewer whose orthographic projection holds the point's (barycentric coordinates
-    at least -1e-9).
+    toward the viewer whose orthographic projection holds the point's (the covering pairs of
+    ``junctions._covering``: barycentric coordinates at least -1e-9).
     """
-    from ..geometry2d import barycentric
     from ..operators import up_for_view, view_frame
 
     R = view_frame(view, up_for_view(view))
@@ -339,23 +335,12 @@ def visible_faces(V: np.ndarray, F: np.ndarray, view: np.ndarray, P: np.ndarray)
     T = C[F]
     N = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
     front = np.flatnonzero(N[:, 2] > FRONT_NZ * np.maximum(np.linalg.norm(N, axis=1), 1e-300))
-    T = T[front]
-    lo, hi = T[:, :, :2].min(axis=1), T[:, :, :2].max(axis=1)
-    best = np.full(Q.shape[0], -np.inf)
     out = np.full(Q.shape[0], -1)
-    step = max(1, _SEEN_CHUNK // max(T.shape[0], 1))
-    for s in range(0, Q.shape[0], step):  # chunks of points
-        x = Q[s : s + step, None, :2]
-        k, f = np.nonzero(np.all((lo <= x) & (hi >= x), axis=2))
-        B = barycentric(Q[s + k, :2], T[f, :, :2])
-        inside = np.all(B >= -1e-9, axis=1)
-        k, f, B = k[inside] + s, f[inside], B[inside]
-        z = (B * T[f, :, 2]).sum(axis=1)
+    k, f, z = _covering(Q, T[front], 0.0)
+    if k.size:
         o = np.lexsort((z, k))  # per point, the nearest last
         last = np.r_[k[o][1:] != k[o][:-1], True]
-        kk, ff, zz = k[o][last], f[o][last], z[o][last]
-        better = zz > best[kk]
-        best[kk[better]], out[kk[better]] = zz[better], front[ff[better]]
+        out[k[o][last]] = front[f[o][last]]
     return out
 
 
