@@ -41,13 +41,14 @@ def _unit(N: np.ndarray) -> np.ndarray:
     return N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)
 
 
-def tread_edge_over_wall(xy, Fa, src, pl, C, F, N, front, glue: Glue, tol: float, n_model: int):
+def tread_edge_over_wall(xy, Fa, src, pl, C, F, n, front, glue: Glue, tol: float, n_model: int):
     """Cut screen edges where a tread's silhouette edge lies over a wall perpendicular to it.
 
     The two sides of the cut have a constant depth gap along the edge (the tread's edge runs
     parallel to the wall), the near side lies on an edge of its model face whose other face
     looks away (the riser behind the tread's edge, or the flight's back) and the far side's
     model face contains the near face's normal (a wall standing on the near tread's plane).
+    ``n``: (#F, 3) the model faces' unit normals (camera frame).
 
     Returns
     -------
@@ -68,7 +69,6 @@ def tread_edge_over_wall(xy, Fa, src, pl, C, F, N, front, glue: Glue, tol: float
     far1 = d.sum(axis=1) > 0
     hn, hf = np.where(far1, h2, h1), np.where(far1, h1, h2)
     sn, sf = src[hn // 3], src[hf // 3]
-    n = _unit(N)
     ok = (np.abs(d[:, 0] - d[:, 1]) <= tol) & (np.abs(d).min(axis=1) > tol)
     ok &= (sn < n_model) & (sf < n_model) & front[sf]
     ok &= np.abs(np.einsum("ij,ij->i", n[sn], n[sf])) <= NORMAL_TOL
@@ -94,7 +94,7 @@ def tread_edge_over_wall(xy, Fa, src, pl, C, F, N, front, glue: Glue, tol: float
     return cut[idx][keep], hn[keep], hf[keep], dz[keep]
 
 
-def step_graph(Fa, src, C, F, N, glue: Glue, up: np.ndarray, tol: float, n_model: int):
+def step_graph(Fa, src, C, F, n, glue: Glue, up: np.ndarray, tol: float, n_model: int):
     """Treads and the rising steps between them on the glued visible map, for one tread
     direction ``up`` (a unit normal, camera frame).
 
@@ -104,6 +104,7 @@ def step_graph(Fa, src, C, F, N, glue: Glue, up: np.ndarray, tol: float, n_model
     one plane.  A riser piece is a step from each tread it stands on (glued at a valley: the
     tread lies in front of its plane; a band stands on its lower tread) up to each higher
     tread it carries (glued at a ridge); a wall glued to treads only along its top joins none.
+    ``n``: (#F, 3) the model faces' unit normals (camera frame).
 
     Returns
     -------
@@ -118,7 +119,6 @@ def step_graph(Fa, src, C, F, N, glue: Glue, up: np.ndarray, tol: float, n_model
     touch : scipy.sparse.csr_matrix
         ``touch[r, i] = 1``: riser piece ``r`` is glued to tread ``i``.
     """
-    n = _unit(N)
     s = src
     cos = n[s] @ up
     h = np.einsum("ij,j->i", C[F[s, 0]], up)
@@ -181,12 +181,12 @@ def climbs_to(A, sources: np.ndarray, target: int) -> bool:
     return False
 
 
-def tread_above(P: np.ndarray, up: np.ndarray, wall: np.ndarray, C, F, N, tol: float):
+def tread_above(P: np.ndarray, up: np.ndarray, wall: np.ndarray, C, F, n, tol: float):
     """The tread directly above each point ``P`` (camera frame) on its wall (model face
     ``wall``): the model face of normal ``up`` with an edge in the wall's plane that the line
     ``P + s up`` (``s > 0``) meets, the nearest one; -1 where none.  Returns (tread, rise ``s``).
+    ``n``: (#F, 3) the model faces' unit normals (camera frame).
     """
-    n = _unit(N)
     cand = np.flatnonzero(np.abs(n @ up - 1.0) <= NORMAL_TOL)
     out, rise = np.full(P.shape[0], -1, dtype=np.int64), np.full(P.shape[0], np.inf)
     if cand.size == 0:
@@ -224,11 +224,11 @@ def step_junctions(xy, Fa, src, pl, C, F, N, front, glue: Glue, tol: float, n_mo
     Returns (indices into ``glue.h1``, far half-edges, ``dz``), as
     :func:`tread_edge_over_wall`, for the edges kept.
     """
-    idx, hn, hf, dz = tread_edge_over_wall(xy, Fa, src, pl, C, F, N, front, glue, tol, n_model)
+    n = _unit(N)  # the model faces' unit normals, for every step below
+    idx, hn, hf, dz = tread_edge_over_wall(xy, Fa, src, pl, C, F, n, front, glue, tol, n_model)
     empty = np.zeros(0, np.int64)
     if idx.size == 0:
         return empty, empty, np.zeros(0)
-    n = _unit(N)
     ups = n[src[hn // 3]]
     key = np.round(ups / NORMAL_TOL).astype(np.int64)
     _, grp = np.unique(key, axis=0, return_inverse=True)
@@ -237,12 +237,12 @@ def step_junctions(xy, Fa, src, pl, C, F, N, front, glue: Glue, tol: float, n_mo
     for g in np.unique(grp).tolist():  # one staircase direction, rarely two
         sel = np.flatnonzero(grp == g)
         up = ups[sel[0]]
-        node, riser, height, A, touch = step_graph(Fa, src, C, F, N, glue, up, tol, n_model)
+        node, riser, height, A, touch = step_graph(Fa, src, C, F, n, glue, up, tol, n_model)
         # far point of each edge (its midpoint on the wall) and the tread directly above it
         ff, kf = hf[sel] // 3, hf[sel] % 3
         P = 0.5 * (xy[Fa[ff, (kf + 1) % 3]] + xy[Fa[ff, (kf + 2) % 3]])
         P = np.c_[P, plane_depth(P, pl[src[ff]])]
-        top, rise = tread_above(P, up, src[ff], C, F, N, tol)
+        top, rise = tread_above(P, up, src[ff], C, F, n, tol)
         Ac = A.tocoo()
         step = (height[Ac.col] - height[Ac.row]).min() if Ac.nnz else 0.0
         for i, j in enumerate(sel.tolist()):  # a few candidate edges
