@@ -278,37 +278,14 @@ def _claim(F: np.ndarray, f: int, new_index: np.ndarray, i: int) -> tuple[int, i
 
 
 @njit(cache=True)
-def _provoking_kernel(
-    F: np.ndarray, draw: np.ndarray, n_points: int
-) -> tuple[np.ndarray, np.ndarray]:
-    # One sequential greedy pass over the cells F[draw] (numba: each cell's claim depends on the
-    # claims before it, which numpy can only approximate with several whole-array rounds, about
-    # 10x slower at 1M faces; reading F through draw also saves the copy F[draw]).
-    k = draw.shape[0]
-    new_index = np.full(n_points, -1, dtype=np.int64)
-    out = np.empty((k, 3), dtype=np.int64)
-    source = np.empty(k + n_points, dtype=np.int64)  # rows past the last point never touched
-    for i in range(k):
-        out[i, 0], out[i, 1], source[i] = _claim(F, draw[i], new_index, i)
-    j = k
-    for v in range(n_points):  # points no cell ends with follow the cells
-        if new_index[v] < 0:
-            new_index[v] = j
-            source[j] = v
-            j += 1
-    for i in range(k):
-        out[i, 0] = new_index[out[i, 0]]
-        out[i, 1] = new_index[out[i, 1]]
-        out[i, 2] = i
-    return out, source[:j]
-
-
-@njit(cache=True)
 def _provoking_mesh(
     F: np.ndarray, draw: np.ndarray, points: np.ndarray, face_normals: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    # _provoking_kernel with the points (``points`` of 2 or 3 columns, z = 0 for 2) and the
-    # provoking normals written in the same pass: point i is written when cell i claims it,
+    # One sequential greedy pass over the cells F[draw] (numba: each cell's claim depends on the
+    # claims before it, which numpy can only approximate with several whole-array rounds, about
+    # 10x slower at 1M faces; reading F through draw also saves the copy F[draw]), the points
+    # (``points`` of 0, 2 or 3 columns, z = 0 for the missing) and the provoking normals
+    # written in the same pass: point i is written when cell i claims it,
     # while its face's row is in cache (a second pass gathering them cost as much as the claims
     # at 1M faces, in a random depth order more).  Output rows are allocated for the most
     # points there can be (k + n); the rows past the last are never touched (no memory used).
@@ -379,8 +356,13 @@ def provoking_cells(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.nd
         Original point of each new point; every original point appears.
     """
     cells = _frozen(cells, np.int64)
-    draw = _frozen(np.arange(cells.shape[0], dtype=np.int64), np.int64)
-    return _provoking_kernel(cells, draw, int(n_points))
+    k = cells.shape[0]
+    draw = _frozen(np.arange(k, dtype=np.int64), np.int64)
+    # the renderer's kernel with no point columns and zero normals: one compiled kernel for both
+    # (the types are the renderer's, so nothing more to compile)
+    none = _frozen(np.empty((int(n_points), 0)), np.float64)
+    out, source, _, _ = _provoking_mesh(cells, draw, none, _frozen(np.zeros((k, 3)), np.float64))
+    return out, source
 
 
 def indexed(

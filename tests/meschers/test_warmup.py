@@ -189,3 +189,25 @@ def test_one_process_marks_each_group_done_as_it_finishes(tmp_path, monkeypatch)
         "order.done",
         "render.done",
     ]
+
+
+@pytest.mark.slow
+def test_the_render_warm_up_leaves_no_render_kernel_cold(tmp_path):
+    """Every cached kernel of the rendering package is compiled by the render group's warm-up;
+    one left out would make every later run start a compiling process and say "first run only"
+    again."""
+    script = (
+        "from meschers.warmup import cold_groups, warm_groups\n"
+        "print('BEFORE', cold_groups(['render']))\n"
+        "warm_groups(['render'])\n"
+        "print('AFTER', cold_groups(['render']))\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    proc = subprocess.run(
+        [sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=600
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = dict(line.split(" ", 1) for line in proc.stdout.splitlines() if " " in line)
+    assert out["BEFORE"] == "['render']"  # an empty cache
+    assert out["AFTER"] == "[]"

@@ -143,5 +143,5 @@ def test_render_kernels_compile_one_specialisation_for_read_only_and_writable_in
         polydata.provoking_cells(Fi, Vi.shape[0])
         polydata.indexed(Vi, Fi, draw, face_normals=Ni, provoking=True)
         normals.corner_groups(Fi, Ni, np.ones(Fi.shape[0]), 30.0)
-    for d in (polydata._provoking_kernel, polydata._provoking_mesh, normals._rough_vertices):
+    for d in (polydata._provoking_mesh, normals._rough_vertices):
         assert len(d.signatures) == 1, (d.py_func.__name__, d.signatures)
