@@ -25,6 +25,7 @@ def normals_from_shading(
     boundary_weights: np.ndarray | None = None,
     n_angles: int = 1440,
     trunc: float = math.sin(math.radians(15.0)) ** 2,
+    level: float = 1.0 / 255.0,
 ) -> tuple[np.ndarray, float]:
     """Three orthonormal face normals whose Lambertian shades are ``shades``.
 
@@ -47,6 +48,10 @@ def normals_from_shading(
         Turns about ``l`` tried.
     trunc : float
         Each boundary's ``sin^2`` counts at most this much (robust to occlusion boundaries).
+    level : float
+        How far a shade may be from the true one (a grey level's rounding).  With one face at
+        the ambient shade its ``n . l`` is any the rounded lit shades allow, chosen by the
+        creases with the turn (:func:`_dark_candidates`); 0: the root of ``|R^T l| = 1``.
 
     Returns
     -------
@@ -58,11 +63,58 @@ def normals_from_shading(
     s = (np.asarray(shades, dtype=np.float64) - ambient) / (1.0 - ambient)
     if s.shape != (3,):
         raise MescherError(f"shades: expected three face shades, found {s.shape}")
-    # a face at the ambient shade is turned away from the light: n . l < 0, not 0
-    s = _shadowed_root(s)
     lvec = np.asarray(light, dtype=np.float64)
     lvec = lvec / np.linalg.norm(lvec)
-    s = s / np.linalg.norm(s)
+    best = (math.inf, None)
+    for sk in _dark_candidates(s, level / (1.0 - ambient)):
+        cost, N = _best_turn(
+            sk, lvec, boundary_dirs, boundary_pairs, boundary_weights, n_angles, trunc
+        )
+        if cost < best[0]:
+            best = (cost, N)
+    if best[1] is None:
+        raise MescherError(
+            "shades: expected three shades of orthogonal faces seen from the front, found none "
+            "consistent with the light"
+        )
+    return best[1].copy(), best[0]
+
+
+def _dark_candidates(
+    s: np.ndarray, level: float, n: int = 17, spread: float = math.sin(math.radians(3.0))
+) -> list[np.ndarray]:
+    """The unit vectors ``R^T l`` the shades ``s`` allow (a face at the ambient shade: several).
+
+    A face at the ambient shade says only ``n . l <= 0``; with the other two lit, ``|R^T l| =
+    1`` gives it ``-sqrt(1 - s_i^2 - s_j^2)``, which is ill-conditioned near grazing (the
+    derivative grows as ``1 / sqrt``): a grey level's rounding (``level``, in ``s`` units) on
+    shades whose squares sum to nearly 1 moves the root by 0.2 and the normals by degrees.
+    Where the roots the rounded shades allow (``s_i`` within ``level``) spread over more than
+    ``spread`` (3 degrees of ``n . l``; the creases read the frame to about a degree), each of
+    ``n`` evenly spaced ones is a candidate, the lit pair rescaled to keep ``|s| = 1``, and the
+    creases choose among them.  Otherwise the one vector of :func:`_shadowed_root`.
+    """
+    s0 = _shadowed_root(s)
+    dark = s <= 0.02
+    if dark.sum() != 1 or level <= 0:
+        return [s0 / np.linalg.norm(s0)]
+    lit = np.abs(s[~dark])
+    lo = math.sqrt(max(0.0, 1.0 - float(((lit + level) ** 2).sum())))
+    hi = math.sqrt(max(0.0, 1.0 - float((np.maximum(lit - level, 0.0) ** 2).sum())))
+    if hi - lo <= spread:
+        return [s0 / np.linalg.norm(s0)]
+    out = []
+    for r in np.unique(np.r_[np.linspace(lo, hi, n), -s0[dark]]):
+        c = s.copy()
+        c[dark] = -r
+        c[~dark] = s[~dark] * math.sqrt(max(0.0, 1.0 - r * r)) / np.linalg.norm(s[~dark])
+        out.append(c)
+    return out
+
+
+def _best_turn(s, lvec, boundary_dirs, boundary_pairs, boundary_weights, n_angles, trunc):
+    """The frame ``R`` with ``R^T l = s`` (unit) whose creases best follow the boundaries, and
+    its cost (:func:`normals_from_shading`); ``(inf, None)`` where no turn faces the viewer."""
     R0 = _rotation_taking(s, lvec)
     th = np.linspace(0.0, 2.0 * np.pi, n_angles, endpoint=False)
     K = np.array([[0, -lvec[2], lvec[1]], [lvec[2], 0, -lvec[0]], [-lvec[1], lvec[0], 0]])
@@ -90,12 +142,7 @@ def normals_from_shading(
         a = int(np.argmin(cost))
         if cost[a] < best[0]:
             best = (float(cost[a]), N[a])
-    if best[1] is None:
-        raise MescherError(
-            "shades: expected three shades of orthogonal faces seen from the front, found none "
-            "consistent with the light"
-        )
-    return best[1].copy(), best[0]
+    return best
 
 
 def crease_directions(dirs: np.ndarray, pairs: np.ndarray, weights: np.ndarray) -> np.ndarray:
