@@ -105,17 +105,17 @@ def warm_group(group: str) -> float:
     """Compile (or load) one group's kernels in this process; the seconds it took."""
     t = time.perf_counter()
     if group == "render":
-        from pyvista_views.headless import configure_headless
-
-        configure_headless()
+        # the rendering package's kernels through the functions that call them, with a
+        # mescher's types; no picture: a render window's set-up would cost more than they do
         import numpy as np
 
-        from pyvista_views import render
+        from pyvista_views.normals import corner_groups
+        from pyvista_views.polydata import provoking_cells
 
         m = compiled.tiny_mescher()
-        total = np.arange(m.n_faces)  # a total order: the order kernels are the other group's
-        for shading in ("flat", "smooth"):
-            render(m, total, shading=shading, window_size=(32, 32))
+        up = np.tile([0.0, 0.0, 1.0], (m.n_faces, 1))
+        corner_groups(m.F, up, np.ones(m.n_faces), 30.0)
+        provoking_cells(m.F, m.n_vertices)
     else:
         compiled.warm(group)
     return time.perf_counter() - t
