@@ -239,10 +239,14 @@ def triangulate_regions(
     # a planar straight-line graph: Triangle's refinement may crash the process on a vertex a
     # rounding error off a foreign segment (regions.node_constraints)
     verts, segs = node_constraints(chains, NODE_GRID_PX * pixel)
+    # the figure's holes; an interior under half a pixel is a gap the pieces' rounding left
+    # (pieces split by hidden lines), gone once noded: a seed there would eat the triangles
+    # around it up to the next constraints
     holes = []
     for p in getattr(union, "geoms", [union]):
         for r in p.interiors:
-            holes.append(np.asarray(shapely.Polygon(r).representative_point().coords)[0])
+            if shapely.Polygon(r).area > 0.5 * pixel * pixel:
+                holes.append(np.asarray(shapely.Polygon(r).representative_point().coords)[0])
     spec = {"vertices": verts, "segments": segs}
     if holes:
         spec["holes"] = np.asarray(holes)
