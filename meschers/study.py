@@ -341,7 +341,9 @@ def run_study(
     t_start = time.perf_counter()
     # missing kernels compiled once, in processes of their own, while the workers start; a model
     # waits for the groups it needs (study_model), so no kernel is compiled twice
-    compiling = start_compiling(lambda line: print(line, file=sys.stderr))
+    compiling = start_compiling(
+        lambda line: print(line, file=sys.stderr), beside=0 if scheduler else jobs
+    )
     try:
         if scheduler or jobs > 1:
             results = _run_parallel(specs, keys, st, jobs, scheduler, progress)

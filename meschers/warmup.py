@@ -45,7 +45,7 @@ RENDER_PACKAGE = "pyvista_views"
 # CPU seconds to compile each group from an empty cache on one core of a 2-core machine, one
 # group after another in one process (the process's own start, about 3 s, counted in the first);
 # only for the estimate printed beforehand and for dealing groups to processes.
-COMPILE_SECONDS = {"order": 15.0, "render": 3.0, "paths": 4.0, "geodesic": 11.0}
+COMPILE_SECONDS = {"order": 15.0, "render": 1.0, "paths": 4.0, "geodesic": 11.0}
 
 
 #: The groups a model's first steps use (building and ordering it, drawing it, its homology
@@ -257,6 +257,7 @@ def start_compiling(
     say: Callable[[str], None] | None = print,
     groups: Iterable[str] = (*compiled.GROUPS, "render"),
     processes: int | None = None,
+    beside: int = 0,
 ) -> Compiling | None:
     """Start compiling the missing kernel groups in processes of their own; do not wait.
 
@@ -275,6 +276,10 @@ def start_compiling(
         At most this many compiling processes (default: the cores available; the groups are
         dealt to them, so a 2-core machine compiles what a model needs first in one process
         and the rest in the other while the workers start).
+    beside : int, default: 0
+        Busy processes of the work that run meanwhile (a study's workers): they share the cores
+        with the compiling processes, so the wall time said beforehand is longer by the share
+        of the cores they take.
 
     Returns
     -------
@@ -285,9 +290,11 @@ def start_compiling(
     cold = cold_groups(groups)
     if not cold:
         return None
-    ncpu = processes or len(os.sched_getaffinity(0))
-    shares = _share(cold, ncpu)
-    estimate = max(max(sum(map(_seconds, share)) for share in shares), 1.0)
+    cores = len(os.sched_getaffinity(0))
+    shares = _share(cold, processes or cores)
+    # one core's seconds for the longest share, stretched when more processes than cores run
+    crowd = max(1.0, (len(shares) + max(int(beside), 0)) / cores)
+    estimate = max(max(sum(map(_seconds, share)) for share in shares) * crowd, 1.0)
     if say is not None:
         say(f"compiling kernels (first run only, about {estimate:.0f} s): {', '.join(cold)}")
     return Compiling(cold, len(shares), say)

@@ -211,3 +211,23 @@ def test_the_render_warm_up_leaves_no_render_kernel_cold(tmp_path):
     out = dict(line.split(" ", 1) for line in proc.stdout.splitlines() if " " in line)
     assert out["BEFORE"] == "['render']"  # an empty cache
     assert out["AFTER"] == "[]"
+
+
+def test_the_estimate_counts_the_work_sharing_the_cores(monkeypatch):
+    """The seconds said beforehand are one core's for the longest share, stretched by the
+    processes beyond the cores (compiling ones and the work's), never shortened."""
+    from meschers import warmup
+
+    monkeypatch.setattr(warmup, "cold_groups", lambda groups: ["order", "geodesic"])
+    monkeypatch.setattr(warmup, "Compiling", lambda cold, n, say: (cold, n))
+    monkeypatch.setattr(warmup.os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    secs = warmup.COMPILE_SECONDS
+    said = []
+    assert warmup.start_compiling(said.append, processes=2) == (["order", "geodesic"], 2)
+    alone = max(secs["order"], secs["geodesic"])  # one group per process, two cores
+    assert said[-1].startswith(f"compiling kernels (first run only, about {alone:.0f} s)")
+    warmup.start_compiling(said.append, processes=2, beside=2)  # two workers beside: 4 on 2
+    assert said[-1].startswith(f"compiling kernels (first run only, about {2 * alone:.0f} s)")
+    warmup.start_compiling(said.append, processes=1, beside=1)  # one process, one worker
+    both = secs["order"] + secs["geodesic"]
+    assert said[-1].startswith(f"compiling kernels (first run only, about {both:.0f} s)")
