@@ -45,7 +45,8 @@ MAX_VOTERS = 1500
 VOTE_ANGLE = 2e-4
 #: Distinct directions (by votes) judged before giving up.
 MAX_DIRECTIONS = 200
-#: Largest share of the model's area seen edge-on from an acceptable view.
+#: Largest share of the area (each part weighed by the vertex pairs it lines up) seen edge-on
+#: from an acceptable view.
 MAX_EDGE_ON = 0.2
 #: A better-supported view seeing more of the model edge-on than :data:`MAX_EDGE_ON`, but
 #: less than this share, is tried when no other view shows a junction (a tribar sheared or
@@ -119,8 +120,9 @@ def find_view(
         With more than one: a list of up to ``max_views`` candidates ``(view, up, pairs)``,
         distinct directions in decreasing support (for a caller that judges each).
     max_edge_on : float, default: :data:`MAX_EDGE_ON`
-        Largest share of the model's area a candidate may see edge-on (a view along an axis
-        of a box model lines up many pairs but shows its side faces as lines).
+        Largest share of the area a candidate may see edge-on, each part weighed by the
+        vertex pairs it lines up (a view along an axis of a box model lines up many pairs but
+        shows its side faces as lines).
 
     Returns
     -------
@@ -176,16 +178,57 @@ def _vote(V: np.ndarray, F: np.ndarray) -> tuple:
     return S, D, L, U, i, j, counts, W, inv
 
 
+@dataclass(frozen=True)
+class _FaceAreas:
+    """Unit normals ``nu`` (#F, 3) and areas ``area`` (#F,) of a model's faces, the connected
+    part of each face ``part`` (#F,) and of each vertex ``vpart`` (#V,), for :meth:`edge_on`."""
+
+    nu: np.ndarray
+    area: np.ndarray
+    part: np.ndarray
+    vpart: np.ndarray
+
+    @classmethod
+    def of(cls, V: np.ndarray, F: np.ndarray) -> _FaceAreas:
+        T = V[F]
+        n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+        area = np.linalg.norm(n, axis=1)
+        part = np.asarray(igl.facet_components(F)[1], dtype=np.int64)
+        vpart = np.zeros(V.shape[0], dtype=np.int64)
+        vpart[F.reshape(-1)] = np.repeat(part, 3)
+        return cls(n / np.maximum(area, 1e-300)[:, None], area, part, vpart)
+
+    def edge_on(self, W: np.ndarray, verts: np.ndarray | None = None) -> np.ndarray:
+        """(k,) for each unit direction ``W[i]``: the share of the area seen edge-on from it.
+
+        Each part's own share, averaged with weights: the parts' areas by default (the share
+        of the whole model), or with ``verts`` (vertex ids, the ends of the vertex pairs that
+        line up along ``W``) the number of those in each part -- the parts that make the
+        view.  So a backdrop or a floor seen face-on, whose area dwarfs the figure, does not
+        hide that the figure lining up the pairs is seen edge-on, and a small block whose
+        caps contain the view (a junction's mitre) weighs by its share of the pairs.
+        """
+        side = self.area[:, None] * (np.abs(self.nu @ np.reshape(W, (-1, 3)).T) < 1e-3)
+        n = int(self.part.max(initial=-1)) + 1
+        edge = np.zeros((n, side.shape[1]))
+        np.add.at(edge, self.part, side)
+        total = np.bincount(self.part, weights=self.area, minlength=n)
+        if verts is None:
+            return edge.sum(axis=0) / max(float(total.sum()), 1e-300)
+        w = np.bincount(self.vpart[np.asarray(verts).reshape(-1)], minlength=n).astype(float)
+        share = edge / np.maximum(total, 1e-300)[:, None]
+        return (w @ share) / max(float(w.sum()), 1.0)
+
+
 def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
     """Up to ``max_views`` refined ``(view, up, pairs)`` from ``vote``, best supported first,
     each seeing at most ``max_edge_on`` of the model edge-on (:func:`find_view`)."""
     S, D, L, U, i, j, counts, W, inv = vote
     # candidates by votes; a view must not see much of the model edge-on (a view along an
     # axis of a box model lines up many pairs but shows its side faces as lines)
-    T = V[F]
-    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
-    area = np.linalg.norm(n, axis=1)
-    nu = n / np.maximum(area, 1e-300)[:, None]
+    faces = _FaceAreas.of(V, F)
+    by_dir = np.argsort(inv, kind="stable")  # pairs grouped by their distinct direction
+    first = np.searchsorted(inv[by_dir], np.arange(W.shape[0] + 1))
     order = np.lexsort((-L, -counts))
     found = []
     tried = np.zeros(W.shape[0], dtype=bool)  # directions already judged
@@ -197,8 +240,8 @@ def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
             break
         n_tried += 1
         tried |= np.abs(W @ U[c]) >= np.cos(VOTE_ANGLE)
-        edge_on = float(area[np.abs(nu @ U[c]) < 1e-3].sum() / area.sum())
-        if edge_on <= max_edge_on:
+        along = by_dir[first[inv[c]] : first[inv[c] + 1]]  # the pairs of this direction
+        if faces.edge_on(U[c][None], np.r_[S[i[along]], S[j[along]]])[0] <= max_edge_on:
             found.append(c)
     if not found:
         raise MescherError(
@@ -554,12 +597,7 @@ def _cap_views(V, F, arr: _PairArrays, tol, start, within) -> list:
         return []
     _, first, counts = np.unique(np.round(U / 1e-9), axis=0, return_index=True, return_counts=True)
     W = U[first]
-    T = V[F]
-    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
-    area = np.linalg.norm(n, axis=1)
-    nu = n / np.maximum(area, 1e-300)[:, None]
-    edge_on = (area[:, None] * (np.abs(nu @ W.T) < 1e-3)).sum(axis=0) / area.sum()
-    ok = edge_on <= MAX_EDGE_ON
+    ok = _FaceAreas.of(V, F).edge_on(W) <= MAX_EDGE_ON
     near = np.zeros(W.shape[0]) if start is None else W @ start
     if start is not None:
         ok &= near >= np.cos(within)

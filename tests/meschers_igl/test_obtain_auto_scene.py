@@ -78,3 +78,47 @@ def test_an_approximate_start_finds_the_same_view_and_the_blocks_alone_stay_poss
         assert str(err).startswith("view: expected a view from which junctions line up")
     else:
         assert not m.is_impossible(order=order)
+
+
+def _backdrop(V, F, size=40.0, gap=6.0):
+    """``(V, F)`` in front of a large thin box behind it, seen face-on from the tribar's view
+    side (a wall or a floor an artist puts behind a figure), much larger in area than it."""
+    from visible_models import box_block
+
+    lo = V.min(axis=0) - gap - np.array([size, size, 1.0])
+    Vb, Pb = box_block(lo, lo + np.array([2 * size, 2 * size, 1.0]))
+    Fb = triangulate(Pb)
+    return np.vstack([V, Vb]), np.vstack([F, Fb + V.shape[0]])
+
+
+@pytest.mark.parametrize("lengths", [(4.0, 4.0, 4.0), (6.0, 3.0, 5.0)])
+def test_a_backdrop_does_not_hide_that_the_figure_is_seen_edge_on(lengths):
+    """The share seen edge-on weighs each part by the vertex pairs it lines up: from an axis
+    of the bars the tribar (which lines the pairs up) shows its sides as lines, however much
+    face-on area a backdrop adds to the scene."""
+    from meschers_igl.obtain.view import MAX_EDGE_ON, _FaceAreas
+
+    V, F, view, gap = capped_tribar(lengths)
+    Vs, Fs = _backdrop(V, F)
+    faces, alone = _FaceAreas.of(Vs, Fs), _FaceAreas.of(V, F)
+    z = np.array([[0.0, 0.0, 1.0]])  # an axis of the bars, face-on to the backdrop
+    whole = float(faces.area[np.abs(faces.nu @ z[0]) < 1e-3].sum() / faces.area.sum())
+    assert faces.edge_on(z)[0] == pytest.approx(whole, rel=1e-12)  # default: area-weighted
+    assert whole < MAX_EDGE_ON  # the whole scene's share would let the axis view pass
+    ends = np.arange(V.shape[0])  # pairs lined up by the tribar's vertices only
+    assert faces.edge_on(z, ends)[0] == pytest.approx(alone.edge_on(z)[0], rel=1e-12)
+    assert faces.edge_on(z, ends)[0] > MAX_EDGE_ON
+    # pairs in both parts: each part's share weighed by its count of pair ends
+    back = np.arange(V.shape[0], Vs.shape[0])
+    mixed = faces.edge_on(z, np.r_[ends, back[:4]])[0]
+    own_back = float(
+        faces.area[(faces.part == faces.part[-1]) & (np.abs(faces.nu @ z[0]) < 1e-3)].sum()
+        / faces.area[faces.part == faces.part[-1]].sum()
+    )
+    n = ends.size
+    assert mixed == pytest.approx((n * alone.edge_on(z)[0] + 4 * own_back) / (n + 4))
+    m, order, report = _auto(Vs, Fs)
+    assert np.linalg.norm(np.cross(report.view, view)) <= 1e-9
+    p = np.abs(np.asarray(m.periods()))
+    p = p[p > PERIOD_RTOL * m.scale()]
+    assert p.size >= 1 and np.allclose(p, gap, rtol=1e-9)
