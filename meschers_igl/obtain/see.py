@@ -10,6 +10,7 @@ from ..errors import MescherError, MescherWarning
 from ..operators import view_frame
 from ..validate import as_faces, as_points
 from .amodal import bridge_hidden_gaps
+from .bar_joints import join_ends, prepare_joints
 from .cleanup import (
     drop_contact_faces,
     manifold_notes,
@@ -147,8 +148,13 @@ def see_model(
     C = V @ R.T
     F, N, front = _facing(V, F, C, part, report)
     xy, Fa, src, pl_all = visible_map(C, F, front, tol_abs, grid)
+    joints = None  # bar ends hidden exactly behind bar ends (not with perceived depths)
+    if perceive is None:
+        xy, Fa, src, joints = prepare_joints(xy, Fa, src, pl_all, C, F, front, tol_abs, grid)
     ftol = _part_tolerances(V, F, part, tol_abs, rel)
-    g = _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report)
+    g = _glue_visible(
+        xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report, joints
+    )
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
     _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
@@ -290,7 +296,9 @@ def _part_tolerances(V, F, part, tol_abs, rel):
     return np.minimum(tol_abs, rel * np.linalg.norm(hi - lo, axis=1))[part]
 
 
-def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report):
+def _glue_visible(
+    xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report, joints=None
+):
     """Classify, bridge, perceive and glue the visible map; occlusion edges still glued through
     their end fans are split and the map glued again (at most 4 passes).
 
@@ -328,6 +336,13 @@ def _glue_visible(xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, pe
                 axes_model = model_face_axes(C, F, E)  # read from the model's own polygons
             Zb, report.snapped = perceive_manhattan(xy, Fb, Zb, axis=axes_model[sb], E=E)
             glue, arcs = reglue(glue, Fb, Zb, arcs, tol_abs)
+        if joints and perceive is None:  # bar ends hidden behind bar ends: joined there
+            seen = false_edge_junctions(xy, fe) + bridges
+            j = join_ends(
+                xy, Fb, sb, Zb, pl_all, C, F, glue, arcs, is_bridge, joints, tol_abs, seen
+            )
+            xy, Fb, sb, Zb, is_bridge, glue, arcs, more = j
+            bridges = bridges + more
         Fm, corner_vertex = cut_and_glue(Fb, glue)
         h1, h2 = glue.h1[~glue.glued], glue.h2[~glue.glued]
         stuck = stuck_cuts(Fm, h1, h2)

@@ -1,0 +1,532 @@
+"""Joints of bar ends hidden exactly behind other bar ends (the three-box Penrose triangle).
+
+A bar whose end lies exactly behind another bar's end -- the hidden end's corners coincide on
+screen with the near end's corners, ``t`` apart in depth -- is read as joined to it there: an
+L-joint whose corner block is the near bar's end.  Moved toward the viewer by ``t`` (along the
+view, which changes nothing on screen), the far bar's faces continue the near end's faces in
+their planes; the loop of bars then fails to close by ``t``: the period.
+
+On the visible map this is built as follows (:func:`prepare_joints`, then :func:`join_ends`):
+
+* the **joint planes**: a near model plane (through a near corner) and a far one (through a far
+  corner) with the same normal, the near one ``t`` in front of the far one;
+* the **joint lines**: visible edges where a near plane's face ends (a crease or an outline of
+  the near bar) while, across the edge, the far plane's face runs on hidden behind a nearer
+  face -- the far bar leaves the corner block there;
+* the **hidden strips**: the far plane's hidden part across each joint line (up to where the
+  far bar comes out from behind the near bar), added behind the faces covering them,
+  continuous with the far bar's visible faces, and glued across the joint line to the near
+  plane's face (a false edge whose depth gap is ``t``); the near bar's face beyond the line
+  (the block's face the far bar enters through) is cut from it there.
+
+The rule only reads joints where the visible map glues no other junction.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..geometry2d import barycentric, overlapping_pairs
+from .clip import plane_depth
+from .glue import cut_and_glue, edge_on_source, interior_edges
+from .records import Glue, Junction
+
+#: Most model vertices compared for coincident pairs (a dense mesh has no bar ends to join).
+MAX_VERTICES = 200_000
+#: Most coincident pairs a gap may have to be a joint of bar ends (a cross-section's corners).
+MAX_PAIRS = 64
+#: Most gaps examined (those with the most pairs first): a scene lining up many vertex pairs
+#: along the view is no tribar.
+MAX_GAPS = 8
+
+
+@dataclass(frozen=True)
+class HiddenStrip:
+    """A far plane's hidden part across a joint line.
+
+    Attributes
+    ----------
+    ring : (n, 2) float64
+        The strip's outline on screen (counter-clockwise, not closed).
+    faces : (k,) int64
+        The far plane's front model faces (their screen triangles assign each strip triangle
+        its source face).
+    gap : float
+        Depth gap ``t`` of the joint.
+    """
+
+    ring: np.ndarray
+    faces: np.ndarray
+    gap: float
+
+
+def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
+    """Depth gaps shared by two or more pairs of model vertices that coincide on screen.
+
+    Parameters
+    ----------
+    C : (#V, 3) float64
+        Camera-frame vertices.
+    F : (#F, 3) int64
+    tol : float
+        Absolute tolerance (screen and depth).
+
+    Returns
+    -------
+    list of (gap, near, far)
+        ``gap`` > 10 ``tol``; ``near``, ``far`` (k,) int64 the vertices of its pairs, the near
+        one ``gap`` in front of the far one.  At most :data:`MAX_GAPS`, the most pairs first.
+    """
+    vs = np.unique(F)
+    if vs.size < 2 or vs.size > MAX_VERTICES:
+        return []
+    P = C[vs]
+    pr = cKDTree(P[:, :2]).query_pairs(tol, output_type="ndarray")
+    if pr.size == 0:
+        return []
+    dz = P[pr[:, 1], 2] - P[pr[:, 0], 2]
+    near = np.where(dz > 0, pr[:, 1], pr[:, 0])
+    far = np.where(dz > 0, pr[:, 0], pr[:, 1])
+    t = np.abs(dz)
+    keep = t > 10.0 * tol
+    near, far, t = near[keep], far[keep], t[keep]
+    order = np.argsort(t, kind="stable")
+    near, far, t = near[order], far[order], t[order]
+    cut = np.flatnonzero(np.diff(t) > tol) + 1
+    out = []
+    for s, e in zip(np.r_[0, cut].tolist(), np.r_[cut, t.size].tolist()):  # a few gaps
+        if 2 <= e - s <= MAX_PAIRS:
+            out.append((float(t[s:e].mean()), vs[near[s:e]], vs[far[s:e]]))
+    out.sort(key=lambda g: -g[1].size)  # stable: equal counts keep the smaller gap first
+    return out[:MAX_GAPS]
+
+
+def _planes(C, F, faces):
+    """(k, 4) unit normal and offset ``n . x`` of model ``faces`` (camera frame)."""
+    T = C[F[faces]]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    return np.c_[n, np.einsum("ij,ij->i", n, T[:, 0])]
+
+
+def _through(P4, faces, F, verts, tol):
+    """The planes (k, 4) of the faces among ``faces`` (planes ``P4``) incident to one of
+    ``verts``, each once."""
+    inc = np.isin(F[faces], verts).any(axis=1)
+    if not inc.any():
+        return np.zeros((0, 4))
+    P = P4[inc]
+    _, first = np.unique(np.round(P / (8 * tol)).astype(np.int64), axis=0, return_index=True)
+    return P[np.sort(first)]
+
+
+def _same_plane(P4, key, tol):
+    """(k,) bool: planes ``P4`` equal to ``key`` (unit normals within 1e-6, offsets within
+    ``2 tol``)."""
+    return (np.abs(P4[:, :3] - key[:3]).max(axis=1) <= 1e-6) & (
+        np.abs(P4[:, 3] - key[3]) <= 2 * tol
+    )
+
+
+def _inside(X, T, tol):
+    """(k, m) bool: screen points ``X`` (k, 2) inside screen triangles ``T`` (m, 3, 2)."""
+    k, m = X.shape[0], T.shape[0]
+    B = barycentric(np.repeat(X, m, axis=0), np.tile(T, (k, 1, 1)))
+    h = tol / np.maximum(np.linalg.norm(T - T[:, [1, 2, 0]], axis=2).max(axis=1), 1e-300)
+    return (B >= -np.tile(h, k)[:, None]).all(axis=1).reshape(k, m)
+
+
+def joint_lines(
+    xy: np.ndarray,
+    Fa: np.ndarray,
+    src: np.ndarray,
+    pl: np.ndarray,
+    C: np.ndarray,
+    F: np.ndarray,
+    front: np.ndarray,
+    gap: float,
+    near: np.ndarray,
+    far: np.ndarray,
+    tol: float,
+    grid: float,
+) -> list:
+    """Visible edges where a near plane's face ends and the far plane runs on hidden across
+    (the stretch of each edge that the far plane lies under).
+
+    Returns
+    -------
+    list of (p, q, side, far_faces, cover)
+        Screen end points of the edge, the unit screen normal toward the far plane's hidden
+        side, the far plane's front model faces, and the map faces in the plane of the near
+        face beyond the edge.
+    """
+    import shapely
+
+    faces = np.flatnonzero(front)
+    P4 = _planes(C, F, faces)
+    gkeys, fkeys = _through(P4, faces, F, near, tol), _through(P4, faces, F, far, tol)
+    Psrc = _planes(C, F, src)
+    h1, h2, he = interior_edges(Fa, xy.shape[0])
+    out = []
+    for gk in gkeys:  # a few planes through the near corners
+        match = [fk for fk in fkeys if np.abs(fk[:3] - gk[:3]).max() <= 1e-6]
+        match = [fk for fk in match if abs((gk[3] - fk[3]) - gk[2] * gap) <= 4 * tol]
+        if not match or abs(gk[2]) <= 1e-6:
+            continue
+        fk = match[0]
+        in_g = _same_plane(Psrc, gk, tol)
+        fpl = faces[_same_plane(P4, fk, tol)]
+        Tf = C[F[fpl], :2]
+        under = shapely.union_all(shapely.polygons(Tf), grid_size=grid)
+        for ha, hb in ((h1, h2), (h2, h1)):  # the near plane's face on either side
+            sel = in_g[ha // 3] & ~in_g[hb // 3]
+            sel[sel] = _ends_there(xy, Fa, src, C, F, ha[sel], tol)
+            for i in np.flatnonzero(sel).tolist():  # a few edges per joint
+                line = _joint_line(xy, Fa, pl, src, ha[i], hb[i], under, fk, tol)
+                if line is not None:  # the near bar's face beyond the line: its plane
+                    cover = np.flatnonzero(_same_plane(Psrc, Psrc[hb[i] // 3], tol))
+                    out.append((*line, fpl, cover))
+    return out
+
+
+def _ends_there(xy, Fa, src, C, F, ha, tol) -> np.ndarray:
+    """(k,) bool: the map edges of half-edges ``ha`` lie on an edge of their source face (the
+    near face ends there)."""
+    f, k = ha // 3, ha % 3
+    E = np.stack([Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3]], axis=1)
+    return edge_on_source(xy, E, src[f], C, F, tol) >= 0
+
+
+def _joint_line(xy, Fa, pl, src, ha, hb, under, fk, tol):
+    """(p, q, side): the stretch of the edge of half-edges ``ha`` (near plane's face) and
+    ``hb`` that the far plane ``fk`` (screen region ``under``) lies under, hidden on ``hb``'s
+    side behind ``hb``'s face; else None."""
+    f, k = ha // 3, ha % 3
+    p, q = xy[Fa[f, (k + 1) % 3]], xy[Fa[f, (k + 2) % 3]]
+    d = q - p
+    L = float(np.linalg.norm(d))
+    if L <= 4 * tol:
+        return None
+    n = np.array([d[1], -d[0]]) / L  # face ha lies left of p -> q: n points right, to hb
+    # the stretch under the far plane, on the far side of the edge (its ends where the
+    # edge itself meets the region's outline, when it does)
+    shift = 8 * tol * n
+    ts = _stretches(p + shift, q + shift, under)
+    if not ts:
+        return None
+    a, b = max(ts, key=lambda r: r[1] - r[0])
+    for a0, b0 in _stretches(p, q, under):  # a few pieces
+        if min(b, b0) - max(a, a0) > 0.5 * (b - a):
+            a, b = a0, b0
+            break
+    if (b - a) * L <= 4 * tol:
+        return None
+    p, q = p + a * d, p + b * d
+    probe = p + np.array([[0.1], [0.5], [0.9]]) * (q - p) + shift
+    z_far = plane_depth(probe, np.array([-fk[0] / fk[2], -fk[1] / fk[2], fk[3] / fk[2]]))
+    z_b = plane_depth(probe, pl[src[hb // 3]])
+    if np.any(z_b <= z_far + tol):
+        return None  # the far plane is not hidden there
+    return p, q, n
+
+
+def _stretches(p, q, region) -> list:
+    """Parameter ranges ``(a, b)`` in [0, 1] of the segment ``p q`` inside ``region``."""
+    import shapely
+
+    d = q - p
+    L2 = float(d @ d)
+    seg = shapely.intersection(shapely.LineString([p, q]), region)
+    out = []
+    for g in shapely.get_parts(seg):
+        if shapely.get_type_id(g) == 1 and not g.is_empty:
+            t = np.sort((np.asarray(g.coords)[[0, -1]] - p) @ d / L2)
+            out.append((float(t[0]), float(t[1])))
+    return out
+
+
+def hidden_strips(
+    xy: np.ndarray,
+    Fa: np.ndarray,
+    src: np.ndarray,
+    C: np.ndarray,
+    F: np.ndarray,
+    lines: list,
+    gap: float,
+    tol: float,
+    grid: float,
+) -> list:
+    """The far planes' hidden parts across the joint ``lines`` (:func:`joint_lines`), each
+    the part on the line's far side that touches it.  List of :class:`HiddenStrip`."""
+    import shapely
+
+    if not lines:
+        return []
+    span = float(np.ptp(xy, axis=0).max()) * 4.0
+    out = []
+    groups: dict = {}
+    for p, q, n, fpl, cover in lines:
+        groups.setdefault(tuple(fpl.tolist()), []).append((p, q, n, cover))
+    for key, segs in groups.items():  # one far plane at a time
+        fpl = np.asarray(key, dtype=np.int64)
+        proj = shapely.union_all(shapely.polygons(C[F[fpl], :2]), grid_size=grid)
+        seen = shapely.union_all(shapely.polygons(xy[Fa[np.isin(src, fpl)]]), grid_size=grid)
+        hid = shapely.difference(proj, seen, grid_size=grid)
+        # without the slivers that round-off leaves along the visible pieces' edges
+        hid = shapely.buffer(shapely.buffer(hid, -tol, join_style="mitre"), tol, join_style="mitre")
+        hid = shapely.set_precision(hid, grid)
+        for p, q, n, cover in segs:
+            front = shapely.buffer(shapely.union_all(shapely.polygons(xy[Fa[cover]])), 2 * tol)
+            d = (q - p) / np.linalg.norm(q - p)
+            a, b = p - span * d, q + span * d
+            half = shapely.Polygon([a, b, b + span * n, a + span * n])
+            part = shapely.intersection(hid, half, grid_size=grid)
+            seg = shapely.LineString([p, q])
+            for g in shapely.get_parts(part):
+                if shapely.get_type_id(g) != 3 or g.area <= tol * tol:
+                    continue
+                if shapely.distance(g, seg) > tol or len(g.interiors):
+                    continue
+                # the far bar comes out from behind there: the strip meets its visible faces
+                rim = shapely.intersection(g.exterior, shapely.buffer(seen, tol))
+                if shapely.length(rim) <= 4 * tol:
+                    continue
+                if not shapely.covers(front, g):  # hidden behind the near bar's face
+                    continue
+                g = shapely.geometry.polygon.orient(g, 1.0)
+                ring = np.asarray(g.exterior.coords)[:-1]
+                step = np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1)
+                ring = ring[step > tol]  # grid round-off can repeat a corner
+                if ring.shape[0] >= 3:
+                    out.append(HiddenStrip(ring, fpl, gap))
+    return out
+
+
+def _with_points_on(ring: np.ndarray, pts: np.ndarray, tol: float) -> np.ndarray:
+    """The ring with every point of ``pts`` lying on one of its edges inserted in order."""
+    out = []
+    for a, b in zip(ring, np.roll(ring, -1, axis=0)):  # a few edges per strip
+        out.append(a)
+        d = b - a
+        L2 = float(d @ d)
+        if L2 <= 0:
+            continue
+        w = pts - a
+        t = (w @ d) / L2
+        dist = np.abs(w[:, 0] * d[1] - w[:, 1] * d[0]) / np.sqrt(L2)
+        on = (dist <= tol) & (t * np.sqrt(L2) > tol) & ((1 - t) * np.sqrt(L2) > tol)
+        out += [pts[i] for i in np.flatnonzero(on)[np.argsort(t[on])]]
+    return np.asarray(out)
+
+
+@dataclass(frozen=True)
+class Joints:
+    """What :func:`prepare_joints` found: the hidden strips to add once glued."""
+
+    strips: list
+
+    def __bool__(self) -> bool:
+        return bool(self.strips)
+
+
+def prepare_joints(
+    xy: np.ndarray,
+    Fa: np.ndarray,
+    src: np.ndarray,
+    pl: np.ndarray,
+    C: np.ndarray,
+    F: np.ndarray,
+    front: np.ndarray,
+    tol: float,
+    grid: float,
+) -> tuple:
+    """Find the joints of bar ends and split the visible map where the hidden strips' corners
+    fall inside its edges.  Returns ``(xy, Fa, src, joints)``."""
+    strips = []
+    for gap, near, far in coincident_gaps(C, F, tol):  # a few gaps
+        lines = joint_lines(xy, Fa, src, pl, C, F, front, gap, near, far, tol, grid)
+        strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid)
+    if strips:
+        pts = np.vstack([s.ring for s in strips])
+        xy, Fa, src = split_edges_at(xy, Fa, src, pts, tol)
+    return xy, Fa, src, Joints(strips)
+
+
+def split_edges_at(
+    xy: np.ndarray, Fa: np.ndarray, src: np.ndarray, pts: np.ndarray, tol: float
+) -> tuple:
+    """Add each point of ``pts`` lying inside an edge of the map (not at a vertex) as a vertex,
+    splitting both faces of that edge.  Returns ``(xy, Fa, src)``."""
+    d, _ = cKDTree(xy).query(pts)
+    pts = pts[d > tol]
+    for x in pts:  # a few strip corners
+        E = np.stack([Fa[:, [1, 2]], Fa[:, [2, 0]], Fa[:, [0, 1]]], axis=1).reshape(-1, 2)
+        a, b = xy[E[:, 0]], xy[E[:, 1]]
+        dv = b - a
+        L = np.maximum(np.linalg.norm(dv, axis=1), 1e-300)
+        w = x - a
+        t = np.einsum("ij,ij->i", w, dv) / L**2
+        dist = np.abs(w[:, 0] * dv[:, 1] - w[:, 1] * dv[:, 0]) / L
+        hit = np.flatnonzero((dist <= tol) & (t * L > tol) & ((1 - t) * L > tol))
+        if hit.size == 0:
+            continue
+        v = xy.shape[0]
+        xy = np.vstack([xy, x])
+        f, k = hit // 3, hit % 3
+        c, p, q = Fa[f, k], Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3]
+        keep = np.ones(Fa.shape[0], dtype=bool)
+        keep[f] = False
+        new = np.vstack(
+            [np.stack([c, p, np.full_like(c, v)], 1), np.stack([c, np.full_like(c, v), q], 1)]
+        )
+        Fa = np.vstack([Fa[keep], new])
+        src = np.concatenate([src[keep], src[f], src[f]])
+    return xy, Fa, src
+
+
+def _strip_triangles(xy, strip: HiddenStrip, C, F, tol):
+    """Triangles of ``strip`` over ``xy`` (new vertices appended) and their source faces.
+    Returns ``(xy, tris (m, 3), src (m,))`` or None when the strip does not triangulate."""
+    import triangle as tr
+
+    ring = _with_points_on(strip.ring, xy, tol)
+    d, idx = cKDTree(xy).query(ring)
+    n = ring.shape[0]
+    seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
+    out = tr.triangulate({"vertices": ring, "segments": seg}, "pQ")
+    if out["vertices"].shape[0] != n:
+        return None
+    T = np.asarray(out["triangles"], dtype=np.int64)
+    Q = ring[T]
+    a2 = (Q[:, 1, 0] - Q[:, 0, 0]) * (Q[:, 2, 1] - Q[:, 0, 1]) - (Q[:, 2, 0] - Q[:, 0, 0]) * (
+        Q[:, 1, 1] - Q[:, 0, 1]
+    )
+    T[a2 < 0] = T[a2 < 0][:, [0, 2, 1]]
+    new = d > tol
+    vid = np.where(new, xy.shape[0] + np.cumsum(new) - 1, idx)
+    xy = np.vstack([xy, ring[new]])
+    inside = _inside(Q.mean(axis=1), C[F[strip.faces], :2], tol)
+    if not inside.any(axis=1).all():
+        return None
+    return xy, vid[T], strip.faces[np.argmax(inside, axis=1)]
+
+
+def join_ends(
+    xy: np.ndarray,
+    Fb: np.ndarray,
+    sb: np.ndarray,
+    Zb: np.ndarray,
+    pl: np.ndarray,
+    C: np.ndarray,
+    F: np.ndarray,
+    glue: Glue,
+    arcs: np.ndarray,
+    is_bridge: np.ndarray,
+    joints: Joints,
+    tol: float,
+    seen: list | tuple = (),
+) -> tuple:
+    """Add the hidden strips of ``joints`` behind the faces covering them and glue them: to
+    the far bar's visible faces and to each other where the depth is continuous, to the near
+    plane's faces across the joint lines where the depth gap is the joint's (the near bar's
+    face beyond the line is cut from it there).
+
+    ``seen``: the junctions glued so far (false edges, bridges); with one of them, nothing
+    is added.  Returns ``(xy, Fb, sb, Zb, is_bridge, glue, arcs, junctions)``, the input
+    unchanged (and no junction) when no strip glues across its gap.
+    """
+    none = (xy, Fb, sb, Zb, is_bridge, glue, arcs, [])
+    if not joints or any(j.depth_gap > tol and j.kind != "occluded continuation" for j in seen):
+        return none  # another junction is glued already
+    xy0, nf, tris, srcs, gaps = xy, Fb.shape[0], [], [], []
+    for s in joints.strips:  # a few strips: each must join both bars
+        got = _strip_triangles(xy, s, C, F, tol)
+        if got is None:
+            continue
+        xy1, T, st = got
+        Fn = np.vstack([Fb, T])
+        Zn = np.vstack([Zb, plane_depth(xy1[T], pl[st][:, None, :])])
+        _, b, jump = _strip_pairs(Fn, Zn, nf, np.array([s.gap]), tol)
+        if jump.any() and np.any(~jump & (b < 3 * nf)):  # glued across, and to the far bar
+            xy = xy1
+            tris.append(T)
+            srcs.append(st)
+            gaps.append(s.gap)
+    if not tris:
+        return none
+    S, sS = np.vstack(tris), np.concatenate(srcs)
+    Fn = np.vstack([Fb, S])
+    sn = np.concatenate([sb, sS])
+    Zn = np.vstack([Zb, plane_depth(xy[S], pl[sS][:, None, :])])
+    gaps = np.asarray(gaps)
+    g1, g2, jump = _strip_pairs(Fn, Zn, nf, gaps, tol)
+    glue0, arcs0 = glue, arcs
+    glued = glue.glued.copy()
+    # the partner a strip takes across a joint line is freed from its old pair
+    mapped = g2 < 3 * nf
+    taken = np.isin(glue.h1, g2[mapped]) | np.isin(glue.h2, g2[mapped])
+    glued[taken] = False
+    glue = Glue(
+        np.concatenate([glue.h1, g1]),
+        np.concatenate([glue.h2, g2]),
+        np.concatenate([glued, np.ones(g1.size, dtype=bool)]),
+        np.concatenate([glue.continuous & ~taken, ~jump]),
+    )
+    # strip faces lie behind the visible faces they overlap on screen
+    strip = np.r_[np.zeros(nf, dtype=bool), np.ones(S.shape[0], dtype=bool)]
+    pairs, _ = overlapping_pairs(xy[Fn], tol)
+    mixed = strip[pairs[:, 0]] & ~strip[pairs[:, 1]] | ~strip[pairs[:, 0]] & strip[pairs[:, 1]]
+    pr = pairs[mixed]
+    behind = np.where(strip[pr[:, 0]], pr[:, 0], pr[:, 1])
+    ahead = np.where(strip[pr[:, 0]], pr[:, 1], pr[:, 0])
+    arcs = np.vstack([arcs, np.stack([behind, ahead], axis=1)]).astype(np.int64)
+    he = g1[jump]
+    f, k = he // 3, he % 3
+    mid = 0.5 * (xy[Fn[f, (k + 1) % 3]] + xy[Fn[f, (k + 2) % 3]])
+    if not _manifold(cut_and_glue(Fn, glue)[0]):
+        return (xy0, Fb, sb, Zb, is_bridge, glue0, arcs0, [])
+    junction = Junction("false edge", mid.mean(axis=0), float(np.median(gaps)), int(jump.sum()))
+    is_bridge = np.r_[is_bridge, np.ones(S.shape[0], dtype=bool)]
+    return xy, Fn, sn, Zn, is_bridge, glue, arcs, [junction]
+
+
+def _manifold(Fm: np.ndarray) -> bool:
+    """Does every edge of ``Fm`` have at most two faces, traversed opposite ways?"""
+    he = np.stack([Fm[:, [1, 2]], Fm[:, [2, 0]], Fm[:, [0, 1]]], axis=1).reshape(-1, 2)
+    n = int(Fm.max()) + 1
+    directed = np.unique(he[:, 0] * n + he[:, 1]).size == he.shape[0]
+    und = np.unique(
+        np.minimum(he[:, 0], he[:, 1]) * n + np.maximum(he[:, 0], he[:, 1]), return_counts=True
+    )[1]
+    return bool(directed and und.max(initial=0) <= 2)
+
+
+def _strip_pairs(Fn, Zn, nf, gaps, tol):
+    """Half-edge pairs (strip half-edge, partner) to glue, and which glue across a gap.
+
+    A strip half-edge ``u -> v`` pairs with the half-edge ``v -> u`` of a map face or another
+    strip: glued where the depths agree at both ends (continuous), or where the partner lies
+    one of ``gaps`` in front at both ends (across a joint line)."""
+    n = int(Fn.max()) + 1
+    he = np.stack([Fn[:, [1, 2]], Fn[:, [2, 0]], Fn[:, [0, 1]]], axis=1).reshape(-1, 2)
+    zt = np.stack([Zn[:, [1, 2]], Zn[:, [2, 0]], Zn[:, [0, 1]]], axis=1).reshape(-1, 2)
+    hs = np.arange(3 * nf, he.shape[0])
+    key = he[:, 0] * n + he[:, 1]
+    rev = he[hs, 1] * n + he[hs, 0]
+    order = np.argsort(key, kind="stable")
+    pos = np.searchsorted(key[order], rev)
+    pos = np.minimum(pos, key.size - 1)
+    found = key[order][pos] == rev
+    a, b = hs[found], order[pos[found]]
+    keep = (b < 3 * nf) | (a < b)  # strip-strip pairs once
+    a, b = a[keep], b[keep]
+    dz = zt[b][:, ::-1] - zt[a]  # partner minus strip at the strip edge's tail and head
+    cont = np.abs(dz).max(axis=1) <= tol
+    jump = np.zeros(a.size, dtype=bool)
+    for g in np.unique(np.round(gaps / tol)).tolist():  # a few gaps
+        jump |= (np.abs(dz - g * tol).max(axis=1) <= 4 * tol) & (b < 3 * nf)
+    ok = cont | jump
+    return a[ok], b[ok], jump[ok]
