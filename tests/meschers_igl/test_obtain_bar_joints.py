@@ -222,3 +222,16 @@ def test_renders_like_the_z_buffer(joint, turn, tmp_path):
         agree = image_agreement(render(m, order=order, **kw), render((C, F), **kw))
         assert agree["iou"] >= 0.99 and agree["luminance_corr"] >= 0.99, agree
     assert backface_share(m, order, size=128, bounds=bounds) <= 1e-3
+
+
+@pytest.mark.parametrize("joint, turn", [("overlap", 0), ("full", 1), ("abut", 2)])
+def test_auto_view_finds_the_view_along_the_legs(joint, turn):
+    """``view="auto"``: the best-supported direction of lined-up vertex pairs is the view along
+    the legs, and the joint seen from it is a junction: that view, and the period ``|T|``."""
+    V, F, T = three_boxes(joint=joint, turn=turn)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m, order, report = model_to_mescher(V, F, view="auto")
+    assert abs(report.view @ T) == pytest.approx(np.linalg.norm(T), rel=1e-9)
+    p = np.abs(np.asarray(m.periods()))
+    assert np.all(np.isclose(p[p > 1e-6], np.linalg.norm(T), rtol=1e-6)) and p.max() > 1
