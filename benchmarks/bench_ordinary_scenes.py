@@ -19,6 +19,9 @@ import warnings
 from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "2")
+import meschers_igl  # noqa: E402,F401 -- before tests/ joins the path (its meschers_igl/ folder)
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "meschers_igl"))
 
 import numpy as np  # noqa: E402

@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+from builders import merge_meshes
 
 
 def blocks(lo, hi):
@@ -72,16 +73,6 @@ def voxel_solid(filled, scale=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0)):
     return V, np.array(F, np.int64)
 
 
-def join(*models):
-    """Several models as one soup."""
-    V, F, n = [], [], 0
-    for Vk, Fk in models:
-        V.append(Vk)
-        F.append(Fk + n)
-        n += Vk.shape[0]
-    return np.vstack(V), np.vstack(F)
-
-
 def floor_box_wall():
     """A floor plate, a unit box on it and a wall behind it: three separate blocks."""
     return blocks(
@@ -110,7 +101,7 @@ def l_block():
     before a wall."""
     cells = np.ones((3, 2, 2), bool)
     cells[1:, :, 1] = False  # the L: full height at x = 0, one cell high beyond
-    return join(voxel_solid(cells), blocks([[-1.0, 3.0, 0.0]], [[4.0, 3.5, 3.0]]))
+    return merge_meshes([voxel_solid(cells), blocks([[-1.0, 3.0, 0.0]], [[4.0, 3.5, 3.0]])])
 
 
 def stairs(n=4):
@@ -119,7 +110,9 @@ def stairs(n=4):
     cells = np.zeros((2, n, n), bool)
     for j in range(n):
         cells[:, j, : j + 1] = True
-    return join(voxel_solid(cells), blocks([[-1.0, n + 1.0, 0.0]], [[3.0, n + 1.5, n + 1.0]]))
+    return merge_meshes(
+        [voxel_solid(cells), blocks([[-1.0, n + 1.0, 0.0]], [[3.0, n + 1.5, n + 1.0]])]
+    )
 
 
 def stair_blocks(n=4):
