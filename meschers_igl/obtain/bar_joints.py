@@ -63,6 +63,16 @@ class HiddenStrip:
     gap: float
 
 
+def _one_end(P: np.ndarray, tol: float) -> bool:
+    """Do the points ``P`` (k, 3) lie in one plane (to ``tol``), as the corners of one bar's end
+    do?  Pairs lined up by accident along the view (a lattice of blocks seen along one of its
+    vectors) are spread through the model instead."""
+    if P.shape[0] < 4:
+        return True
+    Q = P - P.mean(axis=0)
+    return bool(np.abs(Q @ np.linalg.svd(Q)[2][2]).max() <= tol)
+
+
 def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     """Depth gaps shared by two or more pairs of model vertices that coincide on screen.
 
@@ -78,7 +88,8 @@ def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     -------
     list of (gap, near, far)
         ``gap`` > 10 ``tol``; ``near``, ``far`` (k,) int64 the vertices of its pairs, the near
-        one ``gap`` in front of the far one.  At most :data:`MAX_GAPS`, the most pairs first.
+        one ``gap`` in front of the far one, the far ones in one plane (one bar's end).  At
+        most :data:`MAX_GAPS`, the most pairs first.
     """
     vs = np.unique(F)
     if vs.size < 2 or vs.size > MAX_VERTICES:
@@ -98,7 +109,7 @@ def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     cut = np.flatnonzero(np.diff(t) > tol) + 1
     out = []
     for s, e in zip(np.r_[0, cut].tolist(), np.r_[cut, t.size].tolist()):  # a few gaps
-        if 2 <= e - s <= MAX_PAIRS:
+        if 2 <= e - s <= MAX_PAIRS and _one_end(P[far[s:e]], tol):
             out.append((float(t[s:e].mean()), vs[near[s:e]], vs[far[s:e]]))
     out.sort(key=lambda g: -g[1].size)  # stable: equal counts keep the smaller gap first
     return out[:MAX_GAPS]

@@ -235,3 +235,34 @@ def test_auto_view_finds_the_view_along_the_legs(joint, turn):
     assert abs(report.view @ T) == pytest.approx(np.linalg.norm(T), rel=1e-9)
     p = np.abs(np.asarray(m.periods()))
     assert np.all(np.isclose(p[p > 1e-6], np.linalg.norm(T), rtol=1e-6)) and p.max() > 1
+
+
+def test_pairs_spread_through_a_block_lattice_are_no_bar_end():
+    """An L-shaped block of unit cells before a wall, seen along the lattice vector (-1, -2, 1):
+    six vertex pairs coincide on screen with one gap (sqrt 6), spread over the solid, not the
+    corners of one bar's end (they lie in no plane).  No joint is read there; the scene stays
+    possible from that view (it came out impossible, period sqrt 6, when any equal gaps
+    counted)."""
+    from ordinary_scenes import SCENES
+
+    from meschers_igl.obtain.bar_joints import _one_end
+    from meschers_igl.operators import view_frame
+
+    V, F = SCENES["l_block"]()
+    for view in ((-1.0, -2.0, 1.0), (-0.5, -1.0, 0.5)):
+        R = view_frame(np.asarray(view) / np.linalg.norm(view), (0.0, 0.0, 1.0))
+        tol = 1e-5 * float(np.linalg.norm(np.ptp(V, axis=0)))
+        assert coincident_gaps(V @ R.T, F, tol) == []
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            m, order, _ = model_to_mescher(V, F, view=view, up=(0.0, 0.0, 1.0))
+        assert not m.is_impossible(order=order)
+    # the rule itself: corners of one end (a square, tilted) against a square and a point off it
+    sq = (
+        np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
+        @ Rotation.random(random_state=1).as_matrix().T
+    )
+    assert _one_end(sq, 1e-9) and _one_end(sq[:3] + 5.0, 0.0)
+    assert not _one_end(
+        np.vstack([sq, sq[0] + 1e-3 * np.cross(sq[1] - sq[0], sq[3] - sq[0])]), 1e-6
+    )
