@@ -209,12 +209,12 @@ class _FaceAreas:
         caps contain the view (a junction's mitre) weighs by its share of the pairs.
         """
         side = self.area[:, None] * (np.abs(self.nu @ np.reshape(W, (-1, 3)).T) < 1e-3)
+        if verts is None:  # every part by its area: the whole model's share
+            return side.sum(axis=0) / max(float(self.area.sum()), 1e-300)
         n = int(self.part.max(initial=-1)) + 1
         edge = np.zeros((n, side.shape[1]))
         np.add.at(edge, self.part, side)
         total = np.bincount(self.part, weights=self.area, minlength=n)
-        if verts is None:
-            return edge.sum(axis=0) / max(float(total.sum()), 1e-300)
         w = np.bincount(self.vpart[np.asarray(verts).reshape(-1)], minlength=n).astype(float)
         share = edge / np.maximum(total, 1e-300)[:, None]
         return (w @ share) / max(float(w.sum()), 1.0)
