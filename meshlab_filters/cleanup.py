@@ -8,7 +8,7 @@ no counts of their own):
 2. remove unreferenced vertices;
 3. remove duplicate faces (same three vertices, either orientation);
 4. remove zero-area faces (exactly zero area, e.g. a quad with a repeated corner);
-5. repair non-manifold edges (remove the fewest faces);
+5. repair non-manifold edges (remove the fewest faces, or split their vertices);
 6. split non-manifold vertices (repeated until none is left);
 7. orient every connected component coherently, keeping the orientation most of its faces had.
 
@@ -58,9 +58,10 @@ class CleanupReport:
     polygons_triangulated : int or None
         Input faces with more than three corners (each split into ``corners - 2`` triangles).
     duplicate_vertices_merged, unreferenced_vertices_removed, duplicate_faces_removed,
-    zero_area_faces_removed, non_manifold_faces_removed, non_manifold_vertices_split,
-    faces_flipped : int
-        What each step changed (``non_manifold_vertices_split`` counts vertices *added*).
+    zero_area_faces_removed, non_manifold_faces_removed, non_manifold_edges_split,
+    non_manifold_vertices_split, faces_flipped : int
+        What each step changed (``non_manifold_edges_split`` and
+        ``non_manifold_vertices_split`` count vertices *added*).
     vertices_out, faces_out : int
         Counts of the cleaned mesh.
     components : int
@@ -85,6 +86,7 @@ class CleanupReport:
     duplicate_faces_removed: int = 0
     zero_area_faces_removed: int = 0
     non_manifold_faces_removed: int = 0
+    non_manifold_edges_split: int = 0
     non_manifold_vertices_split: int = 0
     faces_flipped: int = 0
     vertices_out: int = 0
@@ -101,6 +103,7 @@ class CleanupReport:
         "duplicate_faces_removed",
         "zero_area_faces_removed",
         "non_manifold_faces_removed",
+        "non_manifold_edges_split",
         "non_manifold_vertices_split",
         "faces_flipped",
     )
@@ -158,6 +161,10 @@ def _step(ms: pymeshlab.MeshSet, name: str, **params) -> tuple[int, int]:
 
 def _non_manifold_vertices(ms: pymeshlab.MeshSet) -> int:
     return int(apply(ms, "get_topological_measures").get("non_two_manifold_vertices", 0))
+
+
+def _non_manifold_edges(ms: pymeshlab.MeshSet) -> int:
+    return int(apply(ms, "get_topological_measures").get("non_two_manifold_edges", 0))
 
 
 def count_polygons(ms: pymeshlab.MeshSet) -> tuple[int | None, int | None]:
@@ -273,7 +280,10 @@ def _replace_current_mesh(ms: pymeshlab.MeshSet, V: np.ndarray, F: np.ndarray) -
 
 
 def clean_meshset(
-    ms: pymeshlab.MeshSet, merge_tol: float = 0.0, source: str = "<MeshSet>"
+    ms: pymeshlab.MeshSet,
+    merge_tol: float = 0.0,
+    source: str = "<MeshSet>",
+    non_manifold_edges: str = "remove",
 ) -> tuple[np.ndarray, np.ndarray, CleanupReport]:
     """Clean the current mesh of ``ms`` in place and report what changed.
 
@@ -287,6 +297,11 @@ def clean_meshset(
         safe choice for cut models, see the module notes).
     source : str
         Name used in messages and in the report.
+    non_manifold_edges : {"remove", "split"}, default: "remove"
+        Repair an edge shared by more than two faces by removing the fewest faces (a manifold
+        surface, some of the input lost), or by splitting its vertices so that each face keeps
+        its own copy (nothing lost; the copies coincide in 3D: blocks that touch along an edge
+        stay separate blocks).
 
     Returns
     -------
@@ -294,6 +309,10 @@ def clean_meshset(
     F : (m, 3) int64
     report : CleanupReport
     """
+    if non_manifold_edges not in ("remove", "split"):
+        raise MescherError(
+            f"non_manifold_edges: expected 'remove' or 'split', found {non_manifold_edges!r}"
+        )
     merge_tol = float(merge_tol)
     if not np.isfinite(merge_tol) or merge_tol < 0:
         raise MescherError(f"merge_tol: expected a finite distance >= 0, found {merge_tol}")
@@ -319,7 +338,14 @@ def clean_meshset(
     rep.unreferenced_vertices_removed, _ = _step(ms, "meshing_remove_unreferenced_vertices")
     _, rep.duplicate_faces_removed = _step(ms, "meshing_remove_duplicate_faces")
     _, rep.zero_area_faces_removed = _step(ms, "meshing_remove_null_faces")
-    _, rep.non_manifold_faces_removed = _step(ms, "meshing_repair_non_manifold_edges")
+    if non_manifold_edges == "remove":
+        _, rep.non_manifold_faces_removed = _step(ms, "meshing_repair_non_manifold_edges")
+    elif _non_manifold_edges(ms):
+        # the filter gives every face of the mesh fresh vertices; the unused ones go at once,
+        # so the count is the copies added
+        dv, _ = _step(ms, "meshing_repair_non_manifold_edges", method="Split Vertices")
+        du, _ = _step(ms, "meshing_remove_unreferenced_vertices")
+        rep.non_manifold_edges_split = -(dv + du)
     split = 0
     for _ in range(_MAX_VERTEX_REPAIRS):
         if _non_manifold_vertices(ms) == 0:
@@ -384,7 +410,7 @@ def _vertex_map(
 
 
 def clean_mesh(
-    V: np.ndarray, F: np.ndarray, merge_tol: float = 0.0
+    V: np.ndarray, F: np.ndarray, merge_tol: float = 0.0, non_manifold_edges: str = "remove"
 ) -> tuple[np.ndarray, np.ndarray, CleanupReport]:
     """:func:`clean_meshset` on arrays: ``(V (n,3) float64, F (m,3) int64, report)``."""
     from meschers_igl.validate import as_faces, as_points
@@ -393,4 +419,6 @@ def clean_mesh(
     F = as_faces(F, "F", V.shape[0])
     ms = pymeshlab.MeshSet()
     ms.add_mesh(pymeshlab.Mesh(V, F), "artist_model")
-    return clean_meshset(ms, merge_tol=merge_tol, source="<arrays>")
+    return clean_meshset(
+        ms, merge_tol=merge_tol, source="<arrays>", non_manifold_edges=non_manifold_edges
+    )

@@ -123,8 +123,8 @@ def model_to_mescher(
     welded and pairs of coincident opposite faces -- blocks touching face to face -- removed
     *before* PyMeshLab's clean-up (which would keep one face of each pair and then cut the
     non-manifold edges this leaves, removing real surface faces); then :func:`clean_mesh`
-    repairs what is left (duplicate and zero-area faces, non-manifold edges and vertices,
-    orientation; its :class:`CleanupReport` lands in ``report.cleanup``) and
+    repairs what is left (duplicate and zero-area faces, non-manifold edges -- split, no face
+    removed -- and vertices, orientation; its :class:`CleanupReport` lands in ``report.cleanup``) and
     :func:`meschers_igl.obtain.model_to_mescher` builds what the viewer sees.
 
     Parameters
@@ -176,7 +176,10 @@ def model_to_mescher(
             pre.append(f"welded {n_w} vertex(es) that coincide in 3D (before PyMeshLab)")
         if n_c:
             pre.append(f"removed {n_c} pair(s) of coincident opposite faces (blocks touching)")
-        V, F, cleanup = clean_mesh(V0, F0, merge_tol=merge_tol)
+        # blocks that touch along an edge keep every face (their vertices split, then welded
+        # again by the conversion, which handles such edges): removing faces would open the
+        # solids and lose their corners from the search for a view
+        V, F, cleanup = clean_mesh(V0, F0, merge_tol=merge_tol, non_manifold_edges="split")
         cleanup.source = str(path_or_V_F)
     else:
         V, F = _mesh_pair(path_or_V_F)

@@ -421,13 +421,25 @@ def test_bad_files_are_repaired_and_reported_or_refused(tmp_path):
 
     from meshlab_filters import model_to_mescher as from_file
 
-    # a non-manifold edge (three faces on it): PyMeshLab removes a face and the report says so
+    # a non-manifold edge (three faces on it): PyMeshLab splits its vertices (no face lost:
+    # each face keeps its own copy) and the report says so
     V = np.array([[0, 0, 0], [1, 0, 0], [0.5, 1, 0], [0.5, -1, 0], [0.5, 0, 1.0]])
     F = np.array([[0, 1, 2], [1, 0, 3], [0, 1, 4]])
     with pytest.warns(MescherWarning):
         m, _, report = from_file(w(tmp_path / "nm.obj", V, F.tolist()), view=(0.3, 0.2, 1))
-    assert any("non manifold faces removed" in r for r in report.repairs)
-    assert report.cleanup.non_manifold_faces_removed >= 1
+    assert any("non manifold edges split" in r for r in report.repairs)
+    assert report.cleanup.non_manifold_faces_removed == 0
+    assert report.cleanup.non_manifold_edges_split >= 1
+    assert report.cleanup.faces_out == 3
+    # the command-line clean-up keeps a manifold surface: it removes the fewest faces
+    from meshlab_filters import clean_mesh
+
+    _, F2, rep2 = clean_mesh(V, F)
+    assert (
+        rep2.non_manifold_faces_removed >= 1 and F2.shape[0] == 3 - rep2.non_manifold_faces_removed
+    )
+    _, F3, rep3 = clean_mesh(V, F, non_manifold_edges="split")
+    assert F3.shape[0] == 3 and rep3.non_manifold_edges_split >= 1
     # the same arrays straight into the library: noted as a warning, nothing crashes
     with pytest.warns(MescherWarning, match="non-manifold edge"):
         model_to_mescher(V, F, view=(0.3, 0.2, 1))
