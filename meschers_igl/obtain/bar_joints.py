@@ -499,7 +499,7 @@ def join_ends(
     mid = 0.5 * (xy[Fn[f, (k + 1) % 3]] + xy[Fn[f, (k + 2) % 3]])
     if not _manifold(cut_and_glue(Fn, glue)[0]):
         return (xy0, Fb, sb, Zb, is_bridge, glue0, arcs0, [])
-    junction = Junction("false edge", mid.mean(axis=0), float(np.median(gaps)), int(jump.sum()))
+    junction = Junction("bar joint", mid.mean(axis=0), float(np.median(gaps)), int(jump.sum()))
     is_bridge = np.r_[is_bridge, np.ones(S.shape[0], dtype=bool)]
     return xy, Fn, sn, Zn, is_bridge, glue, arcs, [junction]
 

@@ -16,10 +16,12 @@ class Junction:
     Attributes
     ----------
     kind : str
-        ``"false edge"`` (visible junction), ``"hidden gap"`` (amodal bridge across a depth
-        offset), ``"occluded continuation"`` (amodal bridge without offset) or ``"crossing"``
-        (a bar broken in line, completed behind the bar seen through its gap: no offset, an
-        order a viewer cannot realise).
+        ``"false edge"`` (visible junction), ``"bar joint"`` (a bar's end hidden exactly behind
+        another's, its face continued behind the near bar and glued across the near face's
+        edge: :mod:`~meschers_igl.obtain.bar_joints`), ``"hidden gap"`` (amodal bridge across a
+        depth offset), ``"occluded continuation"`` (amodal bridge without offset) or
+        ``"crossing"`` (a bar broken in line, completed behind the bar seen through its gap: no
+        offset, an order a viewer cannot realise).
     position : (2,) float
         Screen position (middle of the chain).
     depth_gap : float

@@ -469,6 +469,8 @@ def _false_edge_seen(V, F, v, up, tol) -> bool:
             vm = see_model(V, F, v, up, tol=tol / diag, bridge=False, hidden=False)
         except MescherError:
             return False
-    if not any(j.kind == "false edge" and j.depth_gap > tol for j in vm.report.junctions):
+    if not any(
+        j.kind in ("false edge", "bar joint") and j.depth_gap > tol for j in vm.report.junctions
+    ):
         return False
     return depths_have_period(vm.F, vm.Z, 10.0 * tol)

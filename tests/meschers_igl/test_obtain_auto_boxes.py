@@ -94,3 +94,16 @@ def test_blocks_lying_on_a_plate_stay_possible():
     except MescherError:
         return  # no view: nothing lines up as a junction
     assert not m.is_impossible(order=order)
+
+
+def test_a_bar_joint_is_reported_as_such():
+    """The junction of three boxes is a bar joint (a hidden end continued behind the near bar),
+    reported with the gap |T|; no false edge is glued."""
+    V, F, T = three_boxes()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        _, _, report = model_to_mescher(V, F, view=ISO, up=(0.0, 0.0, 1.0))
+    kinds = [j.kind for j in report.junctions]
+    assert kinds == ["bar joint"], kinds
+    assert report.junctions[0].depth_gap == pytest.approx(np.linalg.norm(T), rel=1e-9)
+    assert "bar joint at screen" in str(report)
