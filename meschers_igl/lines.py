@@ -404,24 +404,24 @@ def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
     Returns the node sequence of all chains, their offsets and whether each is closed.
     """
     m = u.shape[0]
-    deg = np.zeros(n_nodes, np.int64)
+    deg = np.zeros(n_nodes, dtype=np.int64)
     for k in range(m):
         deg[u[k]] += 1
         deg[v[k]] += 1
-    start = np.zeros(n_nodes + 1, np.int64)
+    start = np.zeros(n_nodes + 1, dtype=np.int64)
     for i in range(n_nodes):
         start[i + 1] = start[i] + deg[i]
     fill = start[:-1].copy()
-    inc = np.empty(2 * m, np.int64)
+    inc = np.empty(2 * m, dtype=np.int64)
     for k in range(m):
         inc[fill[u[k]]] = k
         fill[u[k]] += 1
         inc[fill[v[k]]] = k
         fill[v[k]] += 1
-    used = np.zeros(m, np.bool_)
-    nodes = np.empty(2 * m + 1, np.int64)
-    offsets = np.zeros(m + 1, np.int64)
-    closed = np.zeros(m, np.bool_)
+    used = np.zeros(m, dtype=np.bool_)
+    nodes = np.empty(2 * m + 1, dtype=np.int64)
+    offsets = np.zeros(m + 1, dtype=np.int64)
+    closed = np.zeros(m, dtype=np.bool_)
     n_out = 0
     n_lines = 0
     for phase in range(2):

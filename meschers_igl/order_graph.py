@@ -345,14 +345,19 @@ def in_sorted(sorted_keys: np.ndarray, q: np.ndarray) -> np.ndarray:
 @njit(cache=True)
 def _path_integrals(indptr, indices, weight, value, seeds, tstart, targets):
     nv = indptr.shape[0] - 1
-    phi_out = np.zeros(targets.shape[0])
-    dist = np.full(nv, np.inf)
-    phi = np.zeros(nv)
-    stamp = np.full(nv, -1, dtype=np.int64)  # seed whose search last touched the vertex
-    done = np.full(nv, -1, dtype=np.int64)  # seed whose search settled the vertex
-    want = np.full(nv, -1, dtype=np.int64)  # seed that still needs the vertex
+    phi_out = np.zeros(targets.shape[0], dtype=np.float64)
+    dist = np.empty(nv, dtype=np.float64)  # valid where stamp is the current seed
+    phi = np.zeros(nv, dtype=np.float64)
+    stamp = np.empty(nv, dtype=np.int64)  # seed whose search last touched the vertex
+    done = np.empty(nv, dtype=np.int64)  # seed whose search settled the vertex
+    want = np.empty(nv, dtype=np.int64)  # seed that still needs the vertex
+    # a loop, not np.full: the kernels' allocations share one spelling (np.empty/np.zeros with
+    # ``dtype=``), so numba compiles its allocation code once per dtype and shape kind
+    for v in range(nv):
+        dist[v] = np.inf
+        stamp[v] = done[v] = want[v] = -1
     cap = indices.shape[0] + 1
-    hd = np.empty(cap)
+    hd = np.empty(cap, dtype=np.float64)
     hv = np.empty(cap, dtype=np.int64)
     for s in range(seeds.shape[0]):
         left = 0

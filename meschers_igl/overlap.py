@@ -27,7 +27,6 @@ import numpy as np
 from numba import njit
 
 __all__ = [
-    "extent",
     "arcs_from_depths",
     "barycentric_depths",
     "boxes_and_heights",
@@ -343,26 +342,27 @@ def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, cent
     cells, start, owner = _cell_lists(c0, c1, ny, ncell, ok)
     cap = max(1024, 4 * T.shape[0])
     pairs = np.empty((cap, 2), dtype=np.int64)
-    cen = np.empty((cap if centroids else 1, 2))
+    cen = np.empty((cap if centroids else 1, 2), dtype=np.float64)
     k = 0
     use_group = group.shape[0] > 0
-    blx = np.empty(64)
-    bly = np.empty(64)
-    buf = np.empty((2, CLIP_ROOM, 2))
-    bhx = np.empty(64)
-    bhy = np.empty(64)
+    blx = np.empty(64, dtype=np.float64)
+    bly = np.empty(64, dtype=np.float64)
+    buf = np.empty((2, CLIP_ROOM, 2), dtype=np.float64)
+    bhx = np.empty(64, dtype=np.float64)
+    bhy = np.empty(64, dtype=np.float64)
     bid = np.empty(64, dtype=np.int64)
-    bt = np.empty((64, 3, 2))  # the cell's triangles, copied: the pair loop stays in cache
+    # the cell's triangles, copied: the pair loop stays in cache
+    bt = np.empty((64, 3, 2), dtype=np.float64)
     for r in range(cells.shape[0]):
         s, e = start[r], start[r + 1]
         m = e - s
         if m < 2:
             continue
         if m > blx.shape[0]:
-            blx, bly = np.empty(2 * m), np.empty(2 * m)
-            bhx, bhy = np.empty(2 * m), np.empty(2 * m)
+            blx, bly = np.empty(2 * m, dtype=np.float64), np.empty(2 * m, dtype=np.float64)
+            bhx, bhy = np.empty(2 * m, dtype=np.float64), np.empty(2 * m, dtype=np.float64)
             bid = np.empty(2 * m, dtype=np.int64)
-            bt = np.empty((2 * m, 3, 2))
+            bt = np.empty((2 * m, 3, 2), dtype=np.float64)
         for q in range(m):  # this cell's boxes, contiguous and sorted by lo x (insertion)
             b = owner[s + q]
             x = lo[b, 0]
@@ -413,7 +413,7 @@ def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, cent
                 k += 1
     perm = sort_pairs(pairs[:k], T.shape[0])
     out = np.empty((k, 2), dtype=np.int64)
-    oc = np.empty((k if centroids else 0, 2))
+    oc = np.empty((k if centroids else 0, 2), dtype=np.float64)
     for r in range(k):
         out[r, 0], out[r, 1] = pairs[perm[r], 0], pairs[perm[r], 1]
         if centroids:
@@ -513,7 +513,7 @@ def barycentric_depths(
     operations as :func:`meschers_igl.geometry2d.barycentric`.
     """
     k = P.shape[0]
-    out = np.empty(k)
+    out = np.empty(k, dtype=np.float64)
     for r in range(k):
         f = faces[r]
         v0x, v0y = T[f, 1, 0] - T[f, 0, 0], T[f, 1, 1] - T[f, 0, 1]
@@ -566,9 +566,9 @@ def boxes_and_heights(T: np.ndarray):
     operations as the numpy formula it replaces.
     """
     n = T.shape[0]
-    lo = np.empty((n, 2))
-    hi = np.empty((n, 2))
-    ht = np.zeros(n)
+    lo = np.empty((n, 2), dtype=np.float64)
+    hi = np.empty((n, 2), dtype=np.float64)
+    ht = np.zeros(n, dtype=np.float64)
     for f in range(n):
         for d in range(2):
             lo[f, d] = _min3(T[f, 0, d], T[f, 1, d], T[f, 2, d])
@@ -622,29 +622,12 @@ def arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarra
 
 
 @njit(cache=True)
-def extent(points: np.ndarray):
-    """Per-coordinate ``(min, max)`` of ``points (k, d)`` in one pass (numpy reduces a short
-    trailing axis slowly)."""
-    d = points.shape[1]
-    mn = np.full(d, np.inf)
-    mx = np.full(d, -np.inf)
-    for r in range(points.shape[0]):
-        for c in range(d):
-            v = points[r, c]
-            if v < mn[c]:
-                mn[c] = v
-            if v > mx[c]:
-                mx[c] = v
-    return mn, mx
-
-
-@njit(cache=True)
 def pair_centroids(T: np.ndarray, pairs: np.ndarray):
     """:func:`intersection_centroid` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]``: ``(cen, area)``."""
     k = pairs.shape[0]
-    cen = np.empty((k, 2))
-    area = np.empty(k)
-    buf = np.empty((2, CLIP_ROOM, 2))
+    cen = np.empty((k, 2), dtype=np.float64)
+    area = np.empty(k, dtype=np.float64)
+    buf = np.empty((2, CLIP_ROOM, 2), dtype=np.float64)
     for r in range(k):
         cen[r, 0], cen[r, 1], area[r] = intersection_centroid(T, pairs[r, 0], pairs[r, 1], buf)
     return cen, area

@@ -290,7 +290,9 @@ def _provoking_mesh(
     # at 1M faces, in a random depth order more).  Output rows are allocated for the most
     # points there can be (k + n); the rows past the last are never touched (no memory used).
     k, n, d = draw.shape[0], points.shape[0], points.shape[1]
-    new_index = np.full(n, -1, dtype=np.int64)
+    new_index = np.empty(n, dtype=np.int64)
+    for v in range(n):  # a loop, not np.full: one allocation spelling in every kernel
+        new_index[v] = -1
     out = np.empty((k, 3), dtype=np.int64)
     source = np.empty(k + n, dtype=np.int64)
     P = np.empty((k + n, 3), dtype=np.float64)

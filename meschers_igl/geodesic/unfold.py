@@ -110,12 +110,12 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
     """
     n = faces.shape[0]
     npt = n + 1
-    pl = np.empty((npt, 2))
-    pr = np.empty((npt, 2))
-    il = np.empty(npt, np.int64)
-    ir = np.empty(npt, np.int64)
-    cv = np.empty(3, np.int64)
-    cp = np.zeros((3, 2))
+    pl = np.empty((npt, 2), dtype=np.float64)
+    pr = np.empty((npt, 2), dtype=np.float64)
+    il = np.empty(npt, dtype=np.int64)
+    ir = np.empty(npt, dtype=np.int64)
+    cv = np.empty(3, dtype=np.int64)
+    cp = np.zeros((3, 2), dtype=np.float64)
     f0 = faces[0]
     for c in range(3):
         cv[c] = F[f0, c]
@@ -181,9 +181,9 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
             pl[n, 1] = pr[n, 1] = cp[c, 1]
     il[n] = ir[n] = v1
     # string pulling
-    ci = np.empty(npt + 1, np.int64)
-    cx = np.empty((npt + 1, 2))
-    cvid = np.empty(npt + 1, np.int64)
+    ci = np.empty(npt + 1, dtype=np.int64)
+    cx = np.empty((npt + 1, 2), dtype=np.float64)
+    cvid = np.empty(npt + 1, dtype=np.int64)
     nc = 0
     ci[0], cx[0, 0], cx[0, 1], cvid[0] = 0, pl[0, 0], pl[0, 1], v0
     nc = 1
@@ -224,7 +224,7 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
         ci[nc], cx[nc, 0], cx[nc, 1], cvid[nc] = npt - 1, pl[n, 0], pl[n, 1], v1
         nc += 1
     # where the taut path crosses each portal
-    tpar = np.zeros(npt)
+    tpar = np.zeros(npt, dtype=np.float64)
     for c in range(nc - 1):
         ia, ib = ci[c], ci[c + 1]
         pa0, pa1, pb0, pb1 = cx[c, 0], cx[c, 1], cx[c + 1, 0], cx[c + 1, 1]

@@ -269,10 +269,10 @@ def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
 def walk_rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
     """Walk each vertex's one-ring: ``cpos, csgn, theta, vbnd`` of :func:`propagate`."""
     n = twin.size
-    cpos = np.zeros(n)
-    csgn = np.zeros(n)
-    theta = np.zeros(nv)
-    vbnd = np.zeros(nv, np.bool_)
+    cpos = np.zeros(n, dtype=np.float64)
+    csgn = np.zeros(n, dtype=np.float64)
+    theta = np.zeros(nv, dtype=np.float64)
+    vbnd = np.zeros(nv, dtype=np.bool_)
     for v in range(nv):
         k0 = vptr[v]
         deg = vptr[v + 1] - k0
