@@ -21,7 +21,7 @@ from numba import njit
 
 from .errors import MescherError
 from .heap import heap_pop, heap_push
-from .overlap import stable_argsort, unique_sorted_pairs
+from .overlap import unique_sorted_pairs
 from .validate import as_int_array
 
 __all__ = [
@@ -119,51 +119,46 @@ def topological_sort(n: int, arcs: np.ndarray) -> tuple[np.ndarray, bool]:
     arcs = np.asarray(arcs, dtype=np.int64)
     srt = np.argsort(arcs[:, 0], kind="stable")  # CSR by tail (canonical arcs: already sorted)
     indptr = np.concatenate(([0], np.cumsum(np.bincount(arcs[:, 0], minlength=n))))
-    order, k = _kahn_levels(indptr, np.ascontiguousarray(arcs[srt, 1]), n)
-    return order[:k], k == n
+    level = _kahn_levels(indptr, np.ascontiguousarray(arcs[srt, 1]), n)
+    nodes = np.flatnonzero(level >= 0)
+    # by level, then index: one sort of the key ``level * n + node`` (below n^2)
+    order = np.sort(level[nodes] * n + nodes) % n
+    return order, nodes.shape[0] == n
 
 
 @njit(cache=True)
-def _kahn_levels(indptr: np.ndarray, head: np.ndarray, n: int):
-    """Compiled level-by-level Kahn: the same order as the former numpy version (each level
-    sorted), ``O(n + k + sum of level sort costs)`` instead of a ``np.unique`` per level."""
+def _kahn_levels(indptr: np.ndarray, head: np.ndarray, n: int) -> np.ndarray:
+    """Kahn's algorithm with a FIFO queue: the level of each node (0 with no arc in, else 1 + the
+    largest level of its predecessors), -1 for the nodes a cycle blocks.
+
+    The queue holds the nodes by nondecreasing level, so the predecessor that frees a node is one
+    of largest level.  Sorting the levels is left to numpy (plain loops here: each line of a
+    kernel costs first-run compilation).
+    """
     indeg = np.zeros(n, dtype=np.int64)
     for a in range(head.shape[0]):
         indeg[head[a]] += 1
-    order = np.empty(n, dtype=np.int64)
+    level = np.empty(n, dtype=np.int64)
+    queue = np.empty(n, dtype=np.int64)
     k = 0
     for v in range(n):
+        level[v] = -1
         if indeg[v] == 0:
-            order[k] = v
+            level[v] = 0
+            queue[k] = v
             k += 1
-    lo = 0
-    while lo < k:
-        hi = k
-        for t in range(lo, hi):
-            u = order[t]
-            for a in range(indptr[u], indptr[u + 1]):
-                w = head[a]
-                indeg[w] -= 1
-                if indeg[w] == 0:
-                    order[k] = w
-                    k += 1
-        # sort the level in place: insertion sort when short, else a radix sort (plain loops:
-        # numba compiles its own sort slowly)
-        if k - hi <= 32:
-            for t in range(hi + 1, k):
-                v = order[t]
-                s = t
-                while s > hi and order[s - 1] > v:
-                    order[s] = order[s - 1]
-                    s -= 1
-                order[s] = v
-        else:
-            seg = order[hi:k].copy()
-            perm = stable_argsort(seg, n - 1)
-            for t in range(k - hi):
-                order[hi + t] = seg[perm[t]]
-        lo = hi
-    return order, k
+    t = 0
+    while t < k:
+        u = queue[t]
+        t += 1
+        for a in range(indptr[u], indptr[u + 1]):
+            w = head[a]
+            indeg[w] -= 1
+            if indeg[w] == 0:
+                level[w] = level[u] + 1
+                queue[k] = w
+                k += 1
+    return level
 
 
 def strong_components(n: int, arcs: np.ndarray) -> list[np.ndarray]:
