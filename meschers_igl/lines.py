@@ -66,6 +66,7 @@ from .geometry2d import default_tol, triangle_heights
 from .line_folds import NEAR_BASE as _NEAR_BASE
 from .line_folds import crossed, fold_ranks, lines_of_only, order_seams, seam_hidden
 from .line_folds import is_near as _is_near
+from .overlap import stable_argsort
 from .painter import _draw_order
 from .topology import edge_faces
 from .validate import as_choice, as_positive
@@ -397,27 +398,29 @@ def _side_ranks(xy, F, E, f1, f2, rank, area2) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------------ joining
-@njit(cache=True)
-def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
+def _walk_chains(n_nodes, u, v):
     """Join pieces ``(u[k], v[k])`` (node ids) into maximal chains through degree-2 nodes.
 
-    Returns the node sequence of all chains, their offsets and whether each is closed.
+    Returns the node sequence of all chains, their offsets and whether each is closed.  The
+    pieces at each node (CSR, by piece) come from numpy; the walk is compiled
+    (:func:`_walk_csr`).
     """
     m = u.shape[0]
-    deg = np.zeros(n_nodes, dtype=np.int64)
-    for k in range(m):
-        deg[u[k]] += 1
-        deg[v[k]] += 1
+    ends = np.empty(2 * m, dtype=np.int64)
+    ends[0::2], ends[1::2] = u, v
+    # stable (a node's pieces by piece index, u's end before v's; ``// 2`` is the piece), by the
+    # compiled radix sort the grid broad phase uses (numpy's stable sort of int64 is slower)
+    inc = stable_argsort(ends, max(n_nodes - 1, 0)) // 2
     start = np.zeros(n_nodes + 1, dtype=np.int64)
-    for i in range(n_nodes):
-        start[i + 1] = start[i] + deg[i]
-    fill = start[:-1].copy()
-    inc = np.empty(2 * m, dtype=np.int64)
-    for k in range(m):
-        inc[fill[u[k]]] = k
-        fill[u[k]] += 1
-        inc[fill[v[k]]] = k
-        fill[v[k]] += 1
+    np.cumsum(np.bincount(ends, minlength=n_nodes), out=start[1:])
+    return _walk_csr(start, inc, np.ascontiguousarray(u), np.ascontiguousarray(v))
+
+
+@njit(cache=True)
+def _walk_csr(start, inc, u, v):  # pragma: no cover - compiled
+    """:func:`_walk_chains` given the pieces ``inc[start[i]:start[i + 1]]`` at each node ``i``."""
+    m = u.shape[0]
+    n_nodes = start.shape[0] - 1
     used = np.zeros(m, dtype=np.bool_)
     nodes = np.empty(2 * m + 1, dtype=np.int64)
     offsets = np.zeros(m + 1, dtype=np.int64)
@@ -427,7 +430,7 @@ def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
     for phase in range(2):
         for s in range(n_nodes if phase == 0 else m):
             if phase == 0:
-                if deg[s] == 2:
+                if start[s + 1] - start[s] == 2:
                     continue
                 node = s
             else:
@@ -451,7 +454,7 @@ def _walk_chains(n_nodes, u, v):  # pragma: no cover - compiled
                     cur = v[k] if u[k] == cur else u[k]
                     nodes[n_out] = cur
                     n_out += 1
-                    if deg[cur] != 2 and phase == 0:
+                    if start[cur + 1] - start[cur] != 2 and phase == 0:
                         break
                     k = -1
                     for a in range(start[cur], start[cur + 1]):
