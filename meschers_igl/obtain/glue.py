@@ -10,6 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
+from .alignment import accidental_alignments
 from .clip import face_planes, merge_points, plane_depth, split_t_junctions
 from .records import FalseEdges, Glue, Junction
 
@@ -78,14 +79,17 @@ def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None):
         k = edge_on_source(xy, E, s, C, F, np.minimum(ftol[src[f1]], ftol[src[f2]]))
         nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
         on = (k >= 0) & (s < (F.shape[0] if n_model is None else n_model))
-        return on, on & ((nb < 0) | ~front[np.maximum(nb, 0)])
+        return on, on & ((nb < 0) | ~front[np.maximum(nb, 0)]), np.maximum(k, 0), nb
 
-    (on1, e1), (on2, e2) = ends(f1), ends(f2)
+    (on1, e1, m1, nb1), (on2, e2, m2, nb2) = ends(f1), ends(f2)
     far1 = (dp + dq) > 0  # face 2 nearer
     # a false edge: both sides lie on an edge of their own model face and the nearer side ends
     # there (silhouette or boundary); the farther side may turn a crease whose other face the
     # nearer one hides -- the viewer sees one crease or one flat continuation
     false_edge = ~continuous & parallel & on1 & on2 & np.where(far1, e2, e1)
+    # ... unless the near object merely lies in front of the far edge
+    sides = (h1, h2, far1, (m1, m2), (nb1, nb2), (e1, e2))
+    false_edge &= ~accidental_alignments(xy, Fa, Z, C, F, TT, front, src, sides, false_edge, tol)
     glue = continuous | false_edge
     cut = ~glue
     # true occlusion: the far face gets an arc to the near one

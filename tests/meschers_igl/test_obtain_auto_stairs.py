@@ -292,13 +292,20 @@ def test_closed_solid_builder_is_a_closed_oriented_surface():
 
 def test_a_side_view_of_stairs_is_refused():
     """A one-turn square spiral (a real object) in this pose lines up column edges from a
-    horizontal view, where the glued false edges made a period (zeta); stairs are seen from
-    above, so that view is refused with its reason."""
+    horizontal view.  Those are occlusions (each near column's edge lies before a far crease
+    that runs on past it), not junctions: from that view the stairs are possible, and no view
+    shows a junction, so ``view="auto"`` refuses in one line -- no view found, or, where an
+    alignment is read as a junction from the side, because stairs are seen from above."""
     V, F = square_spiral([("+y", 4), ("+x", 4), ("-y", 4), ("-x", 3)])
     V, _ = _pose(V, 3)
-    with pytest.raises(MescherError, match="seen from above"), warnings.catch_warnings():
+    v = np.array([0.0058, 0.389, 0.9212])  # the welded model's best-supported view, rounded
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore", MescherWarning)
-        model_to_mescher(V, F, view="auto")
+        m, order, report = model_to_mescher(V, F, view=v, up=(0.0, 0.0, 1.0))
+        assert not m.is_impossible(order=order), np.abs(m.periods()).max()
+        assert not report.junctions
+        with pytest.raises(MescherError, match="seen from above|found none"):
+            model_to_mescher(V, F, view="auto")
 
 
 def test_the_wrap_is_found_on_a_triangle_soup():
