@@ -73,6 +73,20 @@ def _one_end(P: np.ndarray, tol: float) -> bool:
     return bool(np.abs(Q @ np.linalg.svd(Q)[2][2]).max() <= tol)
 
 
+def _lattice(gaps: np.ndarray, tol: float) -> bool:
+    """Are the depth gaps shared by two or more vertex pairs (sorted) three or more integer
+    multiples of one step (their smallest difference)?  Then blocks repeat along the view (a
+    staircase seen along the vector from one step to the next): each repetition lines up pairs
+    at a multiple of the step, and no gap is one bar end hidden behind another."""
+    if gaps.size < 3:
+        return False
+    step = float(np.diff(gaps).min())
+    if step <= 10.0 * tol:
+        return False
+    k = gaps / step
+    return bool(np.all(np.abs(k - np.rint(k)) * step <= 2.0 * tol))
+
+
 def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     """Depth gaps shared by two or more pairs of model vertices that coincide on screen.
 
@@ -89,7 +103,8 @@ def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     list of (gap, near, far)
         ``gap`` > 10 ``tol``; ``near``, ``far`` (k,) int64 the vertices of its pairs, the near
         one ``gap`` in front of the far one, the far ones in one plane (one bar's end).  At
-        most :data:`MAX_GAPS`, the most pairs first.
+        most :data:`MAX_GAPS`, the most pairs first; none when the gaps are three or more
+        multiples of one step (:func:`_lattice`: repeated blocks seen along their repeat).
     """
     vs = np.unique(F)
     if vs.size < 2 or vs.size > MAX_VERTICES:
@@ -107,8 +122,11 @@ def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     order = np.argsort(t, kind="stable")
     near, far, t = near[order], far[order], t[order]
     cut = np.flatnonzero(np.diff(t) > tol) + 1
+    starts, ends = np.r_[0, cut], np.r_[cut, t.size]
+    if _lattice(t[starts[ends - starts >= 2]], tol):
+        return []
     out = []
-    for s, e in zip(np.r_[0, cut].tolist(), np.r_[cut, t.size].tolist()):  # a few gaps
+    for s, e in zip(starts.tolist(), ends.tolist()):  # a few gaps
         if 2 <= e - s <= MAX_PAIRS and _one_end(P[far[s:e]], tol):
             out.append((float(t[s:e].mean()), vs[near[s:e]], vs[far[s:e]]))
     out.sort(key=lambda g: -g[1].size)  # stable: equal counts keep the smaller gap first

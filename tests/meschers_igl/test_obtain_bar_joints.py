@@ -266,3 +266,36 @@ def test_pairs_spread_through_a_block_lattice_are_no_bar_end():
     assert not _one_end(
         np.vstack([sq, sq[0] + 1e-3 * np.cross(sq[1] - sq[0], sq[3] - sq[0])]), 1e-6
     )
+
+
+def test_gaps_on_a_lattice_are_no_joints():
+    """Three or more gaps that are integer multiples of one step are repeated blocks seen
+    along their repeat; two gaps (a tribar whose corner blocks coincide too) or gaps off the
+    lattice are not."""
+    from meschers_igl.obtain.bar_joints import _lattice
+
+    r2 = np.sqrt(2.0)
+    assert _lattice(np.array([2, 3, 4]) * r2, 1e-6)
+    assert _lattice(np.array([1, 2, 5]) * 0.7, 1e-6)
+    assert not _lattice(np.array([np.sqrt(3.0), 10 * np.sqrt(3.0)]), 1e-6)
+    assert not _lattice(np.array([1.0, 2.0, 3.5]), 1e-6)
+    assert not _lattice(np.array([1.0, 2.0, 3.0 + 1e-3]), 1e-6)
+
+
+def test_a_staircase_seen_along_its_repeat_has_no_bar_joint():
+    """A square spiral staircase (a real object) seen from the side along the vector from one
+    step to the next lines up a face of each step with a face of the steps behind it (gaps of
+    2, 3 and 4 times that vector): possible, with no joint."""
+    from test_obtain_auto_stairs import _pose, square_spiral
+
+    from meschers_igl.obtain.view import find_view
+    from meschers_igl.operators import view_frame
+
+    V, F = square_spiral([("+y", 4), ("+x", 4), ("-y", 4), ("-x", 3)])
+    V, _ = _pose(V, 3)
+    v, up = find_view(V, F)
+    tol = 1e-5 * float(np.linalg.norm(np.ptp(V, axis=0)))
+    assert coincident_gaps(V @ view_frame(v, up).T, F, tol) == []
+    m, order, report = _convert(V, F, v, up)
+    assert not m.is_impossible(order=order), np.abs(m.periods()).max()
+    assert not report.junctions
