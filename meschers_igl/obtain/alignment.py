@@ -15,15 +15,12 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
+from .caps import planar_patches, unit_normals
+
 #: Screen offset (in tolerances) of the probes on either side of a far edge
 #: (:func:`outline_seen`): beyond the merging tolerance of the visible map, so each probe lies
 #: in the face beside the edge.
 PROBE_OFFSET = 4.0
-
-
-def _unit_normals(C: np.ndarray, F: np.ndarray, f: np.ndarray) -> np.ndarray:
-    n = np.cross(C[F[f, 1]] - C[F[f, 0]], C[F[f, 2]] - C[F[f, 0]])
-    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
 
 
 def joined_edge_on(C, F, TT, nbn, nbf, false_edge, front, tol) -> np.ndarray:
@@ -32,8 +29,6 @@ def joined_edge_on(C, F, TT, nbn, nbf, false_edge, front, tol) -> np.ndarray:
     their edges): that patch, seen edge-on, joins the two surfaces in 3D (a step's riser, a
     block's side seen along itself); its two edges meet on screen because it projects to a
     line, not by an alignment of separate surfaces."""
-    from .caps import planar_patches
-
     rows = false_edge & (nbn >= 0) & (nbf >= 0)
     rows &= ~front[np.maximum(nbn, 0)] & ~front[np.maximum(nbf, 0)]
     if not rows.any():
@@ -61,7 +56,7 @@ def far_edge_kinds(C, F, sn, sf, nbf, turned, tol):
     """
     ok = nbf >= 0
     nb = np.maximum(nbf, 0)
-    ns, nf, nn = _unit_normals(C, F, sf), _unit_normals(C, F, nb), _unit_normals(C, F, sn)
+    ns, nf, nn = unit_normals(C, F[sf]), unit_normals(C, F[nb]), unit_normals(C, F[sn])
     off = np.einsum("kij,kj->ki", C[F[nb]] - C[F[sf, 0]][:, None], ns)
     E = C[F[sf]]
     L = np.linalg.norm(E - E[:, [1, 2, 0]], axis=2).max(axis=1)
@@ -92,9 +87,10 @@ def _depth_at(xy, Fa, Z, X, at, tol):
     near = np.flatnonzero(box)
     k, f = np.nonzero(np.all((lo[near] <= X[:, None] + tol) & (hi[near] >= X[:, None] - tol), 2))
     f = near[f]
-    inside = np.all(barycentric(X[k], T[f]) >= -1e-9, axis=1)
+    b = barycentric(X[k], T[f])
+    inside = np.all(b >= -1e-9, axis=1)
     k, f = k[inside], f[inside]
-    z = (barycentric(X[k], T[f]) * Z[f]).sum(axis=1)
+    z = (b[inside] * Z[f]).sum(axis=1)
     best = np.full(X.shape[0], -np.inf)
     np.maximum.at(best, k, z)
     top = z >= best[k]  # the nearest face at each point
