@@ -28,6 +28,7 @@ from typing import Any
 from meschers_igl import compiled
 
 __all__ = [
+    "APART",
     "COMPILE_SECONDS",
     "FIRST_NEEDED",
     "STEP_GROUPS",
@@ -47,6 +48,12 @@ RENDER_PACKAGE = "pyvista_views"
 # only for the estimate printed beforehand and for dealing groups to processes.
 COMPILE_SECONDS = {"order": 12.5, "render": 1.0, "paths": 4.0, "geodesic": 11.0}
 
+
+#: The groups a study compiles in processes of their own: every group but ``"render"``.  A
+#: process compiling that group would first import the rendering stack (PyVista and VTK, about
+#: 3.5 CPU s on a 2-core machine: more than its kernels take to compile, about 1 s), which the
+#: study's workers import anyway; they compile those kernels at their first picture.
+APART: tuple[str, ...] = tuple(compiled.GROUPS)
 
 #: The groups a model's first steps use (building and ordering it, drawing it, its homology
 #: loops), in order.

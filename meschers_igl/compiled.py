@@ -9,6 +9,11 @@ CPU, and :func:`warm` runs a tiny representative call of each group of kernels (
 functions with the argument types real work uses, so the cached signatures are the ones later
 calls look up).
 
+Every kernel is compiled with ``error_model="numpy"``: a float division by zero gives ``inf`` or
+``nan`` as numpy does, with no check and no exception path compiled after each division (about
+6% less compile time).  Results are the same wherever no division by zero happens; where one
+did, a kernel raised ``ZeroDivisionError`` before, a fault in its guards either way.
+
 Groups (each can be warmed in its own process, in parallel):
 
 ``"order"``

@@ -17,7 +17,7 @@ from numba import njit
 __all__ = ["heap_pop", "heap_push"]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, error_model="numpy", nogil=True, inline="always")
 def heap_push(keys: np.ndarray, vals: np.ndarray, size: int, key: float, val: int) -> int:
     """Insert ``(key, val)`` into the heap of ``size`` items; returns the new size.
 
@@ -37,7 +37,7 @@ def heap_push(keys: np.ndarray, vals: np.ndarray, size: int, key: float, val: in
     return size + 1
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, error_model="numpy", nogil=True, inline="always")
 def heap_pop(keys: np.ndarray, vals: np.ndarray, size: int):
     """Remove the smallest item of a heap of ``size >= 1`` items.
 

@@ -351,7 +351,7 @@ def double_area_kernel():
     if _AREA_JIT is None:
         import numba
 
-        _AREA_JIT = numba.njit(cache=True, nogil=True)(double_area_kahan)
+        _AREA_JIT = numba.njit(cache=True, error_model="numpy", nogil=True)(double_area_kahan)
     return _AREA_JIT
 
 
@@ -362,7 +362,7 @@ def apex_kernel():
         import numba
 
         _dbl_area = double_area_kernel()  # a compiled global for the kernel to call
-        _APEX_JIT = numba.njit(cache=True, nogil=True)(apex_offset)
+        _APEX_JIT = numba.njit(cache=True, error_model="numpy", nogil=True)(apex_offset)
     return _APEX_JIT
 
 
@@ -374,7 +374,7 @@ def _flip_kernel():
 
         _dbl_area = double_area_kernel()  # compiled globals for the kernel to call
         _apex_offset = apex_kernel()
-        _FLIP_JIT = numba.njit(cache=True, nogil=True)(_flip_to_delaunay)
+        _FLIP_JIT = numba.njit(cache=True, error_model="numpy", nogil=True)(_flip_to_delaunay)
     return _FLIP_JIT
 
 

@@ -416,7 +416,7 @@ def _walk_chains(n_nodes, u, v):
     return _walk_csr(start, inc, np.ascontiguousarray(u), np.ascontiguousarray(v))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _walk_csr(start, inc, u, v):  # pragma: no cover - compiled
     """:func:`_walk_chains` given the pieces ``inc[start[i]:start[i + 1]]`` at each node ``i``."""
     m = u.shape[0]

@@ -43,17 +43,17 @@ __all__ = [
 ]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def _max3(a: float, b: float, c: float) -> float:
     return max(max(a, b), c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def _min3(a: float, b: float, c: float) -> float:
     return min(min(a, b), c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def _separated(nx, ny, c):
     """Do the projections on the axis ``n`` overlap by ``<= tol * |n|``?  ``c``: the corners
     ``(a0x, a0y, a1x, a1y, a2x, a2y, b0x, b0y, b1x, b1y, b2x, b2y)`` and ``tol``."""
@@ -70,7 +70,7 @@ def _separated(nx, ny, c):
     return not lap > tol * np.sqrt(nx * nx + ny * ny)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sat_overlap(T: np.ndarray, i: int, j: int, tol: float) -> bool:
     """Separating-axis test of the screen triangles ``T[i]`` and ``T[j]`` (T (n, 3, 2)).
 
@@ -98,7 +98,7 @@ def sat_overlap(T: np.ndarray, i: int, j: int, tol: float) -> bool:
     return not _separated(b0y - b2y, b2x - b0x, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def _ccw6(x0, y0, x1, y1, x2, y2):
     """Corners as a 6-tuple, corners 1 and 2 swapped when the triangle is clockwise."""
     e1x, e1y, e2x, e2y = x1 - x0, y1 - y0, x2 - x0, y2 - y0
@@ -112,7 +112,7 @@ def _ccw6(x0, y0, x1, y1, x2, y2):
 CLIP_ROOM = 24
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def intersection_centroid(
     T: np.ndarray, i: int, j: int, buf: np.ndarray
 ) -> tuple[float, float, float]:
@@ -189,7 +189,7 @@ def intersection_centroid(
     return cx + ox, cy + oy, 0.5 * max(area2, 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def overlap_pairs_sat(T: np.ndarray, pairs: np.ndarray, tol: float) -> np.ndarray:
     """(k,) bool: :func:`sat_overlap` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]`` (T (n, 3, 2))."""
     k = pairs.shape[0]
@@ -200,7 +200,7 @@ def overlap_pairs_sat(T: np.ndarray, pairs: np.ndarray, tol: float) -> np.ndarra
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _grow(a: np.ndarray, need: int) -> np.ndarray:
     if need <= a.shape[0]:
         return a
@@ -214,7 +214,7 @@ def _grow(a: np.ndarray, need: int) -> np.ndarray:
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def stable_argsort(key: np.ndarray, kmax: int) -> np.ndarray:
     """The stable sorting permutation of ``key`` (int64, every value in ``[0, kmax]``).
 
@@ -243,7 +243,7 @@ def stable_argsort(key: np.ndarray, kmax: int) -> np.ndarray:
     return perm
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndarray):
     """Entries (ids of boxes with ``ok``) of each occupied grid cell: ``(cells, start, owner)``,
     CSR by cell.  Counting sort when the grid is small enough (``ncell`` cells), else a sort of
@@ -309,7 +309,7 @@ def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndar
     return cells, start, owner
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, centroids, group):
     """All pairs of triangles whose boxes (and, with ``narrow``, whose triangles) overlap.
 
@@ -459,7 +459,7 @@ def candidate_pairs_grid(
     return pairs
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def child_pairs(
     T: np.ndarray,
     ok: np.ndarray,
@@ -503,7 +503,7 @@ def child_pairs(
     return out[:k].copy()
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def barycentric_depths(
     P: np.ndarray, T: np.ndarray, Z: np.ndarray, faces: np.ndarray
 ) -> np.ndarray:
@@ -527,7 +527,7 @@ def barycentric_depths(
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     """Permutation sorting ``pairs (k, 2)`` (values in ``[0, n)``) lexicographically.
 
@@ -558,7 +558,7 @@ def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     return perm
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def boxes_and_heights(T: np.ndarray):
     """Bounding boxes ``lo, hi (n, 2)`` and smallest heights ``(n,)`` of triangles ``T (n, 3, 2)``.
 
@@ -585,7 +585,7 @@ def boxes_and_heights(T: np.ndarray):
     return lo, hi, ht
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def unique_sorted_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     """``pairs (k, 2)`` (values in ``[0, n)``) sorted lexicographically, duplicates removed."""
     perm = sort_pairs(pairs, n)
@@ -599,7 +599,7 @@ def unique_sorted_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     return out[:k].copy()
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarray:
     """Arc ``i -> j`` for each pair ``(i, j)`` with ``dz > tol``, ``j -> i`` where ``dz < -tol``.
 
@@ -621,7 +621,7 @@ def arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarra
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def pair_centroids(T: np.ndarray, pairs: np.ndarray):
     """:func:`intersection_centroid` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]``: ``(cen, area)``."""
     k = pairs.shape[0]

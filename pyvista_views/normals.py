@@ -122,7 +122,7 @@ def corner_groups(
     return remap[groups], group_vertex[used], normals[used]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rough_vertices(
     F: np.ndarray, N: np.ndarray, vn: np.ndarray, half: float, nv: int
 ) -> np.ndarray:

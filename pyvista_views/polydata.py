@@ -259,7 +259,7 @@ def split_folds(mesh: pv.PolyData) -> pv.PolyData:
     return split
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy", inline="always")
 def _claim(F: np.ndarray, f: int, new_index: np.ndarray, i: int) -> tuple[int, int, int]:
     # Cell i (face f) claims the first of its corners 2, 0, 1 that no earlier cell claimed and
     # returns its corners rotated (orientation kept) to end with it; with every corner taken,
@@ -277,7 +277,7 @@ def _claim(F: np.ndarray, f: int, new_index: np.ndarray, i: int) -> tuple[int, i
     return a, b, c
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _provoking_mesh(
     F: np.ndarray, draw: np.ndarray, points: np.ndarray, face_normals: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

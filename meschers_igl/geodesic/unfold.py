@@ -87,12 +87,12 @@ def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndar
 _apex_offset = intrinsic.apex_kernel()  # the law-of-cosines layout, compiled
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def _area2(a0, a1, b0, b1, c0, c1) -> float:
     return (b0 - a0) * (c1 - a1) - (c0 - a0) * (b1 - a1)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")
 def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
     """Unfold a strip of faces and pull the path from ``v0`` to ``v1`` taut in it.
 

@@ -71,12 +71,13 @@ def test_cold_kernels_skips_inlined_helpers_and_names_module_functions():
     assert "meschers_igl.overlap.grid_overlaps" in names
     cold = compiled.cold_kernels(compiled.GROUPS["order"])
     assert set(cold) <= names
+    modules = [m for g in compiled.GROUPS.values() for m in g]
     inlined = {
         f"{d.py_func.__module__}.{d.py_func.__qualname__}"
-        for d in compiled.kernels(compiled.GROUPS["order"])
+        for d in compiled.kernels(modules)
         if d.targetoptions.get("inline", "never") != "never"
     }
-    assert inlined and not inlined & set(cold)
+    assert inlined and not inlined & set(compiled.cold_kernels(modules))
 
 
 def test_warm_refuses_an_unknown_group():
@@ -231,3 +232,22 @@ def test_the_estimate_counts_the_work_sharing_the_cores(monkeypatch):
     warmup.start_compiling(said.append, processes=1, beside=1)  # one process, one worker
     both = secs["order"] + secs["geodesic"]
     assert said[-1].startswith(f"compiling kernels (first run only, about {both:.0f} s)")
+
+
+def test_a_study_compiles_apart_without_importing_the_rendering_stack():
+    """The processes a study starts to compile kernels import neither PyVista nor VTK (an import
+    that costs more than the rendering kernels take to compile, and that the workers pay anyway);
+    the rendering group is the only one left to the workers."""
+    from meschers.warmup import APART
+    from meschers_igl import compiled
+
+    code = (
+        "import sys\n"
+        "from meschers.warmup import APART, warm_groups\n"
+        "warm_groups(APART)\n"
+        "print(sorted(m for m in ('pyvista', 'vtk', 'vtkmodules', 'pyvista_views') "
+        "if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip().splitlines()[-1] == "[]"
+    assert set(APART) == set(compiled.GROUPS)  # every group but "render"
