@@ -24,11 +24,12 @@ Columns (median and worst over the lights, per model), against the bar:
 PSNR >= 30 dB, silhouette IoU >= 0.98, share of figure pixels on faces within 10 degrees of
 the three face directions the model's picture shows (:func:`model_axes`: the most projected
 area, not the most area) >= 90%, impossible, period
-(around the outline or a hole) within 5% of the true depth gap (the largest coincident gap of
-``views.json`` or the box model's ``gap``, times the picture's scale; "-" where none is known:
-models without coincident pairs, and physically possible models a person reads as right-angled,
-whose physical gaps are not the period read), and wall seconds.  A picture refused with a
-``MescherError`` counts as failing every column.
+(around the outline or a hole) within 5% of the true depth gap (the box model's ``gap``; for a
+file, the largest gap among its junctions: the coincident pairs of ``views.json`` and the
+picture's invisible edges (:func:`invisible_gaps`); times the picture's scale; "-" where none is
+known: models without coincident pairs, and physically possible models a person reads as
+right-angled, whose physical gaps are not the period read), and wall seconds.  A picture
+refused with a ``MescherError`` counts as failing every column.
 
 Run:  python benchmarks/bench_inverse_real.py [--models PATH] [--lights 6] [--iters 300]
       [--no-turn-faces] [--turn-every K] [--turn-weight W]
@@ -42,6 +43,7 @@ import json
 import math
 import os
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -79,7 +81,78 @@ def model_axes(model) -> np.ndarray:
     return picture_axes(model.V, model.F, model.view)
 
 
-def load_models(folder: Path | None, only: set | None):
+def face_ids(model, res: int, extent: float = 0.8) -> np.ndarray:
+    """(res, res) int64: the face of ``model.F`` seen at each pixel, -1 on the background.
+
+    PyVista's z-buffer with the camera of ``meschers.inverse_cli.zbuffer_picture`` (the same
+    view, up, centre and scale), each face drawn unlit in a colour that encodes its index.
+    """
+    import pyvista as pv
+
+    from pyvista_views.headless import configure_headless
+
+    configure_headless()
+    R = model.camera_frame()
+    C = model.V @ R.T
+    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
+    scale = 2.0 * extent / float((hi - lo).max())
+    centre = np.r_[0.5 * (lo + hi), C[:, 2].mean()] @ R
+    F = np.asarray(model.F)
+    mesh = pv.PolyData(model.V, np.hstack([np.full((len(F), 1), 3), F]).ravel())
+    k = np.arange(1, len(F) + 1)
+    mesh.cell_data["id"] = np.stack([k & 255, (k >> 8) & 255, (k >> 16) & 255], 1).astype(np.uint8)
+    pl = pv.Plotter(off_screen=True, window_size=(res, res), lighting="none")
+    try:
+        pl.disable_anti_aliasing()
+        pl.set_background((0.0, 0.0, 0.0))
+        pl.add_mesh(mesh, scalars="id", rgb=True, lighting=False, preference="cell")
+        span = float(np.ptp(C, axis=0).max()) + 1.0
+        pl.camera.enable_parallel_projection()
+        pl.camera.focal_point = tuple(centre)
+        pl.camera.position = tuple(centre + span * 4.0 * model.view)
+        pl.camera.up = tuple(model.up)
+        pl.camera.parallel_scale = 1.0 / scale
+        pl.camera.clipping_range = (span, span * 8.0)
+        img = np.asarray(pl.screenshot(return_img=True)[..., :3], dtype=np.int64)
+    finally:
+        pl.close()
+    return img[..., 0] + (img[..., 1] << 8) + (img[..., 2] << 16) - 1
+
+
+def invisible_gaps(model, res: int, min_pairs: int = 2, max_deg: float = 0.5) -> np.ndarray:
+    """Depth gaps (model units) across the invisible edges of the model's picture, ascending.
+
+    An invisible edge is an occlusion between two parallel faces (normals within ``max_deg``):
+    under any directional light both have one shade, so the picture shows no line there and a
+    person reads one surface running on (the impossible cube's front bar joined to a back bar;
+    a staircase's riser to a wall behind it).  Its gap is exact: the planes' distance over
+    ``|n . view|``.  Counted where ``min_pairs`` pairs of neighbouring pixels of
+    :func:`face_ids` show it; gaps under ``1e-6`` of the model's size are one plane split.
+    """
+    V = np.asarray(model.V, dtype=np.float64)
+    F = np.asarray(model.F)
+    ids = face_ids(model, res)
+    ids[ids >= len(F)] = -1  # a colour no face has: not a face
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    v = np.asarray(model.view, dtype=np.float64)
+    gaps = []
+    for a, b in ((ids[:, :-1], ids[:, 1:]), (ids[:-1, :], ids[1:, :])):
+        ok = (a >= 0) & (b >= 0) & (a != b)
+        fa, fb = a[ok], b[ok]
+        par = np.abs((n[fa] * n[fb]).sum(axis=1)) > math.cos(math.radians(max_deg))
+        fa, fb = fa[par], fb[par]
+        dist = np.abs(((V[F[fb, 0]] - V[F[fa, 0]]) * n[fa]).sum(axis=1))
+        gaps.append(dist / np.maximum(np.abs(n[fa] @ v), 1e-300))
+    g = np.concatenate(gaps)
+    size = float(np.ptp(V, axis=0).max())
+    g = g[g > 1e-6 * size]
+    _, inv, cnt = np.unique(np.round(g / size, 9), return_inverse=True, return_counts=True)
+    gap = np.bincount(inv.ravel(), g) / cnt  # one value per plane pair, not rounded
+    return gap[cnt >= min_pairs]
+
+
+def load_models(folder: Path | None, only: set | None, res: int = 128):
     from meschers_igl.inverse import models
     from meschers_igl.inverse.models import BoxModel
 
@@ -98,10 +171,14 @@ def load_models(folder: Path | None, only: set | None):
             up -= (up @ view) * view
             up /= np.linalg.norm(up)
             # a physically possible model (a sheared torus, a relief) is read as right-angled
-            # bars: its physical gaps are not the period a person reads
+            # bars: its physical gaps are not the period a person reads.  A file with a junction
+            # from its view (coincident pairs) is checked against the largest gap among its
+            # junctions: the pairs and the picture's invisible edges (a cube frame's front bar
+            # running on, with no line, into a back bar behind it is a junction too)
             gaps = v.get("coincident_depth_gaps") or []
-            gap = max(gaps) if gaps and "perceive" not in v else math.nan
-            m = BoxModel(name, V, np.asarray(F), view, up, gap)
+            m = BoxModel(name, V, np.asarray(F), view, up, math.nan)
+            if gaps and "perceive" not in v:
+                m = replace(m, gap=max([*gaps, *invisible_gaps(m, res)]))
             out.append((m, model_axes(m)))
     for name, make in (
         ("tribar", models.penrose_tribar),
@@ -304,7 +381,7 @@ def main(argv=None) -> int:
     )
     turn = (args.turn_every, args.turn_weight)
     rows = []
-    for model, axes in load_models(folder if folder.is_dir() else None, only):
+    for model, axes in load_models(folder if folder.is_dir() else None, only, args.resolution):
         for k, light in enumerate(lights):
             if cases is not None and (model.name, k) not in cases:
                 continue
