@@ -20,7 +20,8 @@ The one door, :func:`model_to_mescher` (:mod:`.route`), picks the route (:mod:`.
   7. :mod:`.perceive` -- ``perceive="manhattan"``: normals snapped to the perceived frame.
 
 What a step hands the next is a typed record (:mod:`.records`): :class:`Junction`,
-:class:`ConversionReport`, :class:`VisibleModel`, :class:`Glue`, :class:`FalseEdges`.
+:class:`ConversionReport`, :class:`VisibleModel`, :class:`Glue`, :class:`EdgeSides`,
+:class:`FalseEdges`.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from .choose import PERIOD_RTOL, ROUTES, Obtained, drop_small_periods, obtain
 from .cleanup import drop_contact_faces, orient_outward, solid_like_parts, weld
 from .junctions import BarEnds, bar_end_pairs, close_junctions
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame, snap_to_manhattan
-from .records import ConversionReport, FalseEdges, Glue, Junction, VisibleModel
+from .records import ConversionReport, EdgeSides, FalseEdges, Glue, Junction, VisibleModel
 from .route import cut_model_to_mescher, model_to_mescher
 from .see import see_model
 from .view import find_model_view, find_view, relief_fronts, up_for_view
@@ -39,6 +40,7 @@ __all__ = [
     "ROUTES",
     "BarEnds",
     "ConversionReport",
+    "EdgeSides",
     "FalseEdges",
     "Glue",
     "Junction",

@@ -16,6 +16,7 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
 from .caps import planar_patches, unit_normals
+from .records import EdgeSides
 
 #: Screen offset (in tolerances) of the probes on either side of a far edge
 #: (:func:`outline_seen`): beyond the merging tolerance of the visible map, so each probe lies
@@ -143,7 +144,9 @@ def outline_seen(xy, Fa, Z, A, B, side, tol) -> bool:
     return bool(np.any(own & backdrop))
 
 
-def accidental_alignments(xy, Fa, Z, C, F, TT, front, src, sides, false_edge, tol):
+def accidental_alignments(
+    xy, Fa, Z, C, F, TT, front, src, sides: EdgeSides, false_edge, tol
+) -> np.ndarray:
     """(k,) bool: the false edges that are accidental alignments, not junctions.
 
     A false edge says the near surface is attached to the far model edge along it.  It is an
@@ -173,25 +176,21 @@ def accidental_alignments(xy, Fa, Z, C, F, TT, front, src, sides, false_edge, to
     C, F, TT, front : model (camera frame), its triangle adjacency and front faces.
     src : (#T,) int
         Source model face of each screen face.
-    sides : (h1, h2, far1, k, nb, turned)
-        The shared screen edges' half-edges, whether ``h1``'s face is farther, and per side
-        (pairs of (k,) arrays) the model edge index, the model face across it and whether
-        that side ends there (silhouette or boundary).
+    sides : EdgeSides
+        The two sides of each shared screen edge on their model edges.
     false_edge : (k,) bool
     tol : float
         Absolute tolerance.
     """
-    h1, h2, far1, (m1, m2), (nb1, nb2), (e1, e2) = sides
-    out = np.zeros(h1.size, dtype=bool)
+    out = np.zeros(sides.h1.size, dtype=bool)
     fe = np.flatnonzero(false_edge)
     if fe.size == 0:
         return out
-    far = far1[fe]
-    hf, hn = np.where(far, h1[fe], h2[fe]), np.where(far, h2[fe], h1[fe])
+    hf, hn = sides.far_near("h", fe)
     sf, sn = src[hf // 3], src[hn // 3]
-    mf, mn = np.where(far, m1[fe], m2[fe]), np.where(far, m2[fe], m1[fe])
-    nbf, nbn = np.where(far, nb1[fe], nb2[fe]), np.where(far, nb2[fe], nb1[fe])
-    outline, crease = far_edge_kinds(C, F, sn, sf, nbf, np.where(far, e1[fe], e2[fe]), tol)
+    mf, mn = sides.far_near("edge", fe)
+    nbf, nbn = sides.far_near("across", fe)
+    outline, crease = far_edge_kinds(C, F, sn, sf, nbf, sides.far_near("ends", fe)[0], tol)
     A, B = C[F[sf, mf]], C[F[sf, (mf + 1) % 3]]
     t, L = on_line(A, B, C[F[sn, mn]], C[F[sn, (mn + 1) % 3]])
     corners = (np.abs(t[:, 0]) <= tol) & (np.abs(t[:, 1] - L) <= tol)
@@ -219,7 +218,7 @@ def accidental_alignments(xy, Fa, Z, C, F, TT, front, src, sides, false_edge, to
         if outline_seen(xy, Fa[near], Z[near], A[i], B[i], side, tol):
             bad[(inv == j) & cand] = True
     if bad.any():
-        f, k = h1[fe] // 3, h1[fe] % 3
+        f, k = sides.h1[fe] // 3, sides.h1[fe] % 3
         p, q = Fa[f, (k + 1) % 3], Fa[f, (k + 2) % 3]
         M = sp.coo_matrix((np.ones(fe.size), (p, q)), shape=(xy.shape[0],) * 2)
         _, lab = csgraph.connected_components(M, directed=False)

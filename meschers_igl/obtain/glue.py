@@ -12,7 +12,7 @@ import scipy.sparse.csgraph as csgraph
 
 from .alignment import accidental_alignments
 from .clip import face_planes, merge_points, plane_depth, split_t_junctions
-from .records import FalseEdges, Glue, Junction
+from .records import EdgeSides, FalseEdges, Glue, Junction
 
 
 # ------------------------------------------------------------------------------ gluing
@@ -88,7 +88,7 @@ def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None):
     # nearer one hides -- the viewer sees one crease or one flat continuation
     false_edge = ~continuous & parallel & on1 & on2 & np.where(far1, e2, e1)
     # ... unless the near object merely lies in front of the far edge
-    sides = (h1, h2, far1, (m1, m2), (nb1, nb2), (e1, e2))
+    sides = EdgeSides(h1, h2, far1, m1, m2, nb1, nb2, e1, e2)
     false_edge &= ~accidental_alignments(xy, Fa, Z, C, F, TT, front, src, sides, false_edge, tol)
     glue = continuous | false_edge
     cut = ~glue

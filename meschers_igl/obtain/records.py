@@ -150,6 +150,43 @@ class Glue:
 
 
 @dataclass(frozen=True)
+class EdgeSides:
+    """The two sides of each shared screen edge, each seen on its own model edge.
+
+    Attributes
+    ----------
+    h1, h2 : (k,) int64
+        The two half-edges (as in :class:`Glue`).
+    far1 : (k,) bool
+        ``h1``'s face is the farther one.
+    edge1, edge2 : (k,) int64
+        Per side, the model edge ``c`` (corners ``c -> c+1`` of its model face) the screen edge
+        lies on (0 where it lies on none).
+    across1, across2 : (k,) int64
+        Per side, the model face across that model edge (-1: a boundary edge).
+    ends1, ends2 : (k,) bool
+        Per side, whether its surface ends at that edge as seen (a silhouette or a boundary).
+    """
+
+    h1: np.ndarray
+    h2: np.ndarray
+    far1: np.ndarray
+    edge1: np.ndarray
+    edge2: np.ndarray
+    across1: np.ndarray
+    across2: np.ndarray
+    ends1: np.ndarray
+    ends2: np.ndarray
+
+    def far_near(self, name: str, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Field ``name`` (``"h"``, ``"edge"``, ``"across"`` or ``"ends"``) at ``rows`` for the
+        farther side, then for the nearer one."""
+        a, b = getattr(self, f"{name}1")[rows], getattr(self, f"{name}2")[rows]
+        far = self.far1[rows]
+        return np.where(far, a, b), np.where(far, b, a)
+
+
+@dataclass(frozen=True)
 class FalseEdges:
     """The false edges of a visible map and the occluded edges a bridge may continue.
 
