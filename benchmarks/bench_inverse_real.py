@@ -25,8 +25,9 @@ PSNR >= 30 dB, silhouette IoU >= 0.98, share of figure pixels on faces within 10
 the three face directions the model's picture shows (:func:`model_axes`: the most projected
 area, not the most area) >= 90%, impossible, period
 (around the outline or a hole) within 5% of the true depth gap (the box model's ``gap``; for a
-file, the largest gap among its junctions: the coincident pairs of ``views.json`` and the
-picture's invisible edges (:func:`invisible_gaps`); times the picture's scale; "-" where none is
+file, the largest gap among the junctions a drawn line runs through (:func:`junction_gaps`): the
+coincident pairs of ``views.json`` and the picture's invisible edges (:func:`invisible_gaps`)
+that run on as a line the picture draws; times the picture's scale; "-" where none is
 known: models without coincident pairs, and physically possible models a person reads as
 right-angled, whose physical gaps are not the period read), and wall seconds.  A picture
 refused with a ``MescherError`` counts as failing every column.
@@ -130,26 +131,167 @@ def invisible_gaps(model, res: int, min_pairs: int = 2, max_deg: float = 0.5) ->
     :func:`face_ids` show it; gaps under ``1e-6`` of the model's size are one plane split.
     """
     V = np.asarray(model.V, dtype=np.float64)
-    F = np.asarray(model.F)
-    ids = face_ids(model, res)
-    ids[ids >= len(F)] = -1  # a colour no face has: not a face
-    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
-    v = np.asarray(model.view, dtype=np.float64)
-    gaps = []
-    for a, b in ((ids[:, :-1], ids[:, 1:]), (ids[:-1, :], ids[1:, :])):
-        ok = (a >= 0) & (b >= 0) & (a != b)
-        fa, fb = a[ok], b[ok]
-        par = np.abs((n[fa] * n[fb]).sum(axis=1)) > math.cos(math.radians(max_deg))
-        fa, fb = fa[par], fb[par]
-        dist = np.abs(((V[F[fb, 0]] - V[F[fa, 0]]) * n[fa]).sum(axis=1))
-        gaps.append(dist / np.maximum(np.abs(n[fa] @ v), 1e-300))
-    g = np.concatenate(gaps)
     size = float(np.ptp(V, axis=0).max())
-    g = g[g > 1e-6 * size]
+    _, _, g = _invisible_pixels(model, res, max_deg)
     _, inv, cnt = np.unique(np.round(g / size, 9), return_inverse=True, return_counts=True)
     gap = np.bincount(inv.ravel(), g) / cnt  # one value per plane pair, not rounded
     return gap[cnt >= min_pairs]
+
+
+def _invisible_pixels(model, res: int, max_deg: float = 0.5):
+    """:func:`face_ids` (``res``), and each pair of neighbouring pixels across an invisible
+    edge: the point between them (pixel-centre row, column) and its gap (model units)."""
+    V = np.asarray(model.V, dtype=np.float64)
+    F = np.asarray(model.F)
+    ids = face_ids(model, res)
+    ids[ids >= len(F)] = -1  # a colour no face has: not a face
+    n = _normals(V, F)
+    v = np.asarray(model.view, dtype=np.float64)
+    size = float(np.ptp(V, axis=0).max())
+    pts, gaps = [], []
+    for a, b, dr, dc in ((ids[:, :-1], ids[:, 1:], 0, 1), (ids[:-1, :], ids[1:, :], 1, 0)):
+        ok = (a >= 0) & (b >= 0) & (a != b)
+        r, c = np.nonzero(ok)
+        fa, fb = a[ok], b[ok]
+        par = np.abs((n[fa] * n[fb]).sum(axis=1)) > math.cos(math.radians(max_deg))
+        g = np.abs(((V[F[fb, 0]] - V[F[fa, 0]]) * n[fa]).sum(axis=1))
+        g = g / np.maximum(np.abs(n[fa] @ v), 1e-300)
+        keep = par & (g > 1e-6 * size)  # under that: one plane split
+        pts.append(np.stack([r[keep] + 0.5 * dr, c[keep] + 0.5 * dc], axis=1))
+        gaps.append(g[keep])
+    return ids, np.concatenate(pts), np.concatenate(gaps)
+
+
+def _normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+
+
+def drawn(ids: np.ndarray, n: np.ndarray, points: np.ndarray, u: np.ndarray, max_deg: float = 0.5):
+    """(P,) bool: whether the picture draws a line across ``u`` at each of ``points``.
+
+    ``points`` (P, 2) and ``u`` (2,) are (row, column) pixel-centre coordinates of
+    :func:`face_ids`' image ``ids``; the two pixels half a pixel on either side of the point,
+    across ``u``, are compared.  A line is drawn where they show faces that are not parallel
+    (normals ``n`` more than ``max_deg`` apart: every light but one along their crease shades
+    them apart) or one face and the background; out of the image, none is.
+    """
+    res = ids.shape[0]
+    w = np.array([-u[1], u[0]]) / np.linalg.norm(u)
+    a = np.floor(points + 0.5 * w + 0.5).astype(np.int64)
+    b = np.floor(points - 0.5 * w + 0.5).astype(np.int64)
+    inside = ((a >= 0) & (a < res) & (b >= 0) & (b < res)).all(axis=1)
+    fa = np.where(inside, ids[np.clip(a[:, 0], 0, res - 1), np.clip(a[:, 1], 0, res - 1)], -1)
+    fb = np.where(inside, ids[np.clip(b[:, 0], 0, res - 1), np.clip(b[:, 1], 0, res - 1)], -1)
+    par = np.abs((n[np.maximum(fa, 0)] * n[np.maximum(fb, 0)]).sum(axis=1))
+    both = (fa >= 0) & (fb >= 0)
+    apart = both & (par < math.cos(math.radians(max_deg)))
+    return inside & (((fa >= 0) != (fb >= 0)) | apart)
+
+
+def continues_drawn_line(ids, n, points: np.ndarray, beyond=(2, 3, 4, 5), need: int = 3) -> bool:
+    """Whether the straight piece of boundary through ``points`` (pixel-centre (row, column),
+    three at least) runs on, past one of its ends, as a line the picture draws.
+
+    The piece's direction is its points' principal axis; past each end, ``beyond`` pixels on,
+    ``need`` of the samples must lie on a drawn line across it (:func:`drawn`).
+    """
+    c = points.mean(axis=0)
+    _, U = np.linalg.eigh(np.cov((points - c).T))
+    u = U[:, -1]
+    t = (points - c) @ u
+    k = np.asarray(beyond, dtype=np.float64)
+    for end, sign in ((t.max(), 1.0), (t.min(), -1.0)):
+        q = c[None] + (end + sign * k)[:, None] * u[None]
+        if int(drawn(ids, n, q, u).sum()) >= need:
+            return True
+    return False
+
+
+def _pieces(points: np.ndarray, gaps: np.ndarray, size: float):
+    """Pieces of invisible edge: points of one gap (to 1e-9 of ``size``) within 1.5 pixels."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    key = np.round(gaps / size, 9)
+    for g in np.unique(key):
+        P = points[key == g]
+        pr = cKDTree(P).query_pairs(1.5, output_type="ndarray")
+        G = sp.coo_matrix((np.ones(len(pr)), (pr[:, 0], pr[:, 1])), shape=(len(P),) * 2)
+        _, lab = connected_components(G, directed=False)
+        for k in np.unique(lab):
+            yield float(gaps[key == g].mean()), P[lab == k]
+
+
+def junction_gaps(model, listed=(), res: int = 512, max_deg: float = 0.5, tol: float = 1e-3):
+    """The depth gaps (model units) of the junctions a person reads as one line running on.
+
+    A junction joins two surfaces far apart in depth where they meet on screen.  Two kinds
+    are counted, each only where the picture draws a line that runs through it, for there a
+    person reads the near edge and the far one as one edge of one surface:
+
+    - an invisible edge (an occlusion between parallel faces, :func:`invisible_gaps`) whose
+      straight piece runs on past one of its ends as a drawn line (:func:`continues_drawn_line`):
+      the impossible cube's front bar edge running on into a back bar's; a staircase's top
+      riser whose end lies on a wall's edge behind it.  One that ends over the middle of the
+      face behind (a riser's end over a wall, the wall going on around it) joins nothing a
+      line shows and is an occlusion the picture happens not to draw;
+    - a listed coincident gap (``views.json``) where some pair of vertices that coincide on
+      screen (to ``tol`` of the figure's size) with that gap (to ``tol`` of it) has an edge
+      seen as a drawn line from the point that runs on, straight, past it (the tribar's inner
+      edges).  A corner of a hidden floor under a tread's corner is no junction.
+
+    Returns
+    -------
+    (G,) float64, ascending, each gap once.
+    """
+    V = np.asarray(model.V, dtype=np.float64)
+    F = np.asarray(model.F)
+    ids, pts, gaps = _invisible_pixels(model, res, max_deg)
+    n = _normals(V, F)
+    size = float(np.ptp(V, axis=0).max())
+    out = [
+        g for g, P in _pieces(pts, gaps, size) if len(P) >= 3 and continues_drawn_line(ids, n, P)
+    ]
+    # coincident pairs: screen position (pixel-centre row, column) of each vertex
+    R = model.camera_frame()
+    C = V @ R.T
+    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
+    scale = 2.0 * 0.8 / float((hi - lo).max())  # face_ids' extent
+    xy = (C[:, :2] - 0.5 * (lo + hi)) * scale
+    rc = np.stack([(1.0 - xy[:, 1]) * res / 2 - 0.5, (xy[:, 0] + 1.0) * res / 2 - 0.5], axis=1)
+    E = np.unique(np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), 1), axis=0)
+    px = 2.0 / res
+    for gap in listed:
+        d = np.linalg.norm(xy[:, None] - xy[None], axis=2) < tol * 2.0 * 0.8
+        dz = np.abs(np.abs(C[:, None, 2] - C[None, :, 2]) - gap) < tol * gap
+        for i, j in zip(*np.nonzero(np.triu(d & dz, 1))):  # a handful of pairs
+            if any(_runs_through(ids, n, rc[i], xy[w] - xy[p], px) for p, w in _edges_of(E, i, j)):
+                out.append(float(gap))
+                break
+    return np.unique(np.round(out, 9))
+
+
+def _edges_of(E: np.ndarray, i: int, j: int):
+    """(vertex, neighbour) for each edge of ``E`` at vertex ``i`` or ``j``."""
+    for a, b in E[(E == i).any(axis=1) | (E == j).any(axis=1)]:
+        yield (a, b) if a in (i, j) else (b, a)
+
+
+def _runs_through(ids, n, at, d, px: float) -> bool:
+    """Whether the edge leaving the pixel point ``at`` along screen vector ``d`` is drawn (2 to
+    5 pixels on, as far as it goes) and the line runs on past ``at`` (3 of 4 samples)."""
+    L = float(np.linalg.norm(d)) / px
+    if L < 3.0:
+        return False
+    u = np.array([-d[1], d[0]]) / np.linalg.norm(d)  # screen (x, y) to (row, column)
+    along = np.arange(2.0, min(5.0, L - 1.0) + 1e-9)
+    back = np.arange(2.0, 6.0)
+    return bool(
+        drawn(ids, n, at[None] + along[:, None] * u[None], u).all()
+        and drawn(ids, n, at[None] - back[:, None] * u[None], u).sum() >= 3
+    )
 
 
 def load_models(folder: Path | None, only: set | None, res: int = 128):
@@ -172,13 +314,15 @@ def load_models(folder: Path | None, only: set | None, res: int = 128):
             up /= np.linalg.norm(up)
             # a physically possible model (a sheared torus, a relief) is read as right-angled
             # bars: its physical gaps are not the period a person reads.  A file with a junction
-            # from its view (coincident pairs) is checked against the largest gap among its
-            # junctions: the pairs and the picture's invisible edges (a cube frame's front bar
-            # running on, with no line, into a back bar behind it is a junction too)
+            # from its view (coincident pairs) is checked against the largest gap among the
+            # junctions a drawn line runs through (:func:`junction_gaps`): such pairs and the
+            # picture's invisible edges (a cube frame's front bar running on, with no line,
+            # into a back bar behind it is a junction too; a riser's end over a wall is not)
             gaps = v.get("coincident_depth_gaps") or []
             m = BoxModel(name, V, np.asarray(F), view, up, math.nan)
             if gaps and "perceive" not in v:
-                m = replace(m, gap=max([*gaps, *invisible_gaps(m, res)]))
+                junctions = junction_gaps(m, gaps)
+                m = replace(m, gap=float(junctions.max()) if junctions.size else math.nan)
             out.append((m, model_axes(m)))
     for name, make in (
         ("tribar", models.penrose_tribar),
