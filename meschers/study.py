@@ -326,7 +326,7 @@ def run_study(
     from meschers_igl.validate import as_count
 
     from .report import write_report
-    from .warmup import APART, start_compiling
+    from .warmup import BY_WORK, start_compiling
 
     jobs = as_count(jobs, "jobs", minimum=1)
     specs = default_models(other_tools) if models is None else expand_models(list(models))
@@ -340,10 +340,12 @@ def run_study(
     keys = _keys(specs)
     t_start = time.perf_counter()
     # missing kernels compiled once, in processes of their own, while the workers start; a model
-    # waits for the groups it needs (study_model), so none of them is compiled twice; the
-    # rendering kernels (not in APART) compile in the workers at their first picture
+    # waits for the groups it needs (study_model), so no kernel is compiled twice; the rendering
+    # kernels (BY_WORK) by the first worker to draw
     compiling = start_compiling(
-        lambda line: print(line, file=sys.stderr), groups=APART, beside=0 if scheduler else jobs
+        lambda line: print(line, file=sys.stderr),
+        beside=0 if scheduler else jobs,
+        by_work=BY_WORK,
     )
     try:
         if scheduler or jobs > 1:

@@ -10,6 +10,11 @@ wait for all of them: workers start meanwhile and each model waits (:func:`wait_
 for the groups its next steps use, which then load from the cache; so every kernel is compiled
 once, by one process, while the other cores start the workers and the first models.
 :func:`ensure_compiled` is the same, waiting for everything.
+
+A group can instead be left to the work (``by_work``, a study's :data:`BY_WORK`): the first
+process whose step needs it claims it and compiles it there, the others wait for it.  That
+suits the rendering kernels, whose own process would first import the rendering stack that
+every worker imports anyway.
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ from typing import Any
 from meschers_igl import compiled
 
 __all__ = [
-    "APART",
+    "BY_WORK",
     "COMPILE_SECONDS",
     "FIRST_NEEDED",
     "STEP_GROUPS",
@@ -46,14 +51,14 @@ RENDER_PACKAGE = "pyvista_views"
 # CPU seconds to compile each group from an empty cache on one core of a 2-core machine, one
 # group after another in one process (the process's own start, about 3 s, counted in the first);
 # only for the estimate printed beforehand and for dealing groups to processes.
-COMPILE_SECONDS = {"order": 12.5, "render": 1.0, "paths": 4.0, "geodesic": 11.0}
+COMPILE_SECONDS = {"order": 12.5, "render": 2.5, "paths": 4.0, "geodesic": 11.0}
 
 
-#: The groups a study compiles in processes of their own: every group but ``"render"``.  A
-#: process compiling that group would first import the rendering stack (PyVista and VTK, about
-#: 3.5 CPU s on a 2-core machine: more than its kernels take to compile, about 1 s), which the
-#: study's workers import anyway; they compile those kernels at their first picture.
-APART: tuple[str, ...] = tuple(compiled.GROUPS)
+#: The groups a study leaves to its work: the first worker to draw compiles the rendering
+#: kernels (about 2.5 CPU s beside the other processes) and the others wait for it.  A process of
+#: their own would first import PyVista and VTK (about 3.5 CPU s), which the workers import
+#: anyway; and each worker compiling them itself would pay them once per worker.
+BY_WORK: tuple[str, ...] = ("render",)
 
 #: The groups a model's first steps use (building and ordering it, drawing it, its homology
 #: loops), in order.
@@ -144,8 +149,15 @@ class Compiling:
     second time.
     """
 
-    def __init__(self, cold: list[str], processes: int, say: Callable[[str], None] | None):
+    def __init__(
+        self,
+        cold: list[str],
+        processes: int,
+        say: Callable[[str], None] | None,
+        by_work: Iterable[str] = (),
+    ):
         self.cold, self.say, self.failed = cold, say, []
+        self.by_work = [g for g in cold if g in set(by_work)]
         self.t0 = time.perf_counter()
         self.took = 0.0
         self.folder = tempfile.mkdtemp(prefix="meschers-compiling-")
@@ -154,11 +166,15 @@ class Compiling:
         for g in cold:  # the groups to wait for; the others are cached already
             with open(os.path.join(self.folder, f"{g}.wait"), "w"):
                 pass
+        for g in self.by_work:  # compiled by the first process of the work that needs it
+            with open(os.path.join(self.folder, f"{g}.bywork"), "w"):
+                pass
         self._previous = os.environ.get(_ENV)
         os.environ[_ENV] = self.folder
+        apart = [g for g in cold if g not in self.by_work]
         self._thread = threading.Thread(
             target=self._run,
-            args=(_share(cold, processes),),
+            args=(_share(apart, processes) if apart else [],),
             name="meschers-compile",
             daemon=True,
         )
@@ -169,7 +185,8 @@ class Compiling:
             self._compile(shares)
         finally:  # whatever happened, nobody waits any longer (the work compiles what is missing)
             for g in self.cold:
-                self._mark(g)
+                if g not in self.by_work:  # those are marked by the process that claimed them
+                    self._mark(g)
             self.took = time.perf_counter() - self.t0
 
     def _mark(self, group: str) -> None:
@@ -203,6 +220,8 @@ class Compiling:
     def close(self) -> float:
         """Wait for every group, report, remove the markers; the wall seconds compiling took."""
         self._thread.join()
+        for g in self.by_work:  # the work is over: nobody may wait for a group it never claimed
+            self._mark(g)
         if os.environ.get(_ENV) == self.folder:
             if self._previous is None:
                 del os.environ[_ENV]
@@ -248,14 +267,42 @@ def _alive(pid: int) -> bool:
     return True
 
 
+def _claim(folder: str, group: str) -> int | None:
+    """Claim a group left to the work: ``None`` when this process got it, else the claimer's id
+    (0 while the claimer is still writing it)."""
+    path = os.path.join(folder, f"{group}.claim")
+    try:
+        fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+    except FileExistsError:
+        try:
+            with open(path) as f:
+                return int(f.read() or 0)
+        except (OSError, ValueError):
+            return 0
+    with os.fdopen(fd, "w") as f:
+        f.write(str(os.getpid()))
+    return None
+
+
 def _wait_markers(folder: str, groups: Iterable[str], owner: int, timeout: float = 900.0) -> None:
     end = time.monotonic() + timeout
     for g in groups:
         if not os.path.exists(os.path.join(folder, f"{g}.wait")):
             continue  # not compiling: cached already
         done = os.path.join(folder, f"{g}.done")
+        if os.path.exists(os.path.join(folder, f"{g}.bywork")) and not os.path.exists(done):
+            claimer = _claim(folder, g)
+            if claimer is None:  # this process compiles it; the others wait
+                try:
+                    warm_group(g)
+                finally:
+                    with open(done, "w"):
+                        pass
+                continue
+        else:
+            claimer = 0
         while not os.path.exists(done) and os.path.isdir(folder):
-            if not _alive(owner) or time.monotonic() > end:
+            if not _alive(owner) or (claimer and not _alive(claimer)) or time.monotonic() > end:
                 return  # nobody will finish it: the work compiles what it needs itself
             time.sleep(0.02)
 
@@ -265,6 +312,7 @@ def start_compiling(
     groups: Iterable[str] = (*compiled.GROUPS, "render"),
     processes: int | None = None,
     beside: int = 0,
+    by_work: Iterable[str] = (),
 ) -> Compiling | None:
     """Start compiling the missing kernel groups in processes of their own; do not wait.
 
@@ -287,6 +335,9 @@ def start_compiling(
         Busy processes of the work that run meanwhile (a study's workers): they share the cores
         with the compiling processes, so the wall time said beforehand is longer by the share
         of the cores they take.
+    by_work : iterable of str, default: ()
+        Groups the work compiles itself, once: the first process whose step needs one (in
+        :func:`wait_compiled`) claims and compiles it, the others wait for it.
 
     Returns
     -------
@@ -298,13 +349,15 @@ def start_compiling(
     if not cold:
         return None
     cores = len(os.sched_getaffinity(0))
-    shares = _share(cold, processes or cores)
+    by_work = [g for g in cold if g in set(by_work)]
+    shares = _share([g for g in cold if g not in by_work], processes or cores) or [[]]
     # one core's seconds for the longest share, stretched when more processes than cores run
     crowd = max(1.0, (len(shares) + max(int(beside), 0)) / cores)
-    estimate = max(max(sum(map(_seconds, share)) for share in shares) * crowd, 1.0)
+    longest = max(sum(map(_seconds, share)) for share in shares)
+    estimate = max(max(longest, sum(map(_seconds, by_work))) * crowd, 1.0)
     if say is not None:
         say(f"compiling kernels (first run only, about {estimate:.0f} s): {', '.join(cold)}")
-    return Compiling(cold, len(shares), say)
+    return Compiling(cold, len(shares), say, by_work)
 
 
 def wait_compiled(groups: Iterable[str] | None = None) -> None:

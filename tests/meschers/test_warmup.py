@@ -220,7 +220,7 @@ def test_the_estimate_counts_the_work_sharing_the_cores(monkeypatch):
     from meschers import warmup
 
     monkeypatch.setattr(warmup, "cold_groups", lambda groups: ["order", "geodesic"])
-    monkeypatch.setattr(warmup, "Compiling", lambda cold, n, say: (cold, n))
+    monkeypatch.setattr(warmup, "Compiling", lambda cold, n, say, by_work=(): (cold, n))
     monkeypatch.setattr(warmup.os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
     secs = warmup.COMPILE_SECONDS
     said = []
@@ -232,22 +232,79 @@ def test_the_estimate_counts_the_work_sharing_the_cores(monkeypatch):
     warmup.start_compiling(said.append, processes=1, beside=1)  # one process, one worker
     both = secs["order"] + secs["geodesic"]
     assert said[-1].startswith(f"compiling kernels (first run only, about {both:.0f} s)")
-
-
-def test_a_study_compiles_apart_without_importing_the_rendering_stack():
-    """The processes a study starts to compile kernels import neither PyVista nor VTK (an import
-    that costs more than the rendering kernels take to compile, and that the workers pay anyway);
-    the rendering group is the only one left to the workers."""
-    from meschers.warmup import APART
-    from meschers_igl import compiled
-
-    code = (
-        "import sys\n"
-        "from meschers.warmup import APART, warm_groups\n"
-        "warm_groups(APART)\n"
-        "print(sorted(m for m in ('pyvista', 'vtk', 'vtkmodules', 'pyvista_views') "
-        "if m in sys.modules))\n"
+    # a group left to the work takes no process of its own
+    assert warmup.start_compiling(said.append, processes=2, by_work=["geodesic"]) == (
+        ["order", "geodesic"],
+        1,
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.strip().splitlines()[-1] == "[]"
-    assert set(APART) == set(compiled.GROUPS)  # every group but "render"
+
+
+def test_a_group_left_to_the_work_is_compiled_once_by_its_first_claimer(tmp_path, monkeypatch):
+    """Of the processes that need a group left to the work, the first compiles it and the
+    others wait for it; a claimer that died releases the others (they compile it themselves)."""
+    import threading
+    import time
+
+    from meschers import warmup
+
+    calls = []
+
+    def fake(group):
+        calls.append(group)
+        time.sleep(0.4)
+        return 0.4
+
+    monkeypatch.setattr(warmup, "warm_group", fake)
+    monkeypatch.setenv("MESCHERS_COMPILING", str(tmp_path))
+    (tmp_path / "owner").write_text(str(os.getpid()))
+    for name in ("render.wait", "render.bywork", "order.wait", "order.done"):
+        (tmp_path / name).write_text("")
+    finished = []
+
+    def need():
+        warmup.wait_compiled(["order", "render"])
+        finished.append((time.perf_counter(), (tmp_path / "render.done").exists()))
+
+    threads = [threading.Thread(target=need) for _ in range(3)]
+    t0 = time.perf_counter()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert calls == ["render"]  # one compile for three processes
+    assert len(finished) == 3 and all(done for _, done in finished)
+    assert all(t - t0 >= 0.35 for t, _ in finished)  # the others waited for it
+    # a later process finds it done: no wait, no compile
+    t = time.perf_counter()
+    warmup.wait_compiled(["render"])
+    assert time.perf_counter() - t < 0.2 and calls == ["render"]
+
+    # the claimer is gone before it finished: the others stop waiting
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    (tmp_path / "render.done").unlink()
+    (tmp_path / "render.claim").write_text(dead.stdout.strip())
+    t = time.perf_counter()
+    warmup.wait_compiled(["render"])
+    assert time.perf_counter() - t < 0.5 and calls == ["render"]
+
+
+def test_a_compilation_marks_groups_left_to_the_work_only_when_it_closes(monkeypatch):
+    """The compiling processes never mark a group left to the work as done (its claimer does),
+    and closing the compilation does, so nobody waits for a group nobody claimed."""
+    from meschers import warmup
+
+    monkeypatch.setattr(warmup, "_share", lambda cold, processes: [])
+    monkeypatch.delenv("MESCHERS_COMPILING", raising=False)
+    c = warmup.Compiling(["order", "render"], 1, None, by_work=["render"])
+    folder = c.folder
+    c._thread.join()
+    names = sorted(os.listdir(folder))
+    assert "render.bywork" in names and "render.done" not in names and "order.done" in names
+    c.close()
+    assert not os.path.exists(folder)
+    assert warmup.BY_WORK == ("render",)
