@@ -6,7 +6,10 @@ and a person reads one surface.  Besides vertices that coincide on screen, the p
 shows where the near face ends.  Their gap is the planes' distance over ``|n . view|``; the
 oracles below compute it by hand from the boxes' coordinates.  On the development set, the
 impossible cube's front bar runs on into a back bar 17.2 behind along the frame's axis (21.07
-along the view), which is the period its picture's mescher climbs.
+along the view), which is the period its picture's mescher climbs.  Only junctions that a drawn
+line runs through count (``junction_gaps``): on IllusionEscalier the top riser ends on the edge of
+the well's wall (75 sqrt 3 behind, the climb of its stairs), the riser below it over the wall's
+middle (100 sqrt 3), which no line joins.
 """
 
 import math
