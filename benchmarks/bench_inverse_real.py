@@ -294,7 +294,7 @@ def _runs_through(ids, n, at, d, px: float) -> bool:
     )
 
 
-def load_models(folder: Path | None, only: set | None, res: int = 128):
+def load_models(folder: Path | None, only: set | None):
     from meschers_igl.inverse import models
     from meschers_igl.inverse.models import BoxModel
 
@@ -525,7 +525,7 @@ def main(argv=None) -> int:
     )
     turn = (args.turn_every, args.turn_weight)
     rows = []
-    for model, axes in load_models(folder if folder.is_dir() else None, only, args.resolution):
+    for model, axes in load_models(folder if folder.is_dir() else None, only):
         for k, light in enumerate(lights):
             if cases is not None and (model.name, k) not in cases:
                 continue
