@@ -295,6 +295,8 @@ def _wait_markers(folder: str, groups: Iterable[str], owner: int, timeout: float
             if claimer is None:  # this process compiles it; the others wait
                 try:
                     warm_group(g)
+                except Exception:  # noqa: BLE001 -- a warm-up only: the step compiles what it uses
+                    pass
                 finally:
                     with open(done, "w"):
                         pass

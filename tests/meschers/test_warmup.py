@@ -292,6 +292,16 @@ def test_a_group_left_to_the_work_is_compiled_once_by_its_first_claimer(tmp_path
     warmup.wait_compiled(["render"])
     assert time.perf_counter() - t < 0.5 and calls == ["render"]
 
+    # a warm-up that fails leaves the step to compile what it uses, and releases the others
+    def broken(group):
+        calls.append(group)
+        raise ImportError("no rendering here")
+
+    monkeypatch.setattr(warmup, "warm_group", broken)
+    (tmp_path / "render.claim").unlink()
+    warmup.wait_compiled(["render"])
+    assert calls == ["render", "render"] and (tmp_path / "render.done").exists()
+
 
 def test_a_compilation_marks_groups_left_to_the_work_only_when_it_closes(monkeypatch):
     """The compiling processes never mark a group left to the work as done (its claimer does),
