@@ -50,6 +50,7 @@ from pathlib import Path
 import numpy as np
 
 from meschers_igl.inverse.turn import PICTURE_TURN
+from meschers_igl.obtain.caps import unit_normals
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 
@@ -90,14 +91,11 @@ def face_ids(model, res: int, extent: float = 0.8) -> np.ndarray:
     """
     import pyvista as pv
 
+    from meschers.inverse_cli import aim_camera, picture_frame
     from pyvista_views.headless import configure_headless
 
     configure_headless()
-    R = model.camera_frame()
-    C = model.V @ R.T
-    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
-    scale = 2.0 * extent / float((hi - lo).max())
-    centre = np.r_[0.5 * (lo + hi), C[:, 2].mean()] @ R
+    C, scale, centre = picture_frame(model, extent)
     F = np.asarray(model.F)
     mesh = pv.PolyData(model.V, np.hstack([np.full((len(F), 1), 3), F]).ravel())
     k = np.arange(1, len(F) + 1)
@@ -107,13 +105,7 @@ def face_ids(model, res: int, extent: float = 0.8) -> np.ndarray:
         pl.disable_anti_aliasing()
         pl.set_background((0.0, 0.0, 0.0))
         pl.add_mesh(mesh, scalars="id", rgb=True, lighting=False, preference="cell")
-        span = float(np.ptp(C, axis=0).max()) + 1.0
-        pl.camera.enable_parallel_projection()
-        pl.camera.focal_point = tuple(centre)
-        pl.camera.position = tuple(centre + span * 4.0 * model.view)
-        pl.camera.up = tuple(model.up)
-        pl.camera.parallel_scale = 1.0 / scale
-        pl.camera.clipping_range = (span, span * 8.0)
+        aim_camera(pl, model, C, scale, centre)
         img = np.asarray(pl.screenshot(return_img=True)[..., :3], dtype=np.int64)
     finally:
         pl.close()
@@ -145,7 +137,7 @@ def _invisible_pixels(model, res: int, max_deg: float = 0.5):
     F = np.asarray(model.F)
     ids = face_ids(model, res)
     ids[ids >= len(F)] = -1  # a colour no face has: not a face
-    n = _normals(V, F)
+    n = unit_normals(V, F)
     v = np.asarray(model.view, dtype=np.float64)
     size = float(np.ptp(V, axis=0).max())
     pts, gaps = [], []
@@ -160,11 +152,6 @@ def _invisible_pixels(model, res: int, max_deg: float = 0.5):
         pts.append(np.stack([r[keep] + 0.5 * dr, c[keep] + 0.5 * dc], axis=1))
         gaps.append(g[keep])
     return ids, np.concatenate(pts), np.concatenate(gaps)
-
-
-def _normals(V: np.ndarray, F: np.ndarray) -> np.ndarray:
-    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
-    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
 
 
 def drawn(ids: np.ndarray, n: np.ndarray, points: np.ndarray, u: np.ndarray, max_deg: float = 0.5):
@@ -249,22 +236,23 @@ def junction_gaps(model, listed=(), res: int = 512, max_deg: float = 0.5, tol: f
     V = np.asarray(model.V, dtype=np.float64)
     F = np.asarray(model.F)
     ids, pts, gaps = _invisible_pixels(model, res, max_deg)
-    n = _normals(V, F)
+    n = unit_normals(V, F)
     size = float(np.ptp(V, axis=0).max())
     out = [
         g for g, P in _pieces(pts, gaps, size) if len(P) >= 3 and continues_drawn_line(ids, n, P)
     ]
-    # coincident pairs: screen position (pixel-centre row, column) of each vertex
-    R = model.camera_frame()
-    C = V @ R.T
+    # coincident pairs: screen position (pixel-centre row, column) of each vertex, framed as
+    # face_ids frames it
+    from meschers.inverse_cli import picture_frame
+
+    C, scale, _ = picture_frame(model)
     lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
-    scale = 2.0 * 0.8 / float((hi - lo).max())  # face_ids' extent
     xy = (C[:, :2] - 0.5 * (lo + hi)) * scale
     rc = np.stack([(1.0 - xy[:, 1]) * res / 2 - 0.5, (xy[:, 0] + 1.0) * res / 2 - 0.5], axis=1)
     E = np.unique(np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), 1), axis=0)
     px = 2.0 / res
+    d = np.linalg.norm(xy[:, None] - xy[None], axis=2) < tol * 2.0 * float(np.ptp(xy, axis=0).max())
     for gap in listed:
-        d = np.linalg.norm(xy[:, None] - xy[None], axis=2) < tol * 2.0 * 0.8
         dz = np.abs(np.abs(C[:, None, 2] - C[None, :, 2]) - gap) < tol * gap
         for i, j in zip(*np.nonzero(np.triu(d & dz, 1))):  # a handful of pairs
             if any(_runs_through(ids, n, rc[i], xy[w] - xy[p], px) for p, w in _edges_of(E, i, j)):

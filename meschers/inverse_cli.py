@@ -42,6 +42,39 @@ DEFAULT_LIGHT = "0.6,-0.1,1"
 BUILTIN = ("penrose", "tribar", "cube", "stairs")
 
 
+def picture_frame(model, extent: float = 0.8) -> tuple[np.ndarray, float, np.ndarray]:
+    """Where :func:`zbuffer_picture` puts ``model``: its screen box centred, the longer side
+    spanning ``2 extent`` of the screen square ``[-1, 1]^2``.
+
+    Returns
+    -------
+    C : (#V, 3) float64
+        The vertices in the camera frame (right, up, toward the viewer), model units.
+    scale : float
+        Screen units per model unit: screen ``xy = (C[:, :2] - box centre) * scale``.
+    centre : (3,) float64
+        The box's centre at the model's mean depth, in model coordinates.
+    """
+    R = model.camera_frame()
+    C = model.V @ R.T
+    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
+    scale = 2.0 * extent / float((hi - lo).max())
+    centre = np.r_[0.5 * (lo + hi), C[:, 2].mean()] @ R  # back to model coordinates
+    return C, scale, centre
+
+
+def aim_camera(pl, model, C: np.ndarray, scale: float, centre: np.ndarray) -> None:
+    """Point the plotter ``pl``'s orthographic camera as :func:`zbuffer_picture` does
+    (``C, scale, centre`` from :func:`picture_frame`), its clipping range around the model."""
+    span = float(np.ptp(C, axis=0).max()) + 1.0
+    pl.camera.enable_parallel_projection()
+    pl.camera.focal_point = tuple(centre)
+    pl.camera.position = tuple(centre + span * 4.0 * model.view)
+    pl.camera.up = tuple(model.up)
+    pl.camera.parallel_scale = 1.0 / scale  # half the screen height, model units
+    pl.camera.clipping_range = (span, span * 8.0)
+
+
 def zbuffer_picture(
     model,
     resolution: int = 128,
@@ -84,11 +117,7 @@ def zbuffer_picture(
     configure_headless()  # EGL/OSMesa without a display, before the first window
     res = as_count(resolution, "resolution", minimum=8)
     R = model.camera_frame()
-    C = model.V @ R.T
-    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
-    scale = 2.0 * extent / float((hi - lo).max())
-    centre_cam = np.r_[0.5 * (lo + hi), C[:, 2].mean()]
-    centre = centre_cam @ R  # back to model coordinates
+    C, scale, centre = picture_frame(model, extent)
     faces = np.hstack([np.full((len(model.F), 1), 3), model.F]).ravel()
     mesh = pv.PolyData(model.V, faces)
     pl = pv.Plotter(off_screen=True, window_size=(res, res), lighting="none")
@@ -115,13 +144,7 @@ def zbuffer_picture(
                 intensity=1.0,
             )
         )
-        span = float(np.ptp(C, axis=0).max()) + 1.0
-        pl.camera.enable_parallel_projection()
-        pl.camera.focal_point = tuple(centre)
-        pl.camera.position = tuple(centre + span * 4.0 * model.view)
-        pl.camera.up = tuple(model.up)
-        pl.camera.parallel_scale = 1.0 / scale  # half the screen height, model units
-        pl.camera.clipping_range = (span, span * 8.0)
+        aim_camera(pl, model, C, scale, centre)
         img = pl.screenshot(return_img=True)
         # PyVista's depth is the (negative) distance from the camera: toward the viewer is up
         depth = (
