@@ -157,7 +157,8 @@ class Compiling:
         by_work: Iterable[str] = (),
     ):
         self.cold, self.say, self.failed = cold, say, []
-        self.by_work = [g for g in cold if g in set(by_work)]
+        left = set(by_work)
+        self.by_work = [g for g in cold if g in left]
         self.t0 = time.perf_counter()
         self.took = 0.0
         self.folder = tempfile.mkdtemp(prefix="meschers-compiling-")
@@ -351,7 +352,8 @@ def start_compiling(
     if not cold:
         return None
     cores = len(os.sched_getaffinity(0))
-    by_work = [g for g in cold if g in set(by_work)]
+    left = set(by_work)
+    by_work = [g for g in cold if g in left]
     shares = _share([g for g in cold if g not in by_work], processes or cores) or [[]]
     # one core's seconds for the longest share, stretched when more processes than cores run
     crowd = max(1.0, (len(shares) + max(int(beside), 0)) / cores)
