@@ -37,6 +37,7 @@ from .junctions import (
     parts_and_front,
     pieces_are_bars,
 )
+from .view_rank import MAX_RANKED_DIRECTIONS, ranked_views
 from .view_stairs import MIN_ELEVATION, penrose_stairs_view, stair_chain
 
 #: Vertices taking part in the vote (all pairs among them are tried).
@@ -472,6 +473,10 @@ def find_model_view(
        seeing over :data:`MAX_EDGE_ON` of the model edge-on (under :data:`EDGE_ON_FALLBACK`:
        a sheared or bevelled figure shows faces containing its view) is taken when a junction
        is seen from it, as in 1.
+    5. Ties: the vote's other directions, ranked by the junction a person sees -- corners
+       flush on screen and far apart through the model
+       (:func:`~meschers_igl.obtain.view_rank.ranked_views`; box corners line up as many pairs
+       along lattice directions) -- the first few judged from both sides, as in 1.
 
     Parameters
     ----------
@@ -568,6 +573,13 @@ def _junction_view(V, F, tol, start, judge, within):
             continue
         if seen(ve) or (judge is not None and judge(ve, upe)):
             return ve, upe
+    try:  # directions tied in the vote, ranked: a flush junction far through the model
+        cands = _pick(vote, V, F, MAX_RANKED_DIRECTIONS, MAX_EDGE_ON) if vote else []
+    except MescherError:
+        cands = []
+    for vr, upr in ranked_views(V, F, cands, v, tol, start, within, np.cos(VOTE_ANGLE)):
+        if seen(vr) or (judge is not None and judge(vr, upr)):
+            return vr, upr
     if start is not None:
         raise MescherError(
             f"view: expected a view within {np.degrees(within):.3g} degrees of "
