@@ -30,12 +30,17 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ..geometry2d import barycentric, overlapping_pairs
+from .caps import unit_normals
 from .clip import plane_depth
 from .glue import cut_and_glue, edge_on_source, interior_edges
 from .records import Glue, Junction
 
 #: Most model vertices compared for coincident pairs (a dense mesh has no bar ends to join).
 MAX_VERTICES = 200_000
+#: Smallest eigenvalue of ``sum n n^T`` over a vertex's faces (unit normals ``n``) for a corner
+#: (:func:`corner_vertices`): 0 for normals in one plane (a flat face, a straight crease); a box
+#: corner with one triangle per face gives 1.
+CORNER_EIG = 1e-6
 #: Most coincident pairs a gap may have to be a joint of bar ends (a cross-section's corners).
 MAX_PAIRS = 64
 #: Most gaps examined (those with the most pairs first): a scene lining up many vertex pairs
@@ -87,6 +92,26 @@ def _lattice(gaps: np.ndarray, tol: float) -> bool:
     return bool(np.all(np.abs(k - np.rint(k)) * step <= 2.0 * tol))
 
 
+def corner_vertices(C: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """(#V,) bool: the vertices a person sees as corners: where faces of three or more planes
+    meet (the unit normals of the faces around it span space: :data:`CORNER_EIG`), or on the
+    model's boundary.
+
+    A vertex inside a flat face or partway along a straight crease (normals of one or two
+    planes) is the triangulation's (a quad grid's subdivision): the same shape meshed
+    otherwise has none there, so such vertices that coincide on screen say nothing about the
+    figure (a bar's grid vertices line up along its diagonal like a lattice of blocks).
+    """
+    n = unit_normals(C, F)
+    M = np.zeros((C.shape[0], 3, 3))
+    np.add.at(M, F.reshape(-1), np.repeat(n[:, :, None] * n[:, None, :], 3, axis=0))
+    corner = np.linalg.eigvalsh(M)[:, 0] > CORNER_EIG
+    he = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    e, cnt = np.unique(he, axis=0, return_counts=True)
+    corner[e[cnt == 1].reshape(-1)] = True
+    return corner
+
+
 def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     """Depth gaps shared by two or more pairs of model vertices that coincide on screen.
 
@@ -108,6 +133,9 @@ def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     """
     vs = np.unique(F)
     if vs.size < 2 or vs.size > MAX_VERTICES:
+        return []
+    vs = vs[corner_vertices(C, F)[vs]]
+    if vs.size < 2:
         return []
     P = C[vs]
     pr = cKDTree(P[:, :2]).query_pairs(tol, output_type="ndarray")
@@ -152,10 +180,10 @@ def _through(P4, faces, F, verts, tol):
     return P[np.sort(first)]
 
 
-def _same_plane(P4, key, tol):
-    """(k,) bool: planes ``P4`` equal to ``key`` (unit normals within 1e-6, offsets within
+def _same_plane(P4, key, tol, ntol):
+    """(k,) bool: planes ``P4`` equal to ``key`` (unit normals within ``ntol``, offsets within
     ``2 tol``)."""
-    return (np.abs(P4[:, :3] - key[:3]).max(axis=1) <= 1e-6) & (
+    return (np.abs(P4[:, :3] - key[:3]).max(axis=1) <= ntol) & (
         np.abs(P4[:, 3] - key[3]) <= 2 * tol
     )
 
@@ -196,18 +224,21 @@ def joint_lines(
 
     faces = np.flatnonzero(front)
     P4 = _planes(C, F, faces)
+    # normals agree when their planes part by at most 4 tol across the model, as their
+    # offsets may (a person's one plane; a file's rounding tilts small faces by more than 1e-6)
+    ntol = 4.0 * tol / max(float(np.linalg.norm(np.ptp(C[F].reshape(-1, 3), axis=0))), 1e-300)
     gkeys, fkeys = _through(P4, faces, F, near, tol), _through(P4, faces, F, far, tol)
     Psrc = _planes(C, F, src)
     h1, h2, he = interior_edges(Fa, xy.shape[0])
     out = []
     for gk in gkeys:  # a few planes through the near corners
-        match = [fk for fk in fkeys if np.abs(fk[:3] - gk[:3]).max() <= 1e-6]
+        match = [fk for fk in fkeys if np.abs(fk[:3] - gk[:3]).max() <= ntol]
         match = [fk for fk in match if abs((gk[3] - fk[3]) - gk[2] * gap) <= 4 * tol]
         if not match or abs(gk[2]) <= 1e-6:
             continue
         fk = match[0]
-        in_g = _same_plane(Psrc, gk, tol)
-        fpl = faces[_same_plane(P4, fk, tol)]
+        in_g = _same_plane(Psrc, gk, tol, ntol)
+        fpl = faces[_same_plane(P4, fk, tol, ntol)]
         Tf = C[F[fpl], :2]
         under = shapely.union_all(shapely.polygons(Tf), grid_size=grid)
         for ha, hb in ((h1, h2), (h2, h1)):  # the near plane's face on either side
@@ -216,7 +247,7 @@ def joint_lines(
             for i in np.flatnonzero(sel).tolist():  # a few edges per joint
                 line = _joint_line(xy, Fa, pl, src, ha[i], hb[i], under, fk, tol)
                 if line is not None:  # the near bar's face beyond the line: its plane
-                    cover = np.flatnonzero(_same_plane(Psrc, Psrc[hb[i] // 3], tol))
+                    cover = np.flatnonzero(_same_plane(Psrc, Psrc[hb[i] // 3], tol, ntol))
                     out.append((*line, fpl, cover))
     return out
 
@@ -378,10 +409,33 @@ def prepare_joints(
     for gap, near, far in coincident_gaps(C, F, tol):  # a few gaps
         lines = joint_lines(xy, Fa, src, pl, C, F, front, gap, near, far, tol, grid)
         strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid)
+    strips = _distinct_strips(strips, tol)
     if strips:
         pts = np.vstack([s.ring for s in strips])
         xy, Fa, src = split_edges_at(xy, Fa, src, pts, tol)
     return xy, Fa, src, Joints(strips)
+
+
+def _distinct_strips(strips: list, tol: float) -> list:
+    """The strips, each hidden region once: a strip mostly inside one kept before (the same
+    gap; more than half its area) was reached again from another piece of the same joint
+    line (a near face's edge split by the triangulation), its corners found along nearly
+    parallel lines a little apart."""
+    import shapely
+
+    kept, polys = [], []
+    for s in strips:  # a few strips
+        poly = shapely.make_valid(shapely.Polygon(s.ring))
+        area = poly.area
+        dup = any(
+            abs(k.gap - s.gap) <= 4 * tol
+            and shapely.intersection(poly, q).area > 0.5 * min(area, q.area)
+            for k, q in zip(kept, polys)
+        )
+        if not dup:
+            kept.append(s)
+            polys.append(poly)
+    return kept
 
 
 def split_edges_at(

@@ -37,6 +37,17 @@ def edge_on_source(xy, E, src, C, F, tol):
     return out
 
 
+def flat_edges(C: np.ndarray, F: np.ndarray, s: np.ndarray, nb: np.ndarray, tol: float):
+    """(k,) bool: model face ``nb[i]`` (-1: none) lies in the plane of face ``s[i]`` (its three
+    corners within ``tol`` of it), so the edge they share is no crease."""
+    ok = nb >= 0
+    T = C[F[s]]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
+    off = np.einsum("kij,kj->ki", C[F[np.maximum(nb, 0)]] - T[:, :1], n)
+    return ok & np.all(np.abs(off) <= tol, axis=1)
+
+
 def interior_edges(Fa: np.ndarray, n: int):
     """(pairs of faces sharing an edge, the edge's vertices, corner index in each face)."""
     he = np.stack([Fa[:, [1, 2]], Fa[:, [2, 0]], Fa[:, [0, 1]]], axis=1).reshape(-1, 2)
@@ -79,6 +90,10 @@ def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None):
         k = edge_on_source(xy, E, s, C, F, np.minimum(ftol[src[f1]], ftol[src[f2]]))
         nb = np.where(k >= 0, TT[s, np.maximum(k, 0)], 0)
         on = (k >= 0) & (s < (F.shape[0] if n_model is None else n_model))
+        # an edge between two faces of one plane is the triangulation's, not a feature of the
+        # surface: what lies along it on screen lies inside the face (the same shape meshed
+        # otherwise has no edge there)
+        on &= ~flat_edges(C, F, s, nb, tol)
         return on, on & ((nb < 0) | ~front[np.maximum(nb, 0)]), np.maximum(k, 0), nb
 
     (on1, e1, m1, nb1), (on2, e2, m2, nb2) = ends(f1), ends(f2)
