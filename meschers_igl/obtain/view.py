@@ -56,6 +56,10 @@ MAX_EDGE_ON = 0.2
 EDGE_ON_FALLBACK = 0.3
 #: At most this many such better-supported views are judged.
 MAX_EDGE_ON_VIEWS = 3
+#: Largest share of the whole model's area seen edge-on from a candidate of the vote, however
+#: the pairs lie: a table (or a floor) seen exactly level lines up its legs' corners along the
+#: level diagonals and shows 80% of its area as lines; nobody takes that view.
+MAX_EDGE_ON_WHOLE = 0.5
 
 
 def _voters(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -242,7 +246,10 @@ def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
         n_tried += 1
         tried |= np.abs(W @ U[c]) >= np.cos(VOTE_ANGLE)
         along = by_dir[first[inv[c]] : first[inv[c] + 1]]  # the pairs of this direction
-        if faces.edge_on(U[c][None], np.r_[S[i[along]], S[j[along]]])[0] <= max_edge_on:
+        if (
+            faces.edge_on(U[c][None], np.r_[S[i[along]], S[j[along]]])[0] <= max_edge_on
+            and faces.edge_on(U[c][None])[0] <= MAX_EDGE_ON_WHOLE
+        ):
             found.append(c)
     if not found:
         raise MescherError(

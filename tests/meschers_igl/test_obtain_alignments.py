@@ -84,6 +84,27 @@ def test_other_ordinary_scenes_stay_possible_along_their_alignments(name):
         assert not m.is_impossible(order=order), view
 
 
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_ordinary_scenes_from_auto_are_possible_or_refused(name):
+    """``view="auto"`` on an ordinary scene: one MescherError (no view) or a possible mescher,
+    never a level view lining up a table's legs, from which 80% of the scene is seen edge-on
+    (:data:`~meschers_igl.obtain.view.MAX_EDGE_ON_WHOLE`)."""
+    from meschers_igl.errors import MescherError
+    from meschers_igl.obtain.view import MAX_EDGE_ON_WHOLE, _FaceAreas
+
+    V, F = SCENES[name]()[:2]
+    V, F = np.asarray(V, float), np.asarray(F)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", MescherWarning)
+            m, order, report = model_to_mescher(V, F, view="auto")
+    except MescherError as err:
+        assert "view" in str(err)
+        return
+    assert not m.is_impossible(order=order)
+    assert _FaceAreas.of(V, F).edge_on(report.view[None])[0] <= MAX_EDGE_ON_WHOLE
+
+
 def test_the_capped_tribar_keeps_its_junction():
     V, P, gap = u_tribar()
     _, _, report, p = convert_quietly(V, triangulate(P), ISO_VIEW, ISO_UP)
