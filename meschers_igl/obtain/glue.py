@@ -11,6 +11,7 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
 from .alignment import accidental_alignments
+from .caps import unit_normals
 from .clip import face_planes, merge_points, plane_depth, split_t_junctions
 from .records import EdgeSides, FalseEdges, Glue, Junction
 
@@ -41,10 +42,8 @@ def flat_edges(C: np.ndarray, F: np.ndarray, s: np.ndarray, nb: np.ndarray, tol:
     """(k,) bool: model face ``nb[i]`` (-1: none) lies in the plane of face ``s[i]`` (its three
     corners within ``tol`` of it), so the edge they share is no crease."""
     ok = nb >= 0
-    T = C[F[s]]
-    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
-    n /= np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
-    off = np.einsum("kij,kj->ki", C[F[np.maximum(nb, 0)]] - T[:, :1], n)
+    n = unit_normals(C, F[s])
+    off = np.einsum("kij,kj->ki", C[F[np.maximum(nb, 0)]] - C[F[s, :1]], n)
     return ok & np.all(np.abs(off) <= tol, axis=1)
 
 

@@ -28,6 +28,7 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from ..operators import up_for_view
+from .caps import unit_normals
 
 #: Directions ranked at most (the best-supported first, as the vote orders them).
 MAX_RANKED_DIRECTIONS = 200
@@ -57,10 +58,7 @@ def feature_adjacency(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndar
     """
     n = V.shape[0]
     E = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    T = V[F]
-    N = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
-    N /= np.maximum(np.linalg.norm(N, axis=1), 1e-300)[:, None]
-    Nf = np.repeat(N, 3, axis=0)
+    Nf = np.repeat(unit_normals(V, F), 3, axis=0)
     _, first, inv, cnt = np.unique(
         E[:, 0] * n + E[:, 1], return_index=True, return_inverse=True, return_counts=True
     )
