@@ -39,7 +39,6 @@ __all__ = [
     "pair_centroids",
     "sat_overlap",
     "sort_pairs",
-    "stable_argsort",
 ]
 
 
@@ -215,39 +214,10 @@ def _grow(a: np.ndarray, need: int) -> np.ndarray:
 
 
 @njit(cache=True, error_model="numpy")
-def stable_argsort(key: np.ndarray, kmax: int) -> np.ndarray:
-    """The stable sorting permutation of ``key`` (int64, every value in ``[0, kmax]``).
-
-    ``np.argsort(key, kind="stable")``, by a least-significant-digit radix sort (8 bits a
-    pass, ``O(len(key))`` a pass): plain loops, which numba compiles in a fraction of the time
-    its sort implementations take.
-    """
-    n = key.shape[0]
-    perm = np.arange(n)
-    tmp = np.empty(n, dtype=np.int64)
-    cnt = np.empty(257, dtype=np.int64)
-    shift = 0
-    while shift < 63 and (kmax >> shift) > 0:
-        cnt[:] = 0
-        for q in range(n):
-            cnt[((key[perm[q]] >> shift) & 255) + 1] += 1
-        for c in range(256):
-            cnt[c + 1] += cnt[c]
-        for q in range(n):
-            p = perm[q]
-            d = (key[p] >> shift) & 255
-            tmp[cnt[d]] = p
-            cnt[d] += 1
-        perm, tmp = tmp, perm
-        shift += 8
-    return perm
-
-
-@njit(cache=True, error_model="numpy")
 def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndarray):
     """Entries (ids of boxes with ``ok``) of each occupied grid cell: ``(cells, start, owner)``,
     CSR by cell.  Counting sort when the grid is small enough (``ncell`` cells), else a sort of
-    cell keys.
+    the cells' ``(cx, cy)``.
     """
     n = c0.shape[0]
     total = 0
@@ -290,7 +260,16 @@ def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndar
                 r += 1
         start[nocc] = total
         return cells, start, owner
-    srt = stable_argsort(key, ncell - 1)
+    # a sparse grid: the keys' stable sorting permutation as that of the cells' ``(cx, cy)``,
+    # by the two counting sorts of :func:`sort_pairs` (``O(total + nx + ny)``: the grid has at
+    # most ~4n cells along each axis)
+    cxy = np.empty((total, 2), dtype=np.int64)
+    top = ny
+    for q in range(total):
+        cx = key[q] // ny
+        cxy[q, 0], cxy[q, 1] = cx, key[q] - cx * ny
+        top = max(top, cx + 1)
+    srt = sort_pairs(cxy, top)
     owner = own[srt]
     skey = key[srt]
     nocc = 0
@@ -404,8 +383,11 @@ def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, cent
                     continue
                 if k == pairs.shape[0]:
                     pairs = _grow(pairs, k + 1)
-                    if centroids:
-                        cen = _grow(cen, k + 1)
+                    if centroids:  # a loop here: ``_grow`` for float64 is a second compilation
+                        grown = np.empty((pairs.shape[0], 2), dtype=np.float64)
+                        for r in range(k):
+                            grown[r, 0], grown[r, 1] = cen[r, 0], cen[r, 1]
+                        cen = grown
                 pairs[k, 0], pairs[k, 1] = i, j
                 if centroids:
                     cx, cy, _ = intersection_centroid(bt, li, lj, buf)
@@ -599,26 +581,22 @@ def unique_sorted_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     return out[:k].copy()
 
 
-@njit(cache=True, error_model="numpy")
 def arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarray:
     """Arc ``i -> j`` for each pair ``(i, j)`` with ``dz > tol``, ``j -> i`` where ``dz < -tol``.
 
-    ``dz = depth_j - depth_i`` (larger is nearer the viewer, so ``i`` is behind ``j``).
+    ``dz = depth_j - depth_i`` (larger is nearer the viewer, so ``i`` is behind ``j``).  numpy,
+    not compiled: two gathers cost a few ms at a million pairs, a kernel of its own ~0.2 s of
+    first-run compilation.
+
+    Returns
+    -------
+    (k, 2) int64
+        The arcs, in the pairs' order (pairs with ``|dz| <= tol`` or ``nan`` make none).
     """
-    k = 0
-    for r in range(dz.shape[0]):
-        if dz[r] > tol or dz[r] < -tol:
-            k += 1
-    out = np.empty((k, 2), dtype=np.int64)
-    k = 0
-    for r in range(dz.shape[0]):
-        if dz[r] > tol:
-            out[k, 0], out[k, 1] = pairs[r, 0], pairs[r, 1]
-            k += 1
-        elif dz[r] < -tol:
-            out[k, 0], out[k, 1] = pairs[r, 1], pairs[r, 0]
-            k += 1
-    return out
+    back = dz < -tol
+    sel = np.flatnonzero(back | (dz > tol))
+    b = back[sel].view(np.int8).astype(np.intp)  # the column of the arc's tail
+    return np.stack((pairs[sel, b], pairs[sel, 1 - b]), axis=1).astype(np.int64, copy=False)
 
 
 @njit(cache=True, error_model="numpy")
