@@ -41,18 +41,25 @@ __all__ = [
     "sort_pairs",
 ]
 
+#: the decorator of the kernels only compiled code calls (the others' helpers): compiled
+#: without numba's CPython wrapper, the boxing and unboxing of their arguments and results for
+#: a call from Python, which none makes (about a third of a small kernel's machine code, and of
+#: its first-run compilation).  Calling one from Python crashes the interpreter: call the
+#: kernels that use them.
+_inner = njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
 
-@njit(cache=True, error_model="numpy")
+
+@_inner
 def _max3(a: float, b: float, c: float) -> float:
     return max(max(a, b), c)
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def _min3(a: float, b: float, c: float) -> float:
     return min(min(a, b), c)
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def _separated(nx, ny, c):
     """Do the projections on the axis ``n`` overlap by ``<= tol * |n|``?  ``c``: the corners
     ``(a0x, a0y, a1x, a1y, a2x, a2y, b0x, b0y, b1x, b1y, b2x, b2y)`` and ``tol``."""
@@ -69,7 +76,7 @@ def _separated(nx, ny, c):
     return not lap > tol * np.sqrt(nx * nx + ny * ny)
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def sat_overlap(T: np.ndarray, i: int, j: int, tol: float) -> bool:
     """Separating-axis test of the screen triangles ``T[i]`` and ``T[j]`` (T (n, 3, 2)).
 
@@ -97,7 +104,7 @@ def sat_overlap(T: np.ndarray, i: int, j: int, tol: float) -> bool:
     return not _separated(b0y - b2y, b2x - b0x, c)
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def _ccw6(x0, y0, x1, y1, x2, y2):
     """Corners as a 6-tuple, corners 1 and 2 swapped when the triangle is clockwise."""
     e1x, e1y, e2x, e2y = x1 - x0, y1 - y0, x2 - x0, y2 - y0
@@ -111,7 +118,7 @@ def _ccw6(x0, y0, x1, y1, x2, y2):
 CLIP_ROOM = 24
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def intersection_centroid(
     T: np.ndarray, i: int, j: int, buf: np.ndarray
 ) -> tuple[float, float, float]:
@@ -199,7 +206,7 @@ def overlap_pairs_sat(T: np.ndarray, pairs: np.ndarray, tol: float) -> np.ndarra
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def _grow(a: np.ndarray, need: int) -> np.ndarray:
     if need <= a.shape[0]:
         return a
@@ -213,7 +220,7 @@ def _grow(a: np.ndarray, need: int) -> np.ndarray:
     return b
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndarray):
     """Entries (ids of boxes with ``ok``) of each occupied grid cell: ``(cells, start, owner)``,
     CSR by cell.  Counting sort when the grid is small enough (``ncell`` cells), else a sort of
@@ -509,7 +516,7 @@ def barycentric_depths(
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@_inner
 def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     """Permutation sorting ``pairs (k, 2)`` (values in ``[0, n)``) lexicographically.
 

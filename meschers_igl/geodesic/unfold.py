@@ -87,7 +87,7 @@ def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndar
 _apex_offset = intrinsic.apex_kernel()  # the law-of-cosines layout, compiled
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # called by kernels only
 def _area2(a0, a1, b0, b1, c0, c1) -> float:
     return (b0 - a0) * (c1 - a1) - (c0 - a0) * (b1 - a1)
 

@@ -30,7 +30,14 @@ _VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the windo
 # ----------------------------------------------------------------------------------------------
 # compiled kernel
 # ----------------------------------------------------------------------------------------------
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+#: the decorator of the kernels only compiled code calls (all but :func:`walk_rings` and
+#: :func:`propagate`): without numba's CPython wrapper, the boxing and unboxing of arguments
+#: and results for a call from Python, which none makes (less machine code to optimise and emit
+#: on the first run).  Calling one from Python crashes the interpreter.
+_inner = numba.njit(cache=True, error_model="numpy", nogil=True, no_cpython_wrapper=True)
+
+
+@_inner
 def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
     """Xin-Wang pruning: True when every point of the window is strictly beaten via a vertex."""
     d0 = sig + np.sqrt((b0 - sx) ** 2 + sy * sy)
@@ -50,7 +57,7 @@ def _useless(dist, a, b, c, L, cx, cy, b0, b1, sx, sy, sig):  # pragma: no cover
     return False
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _cut(lo, hi, a, b, r1, r2, r3, nr, w0, w1, w2):  # pragma: no cover - compiled
     """Cut from the ends of ``[lo, hi]`` the pieces of the overlap ``[a, b]`` (pieces
     ``[a, r1], [r1, r2], [r2, r3]``, ``nr`` of them, the last ending at ``b``) that the other
@@ -83,13 +90,13 @@ def _cut(lo, hi, a, b, r1, r2, r3, nr, w0, w1, w2):  # pragma: no cover - compil
     return lo, hi
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _gap(x, wx, wy2, ws, ox, oy2, osg):  # pragma: no cover - compiled
     """``d_o(x) - d_w(x)`` for two windows' distance functions on one edge."""
     return osg + np.sqrt((x - ox) ** 2 + oy2) - ws - np.sqrt((x - wx) ** 2 + wy2)
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _resolve(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cover - compiled
     """Trim two overlapping windows ``w`` and ``o`` of one edge (same frame) against each other.
 
@@ -167,7 +174,7 @@ def _resolve(lo, hi, wx, wy2, ws, olo, ohi, ox, oy2, osg, L):  # pragma: no cove
     return lo, hi, olo, ohi
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _block_remove(e, i, bstart, bn, aw, alo, ahi, pos):  # pragma: no cover - compiled
     """Remove entry ``i`` of edge ``e``'s block: its last entry moves into the hole."""
     base = bstart[e]
@@ -180,7 +187,7 @@ def _block_remove(e, i, bstart, bn, aw, alo, ahi, pos):  # pragma: no cover - co
     bn[e] = last
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _trim_by_ends(da, db, L, b0, b1, sx, sy, sig):  # pragma: no cover - compiled
     """Cut the parts of ``[b0, b1]`` where the route along the edge from ``A`` (a prefix: rule
     1's difference decreases in ``q``) or from ``B`` (a suffix) is strictly shorter."""
@@ -202,7 +209,7 @@ def _trim_by_ends(da, db, L, b0, b1, sx, sy, sig):  # pragma: no cover - compile
     return b0, b1
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _ring_pos(cpos, csgn, k, psi):  # pragma: no cover - compiled
     """Ring position of the direction at angle ``psi`` from corner ``k``'s first edge (towards
     its second); NaN for a vertex without a ring (no shadow is then used)."""
@@ -211,7 +218,7 @@ def _ring_pos(cpos, csgn, k, psi):  # pragma: no cover - compiled
     return cpos[k] + csgn[k] * psi
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _shadow(b, p, sg, al, th, bnd, piece):  # pragma: no cover - compiled
     """Part ``piece`` (0 or 1) of a corner's angles ``[0, al]`` into which a pseudo-source with
     back direction ``b`` (a ring position) may send a shortest path on.
@@ -252,7 +259,7 @@ def _shadow(b, p, sg, al, th, bnd, piece):  # pragma: no cover - compiled
     return p - q1, p - q0
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@_inner
 def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
     """Where the ray from the apex ``C = (cx, cy)`` at angle ``psi`` from ``C->A`` (towards
     ``C->B``) meets the edge ``AB`` (``A = (0, 0)``, ``B = (L, 0)``, ``cy > 0``)."""
@@ -421,7 +428,9 @@ B0, B1, SX, SY, SIG = range(5)
 #: numba copies an inlined function's IR block by block, each copy carrying its scope, so IR
 #: inlining costs compilation time growing faster than the function's length.
 _helper = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
-_small = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+_small = numba.njit(
+    cache=True, error_model="numpy", nogil=True, _nrt=False, no_cpython_wrapper=True
+)
 
 
 @_helper
