@@ -422,14 +422,21 @@ def _walk_csr(start, ends, u, v):  # pragma: no cover - compiled
     # ends (a node's pieces by piece index, u's end before v's; ``// 2`` is the piece): a loop
     # here, not a sort kernel of its own (one compilation fewer)
     inc = np.empty(2 * m, dtype=np.int64)
-    fill = start[:-1].copy()
+    fill = np.empty(n_nodes, dtype=np.int64)
+    for i in range(n_nodes):
+        fill[i] = start[i]
     for q in range(2 * m):
         inc[fill[ends[q]]] = q // 2
         fill[ends[q]] += 1
-    used = np.zeros(m, dtype=np.bool_)
+    # np.empty and a loop, not np.zeros: one allocation spelling for all kernels (a compilation
+    # each, per process)
+    used = np.empty(m, dtype=np.bool_)
     nodes = np.empty(2 * m + 1, dtype=np.int64)
-    offsets = np.zeros(m + 1, dtype=np.int64)
-    closed = np.zeros(m, dtype=np.bool_)
+    offsets = np.empty(m + 1, dtype=np.int64)
+    closed = np.empty(m, dtype=np.bool_)
+    offsets[0] = 0
+    for k in range(m):
+        used[k] = False
     n_out = 0
     n_lines = 0
     for phase in range(2):

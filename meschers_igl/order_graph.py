@@ -135,7 +135,9 @@ def _kahn_levels(indptr: np.ndarray, head: np.ndarray, n: int) -> np.ndarray:
     of largest level.  Sorting the levels is left to numpy (plain loops here: each line of a
     kernel costs first-run compilation).
     """
-    indeg = np.zeros(n, dtype=np.int64)
+    indeg = np.empty(n, dtype=np.int64)  # zeroed in a loop: np.zeros is another compilation
+    for v in range(n):
+        indeg[v] = 0
     for a in range(head.shape[0]):
         indeg[head[a]] += 1
     level = np.empty(n, dtype=np.int64)
@@ -340,16 +342,19 @@ def in_sorted(sorted_keys: np.ndarray, q: np.ndarray) -> np.ndarray:
 @njit(cache=True, error_model="numpy")
 def _path_integrals(indptr, indices, weight, value, seeds, tstart, targets):
     nv = indptr.shape[0] - 1
-    phi_out = np.zeros(targets.shape[0], dtype=np.float64)
+    phi_out = np.empty(targets.shape[0], dtype=np.float64)
     dist = np.empty(nv, dtype=np.float64)  # valid where stamp is the current seed
-    phi = np.zeros(nv, dtype=np.float64)
+    phi = np.empty(nv, dtype=np.float64)
     stamp = np.empty(nv, dtype=np.int64)  # seed whose search last touched the vertex
     done = np.empty(nv, dtype=np.int64)  # seed whose search settled the vertex
     want = np.empty(nv, dtype=np.int64)  # seed that still needs the vertex
-    # a loop, not np.full: the kernels' allocations share one spelling (np.empty/np.zeros with
-    # ``dtype=``), so numba compiles its allocation code once per dtype and shape kind
+    # loops, not np.full or np.zeros: the kernels' allocations share one spelling (np.empty
+    # with ``dtype=``), so numba compiles its allocation code once per dtype and shape kind
+    for t in range(targets.shape[0]):
+        phi_out[t] = 0.0
     for v in range(nv):
         dist[v] = np.inf
+        phi[v] = 0.0
         stamp[v] = done[v] = want[v] = -1
     cap = indices.shape[0] + 1
     hd = np.empty(cap, dtype=np.float64)

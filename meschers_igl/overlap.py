@@ -199,7 +199,7 @@ def intersection_centroid(
 def overlap_pairs_sat(T: np.ndarray, pairs: np.ndarray, tol: float) -> np.ndarray:
     """(k,) bool: :func:`sat_overlap` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]`` (T (n, 3, 2))."""
     k = pairs.shape[0]
-    out = np.zeros(k, dtype=np.bool_)
+    out = np.empty(k, dtype=np.bool_)  # every entry written below
     for p in range(k):
         i, j = pairs[p, 0], pairs[p, 1]
         out[p] = sat_overlap(T, i, j, tol)
@@ -208,15 +208,17 @@ def overlap_pairs_sat(T: np.ndarray, pairs: np.ndarray, tol: float) -> np.ndarra
 
 @_inner
 def _grow(a: np.ndarray, need: int) -> np.ndarray:
+    """``a (n, 2) int64`` copied into a new array of ``max(2n, need)`` rows (``a`` itself when
+    it has ``need`` rows)."""
     if need <= a.shape[0]:
         return a
-    cap = max(2 * a.shape[0], need)
-    b = np.empty((cap,) + a.shape[1:], dtype=a.dtype)
-    # an element loop, not ``b[:n] = a``: array-to-array slice assignment compiles numba's
-    # shape-mismatch error formatting (several seconds of first-run compilation)
-    src, dst = a.reshape(-1), b.reshape(-1)
-    for i in range(src.shape[0]):
-        dst[i] = src[i]
+    # ``(cap, 2)`` and ``dtype=np.int64`` spelled as every other allocation of pairs is (a
+    # ``dtype=a.dtype`` or a computed shape is another compilation of np.empty); an element loop,
+    # not ``b[:n] = a``: array-to-array slice assignment compiles numba's shape-mismatch error
+    # formatting (several seconds of first-run compilation)
+    b = np.empty((max(2 * a.shape[0], need), 2), dtype=np.int64)
+    for i in range(a.shape[0]):
+        b[i, 0], b[i, 1] = a[i, 0], a[i, 1]
     return b
 
 
@@ -243,7 +245,9 @@ def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndar
                 own[p] = b
                 p += 1
     if ncell <= 4 * total + 1024:
-        count = np.zeros(ncell + 1, dtype=np.int64)
+        count = np.empty(ncell + 1, dtype=np.int64)
+        for c in range(ncell + 1):  # zeroed in a loop: see sort_pairs
+            count[c] = 0
         for q in range(total):
             count[key[q] + 1] += 1
         nocc = 0
@@ -523,7 +527,11 @@ def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     Two stable counting sorts (by the second column, then the first): ``O(k + n)``.
     """
     k = pairs.shape[0]
-    cnt = np.zeros(n + 1, dtype=np.int64)
+    # np.empty and loops, not np.zeros or ``cnt[:] = 0``: each spelling is a compilation of
+    # its own in each process
+    cnt = np.empty(n + 1, dtype=np.int64)
+    for c in range(n + 1):
+        cnt[c] = 0
     for r in range(k):
         cnt[pairs[r, 1] + 1] += 1
     for c in range(n):
@@ -533,7 +541,8 @@ def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
         c = pairs[r, 1]
         tmp[cnt[c]] = r
         cnt[c] += 1
-    cnt[:] = 0
+    for c in range(n + 1):
+        cnt[c] = 0
     for r in range(k):
         cnt[pairs[r, 0] + 1] += 1
     for c in range(n):
@@ -557,7 +566,7 @@ def boxes_and_heights(T: np.ndarray):
     n = T.shape[0]
     lo = np.empty((n, 2), dtype=np.float64)
     hi = np.empty((n, 2), dtype=np.float64)
-    ht = np.zeros(n, dtype=np.float64)
+    ht = np.empty(n, dtype=np.float64)
     for f in range(n):
         for d in range(2):
             lo[f, d] = _min3(T[f, 0, d], T[f, 1, d], T[f, 2, d])
@@ -569,8 +578,7 @@ def boxes_and_heights(T: np.ndarray):
         d1x, d1y = T[f, 1, 0] - T[f, 2, 0], T[f, 1, 1] - T[f, 2, 1]
         d2x, d2y = T[f, 2, 0] - T[f, 0, 0], T[f, 2, 1] - T[f, 0, 1]
         lmax = np.sqrt(_max3(d0x**2 + d0y**2, d1x**2 + d1y**2, d2x**2 + d2y**2))
-        if lmax > 0.0:
-            ht[f] = area2 / lmax
+        ht[f] = area2 / lmax if lmax > 0.0 else 0.0
     return lo, hi, ht
 
 

@@ -115,11 +115,12 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
     il = np.empty(npt, dtype=np.int64)
     ir = np.empty(npt, dtype=np.int64)
     cv = np.empty(3, dtype=np.int64)
-    cp = np.zeros((3, 2), dtype=np.float64)
+    cp = np.empty((3, 2), dtype=np.float64)  # np.empty: np.zeros is a compilation more
     f0 = faces[0]
     for c in range(3):
         cv[c] = F[f0, c]
     L0, L1, L2 = l[f0, 0], l[f0, 1], l[f0, 2]
+    cp[0, 0] = cp[0, 1] = cp[1, 1] = 0.0
     cp[1, 0] = L2
     cp[2, 0], cp[2, 1] = _apex_offset(L2, L1, L0)
     for c in range(3):
@@ -224,7 +225,9 @@ def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
         ci[nc], cx[nc, 0], cx[nc, 1], cvid[nc] = npt - 1, pl[n, 0], pl[n, 1], v1
         nc += 1
     # where the taut path crosses each portal
-    tpar = np.zeros(npt, dtype=np.float64)
+    tpar = np.empty(npt, dtype=np.float64)
+    for k in range(npt):
+        tpar[k] = 0.0
     for c in range(nc - 1):
         ia, ib = ci[c], ci[c + 1]
         pa0, pa1, pb0, pb1 = cx[c, 0], cx[c, 1], cx[c + 1, 0], cx[c + 1, 1]

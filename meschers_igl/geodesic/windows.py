@@ -276,10 +276,17 @@ def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
 def walk_rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
     """Walk each vertex's one-ring: ``cpos, csgn, theta, vbnd`` of :func:`propagate`."""
     n = twin.size
-    cpos = np.zeros(n, dtype=np.float64)
-    csgn = np.zeros(n, dtype=np.float64)
-    theta = np.zeros(nv, dtype=np.float64)
-    vbnd = np.zeros(nv, dtype=np.bool_)
+    # np.empty and loops, not np.zeros: np.zeros is a compilation of its own per dtype
+    cpos = np.empty(n, dtype=np.float64)
+    csgn = np.empty(n, dtype=np.float64)
+    theta = np.empty(nv, dtype=np.float64)
+    vbnd = np.empty(nv, dtype=np.bool_)
+    for k in range(n):
+        cpos[k] = 0.0
+        csgn[k] = 0.0
+    for v in range(nv):
+        theta[v] = 0.0
+        vbnd[v] = False
     for v in range(nv):
         k0 = vptr[v]
         deg = vptr[v + 1] - k0
