@@ -168,8 +168,10 @@ def split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: floa
             L2 = float(d @ d)
             on = []
             for v in cand:
-                # (a face's own apex is never within tol of its edge: thinner faces were dropped)
-                if v == p or v == q:
+                # a face's own corners are never T-junctions of its edges: the pieces a split
+                # leaves for the next pass may be thin enough for their apex to lie within
+                # tol of the base, and splitting there would repeat a corner
+                if v == p or v == q or v == Ft[f, k]:
                     continue
                 w = xy[v] - xy[p]
                 t = float(w @ d) / L2
@@ -231,14 +233,22 @@ def visible_map(C: np.ndarray, F: np.ndarray, front: np.ndarray, tol_abs: float,
     gi = np.searchsorted(usedp, lab[pts])
     first[gi[::-1]] = pts[::-1]
     xy = P[first]
-    # drop faces that collapsed or lost their area to rounding: thinner than tol over their
-    # longest edge (a cap whose apex lies on its base edge within tol is a T-junction of the
-    # face across that edge, split there below, so no hole is left)
+    # drop faces that collapsed or lost their area to rounding (a cap whose apex lies on its
+    # base edge within tol is a T-junction of the face across that edge, split there below, so
+    # no hole is left)
+    ok = _thick(xy, Fa, tol_abs)
+    Fa, src = split_t_junctions(xy, Fa[ok], src[ok], tol_abs)
+    # a T-vertex within tol of an edge but just outside its face makes fan pieces thinner than
+    # tol, some turned over: a fold of zero width whose edges have four faces; dropped the same
+    ok = _thick(xy, Fa, tol_abs)
+    return xy, Fa[ok], src[ok], pl_all
+
+
+def _thick(xy: np.ndarray, Fa: np.ndarray, tol: float) -> np.ndarray:
+    """(#T,) bool: counter-clockwise triangles wider than ``tol`` across their longest edge."""
     T2 = xy[Fa]
     area2 = (T2[:, 1, 0] - T2[:, 0, 0]) * (T2[:, 2, 1] - T2[:, 0, 1]) - (
         T2[:, 2, 0] - T2[:, 0, 0]
     ) * (T2[:, 1, 1] - T2[:, 0, 1])
     longest = np.linalg.norm(T2 - T2[:, [1, 2, 0]], axis=2).max(axis=1)
-    ok = area2 > tol_abs * np.maximum(longest, tol_abs)
-    Fa, src = split_t_junctions(xy, Fa[ok], src[ok], tol_abs)
-    return xy, Fa, src, pl_all
+    return area2 > tol * np.maximum(longest, tol)

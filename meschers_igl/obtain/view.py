@@ -20,13 +20,13 @@ from typing import Any
 
 import igl
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..errors import MescherError
 from ..operators import up_for_view, view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
 from .clip import FRONT_NZ, REL_TOL
+from .directions import near_directions, votes
 from .junctions import (
     BarEnds,
     bar_end_pairs,
@@ -69,40 +69,6 @@ def _voters(V: np.ndarray, F: np.ndarray, rng: np.random.Generator) -> np.ndarra
     if S.size > MAX_VOTERS:
         S = np.sort(rng.choice(S, MAX_VOTERS, replace=False))
     return S
-
-
-def _unique_rows(X: np.ndarray):
-    """Exactly equal rows of ``X`` (n, 3): (distinct rows, (n,) row -> distinct, counts)."""
-    o = np.lexsort(X.T[::-1])
-    new = np.r_[True, np.any(X[o[1:]] != X[o[:-1]], axis=1)][: X.shape[0]]
-    inv = np.empty(X.shape[0], dtype=np.int64)
-    inv[o] = np.cumsum(new) - 1
-    return X[o[new]], inv, np.bincount(inv)
-
-
-def _votes(U: np.ndarray, angle: float):
-    """How many of the unit directions ``U`` and ``-U`` lie within ``angle`` (chord length) of
-    each ``U[k]``, itself included.
-
-    Directions that repeat exactly (a model on a lattice: many vertex pairs along one
-    direction) are counted once with their multiplicity, so the cost grows with the pairs of
-    *distinct* directions that agree, not with the square of a cluster's size.
-
-    Returns
-    -------
-    counts : (#U,) int64
-    W : (k, 3) float64
-        The distinct directions of ``U``.
-    inv : (#U,) int64
-        ``U[i] == W[inv[i]]``.
-    """
-    W, inv, mult = _unique_rows(U)
-    k = W.shape[0]
-    pq = cKDTree(np.vstack([W, -W])).query_pairs(angle, output_type="ndarray")
-    m2 = np.r_[mult, mult].astype(np.float64)
-    near = np.bincount(pq[:, 0], weights=m2[pq[:, 1]], minlength=2 * k)
-    near += np.bincount(pq[:, 1], weights=m2[pq[:, 0]], minlength=2 * k)
-    return (mult + np.rint(near[:k]).astype(np.int64))[inv], W, inv
 
 
 def find_view(
@@ -174,13 +140,13 @@ def _vote(V: np.ndarray, F: np.ndarray) -> tuple:
     U = D / L[:, None]
     U *= np.where(U @ np.array([1e-3, 1e-2, 1.0]) < 0, -1.0, 1.0)[:, None]  # one hemisphere
     # votes: pairs whose directions agree within VOTE_ANGLE (either sign), longer pairs first
-    counts, W, inv = _votes(U, VOTE_ANGLE)
+    counts, W, inv, tree = votes(U, VOTE_ANGLE)
     if counts.size == 0 or counts.max() < 2:
         raise MescherError(
             "V: expected vertex pairs that line up along a common direction (a view in which "
             "parts of the model coincide on screen), found none; pass view= explicitly"
         )
-    return S, D, L, U, i, j, counts, W, inv
+    return S, D, L, U, i, j, counts, W, inv, tree
 
 
 @dataclass(frozen=True)
@@ -228,7 +194,7 @@ class _FaceAreas:
 def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
     """Up to ``max_views`` refined ``(view, up, pairs)`` from ``vote``, best supported first,
     each seeing at most ``max_edge_on`` of the model edge-on (:func:`find_view`)."""
-    S, D, L, U, i, j, counts, W, inv = vote
+    S, D, L, U, i, j, counts, W, inv, tree = vote
     # candidates by votes; a view must not see much of the model edge-on (a view along an
     # axis of a box model lines up many pairs but shows its side faces as lines)
     faces = _FaceAreas.of(V, F)
@@ -244,7 +210,7 @@ def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
         if counts[c] < 2 or n_tried >= MAX_DIRECTIONS or len(found) >= max_views:
             break
         n_tried += 1
-        tried |= np.abs(W @ U[c]) >= np.cos(VOTE_ANGLE)
+        tried[near_directions(W, tree, U[c], VOTE_ANGLE)] = True
         along = by_dir[first[inv[c]] : first[inv[c] + 1]]  # the pairs of this direction
         if (
             faces.edge_on(U[c][None], np.r_[S[i[along]], S[j[along]]])[0] <= max_edge_on
@@ -258,7 +224,8 @@ def _pick(vote: tuple, V, F, max_views: int, max_edge_on: float) -> list:
         )
     out = []
     for k in found:  # refine each candidate
-        support = np.flatnonzero(np.abs(U @ U[k]) >= np.cos(VOTE_ANGLE))
+        near = near_directions(W, tree, U[k], VOTE_ANGLE)  # the pairs along those: by_dir
+        support = np.sort(np.concatenate([by_dir[first[w] : first[w + 1]] for w in near]))
         # the direction that makes the supporting pairs coincide best (weighted by length^2)
         M = D[support].T @ D[support]
         w, E = np.linalg.eigh(M)

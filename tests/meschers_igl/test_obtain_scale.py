@@ -17,8 +17,9 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from meschers_igl.obtain import bar_end_pairs, model_to_mescher
+from meschers_igl.obtain.directions import votes
 from meschers_igl.obtain.junctions import bridges_blocked
-from meschers_igl.obtain.view import _votes, find_view
+from meschers_igl.obtain.view import find_view
 from meschers_igl.operators import view_frame
 from meschers_igl.shapes import block_grid
 
@@ -59,7 +60,7 @@ def test_vote_counts_equal_the_ball_counts():
     tree = cKDTree(np.vstack([U, -U]))
     for angle in (2e-4, 0.05, 0.4):
         want = np.array([len(c) for c in tree.query_ball_point(U, angle)])
-        counts, W, inv = _votes(U, angle)
+        counts, W, inv, _ = votes(U, angle)
         np.testing.assert_array_equal(counts, want)
         np.testing.assert_array_equal(W[inv], U)
         assert W.shape[0] < U.shape[0]  # the lattice repeats directions
