@@ -51,7 +51,7 @@ RENDER_PACKAGE = "pyvista_views"
 # CPU seconds to compile each group from an empty cache on one core of a 2-core machine, one
 # group after another in one process (the process's own start, about 3 s, counted in the first);
 # only for the estimate printed beforehand and for dealing groups to processes.
-COMPILE_SECONDS = {"order": 12.5, "render": 2.5, "paths": 4.0, "geodesic": 11.0}
+COMPILE_SECONDS = {"order": 11.5, "render": 2.5, "paths": 3.3, "geodesic": 10.0}
 
 
 #: The groups a study leaves to its work: the first worker to draw compiles the rendering
