@@ -47,6 +47,8 @@ __all__ = [
 #: its first-run compilation).  Calling one from Python crashes the interpreter: call the
 #: kernels that use them.
 _inner = njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
+# public kernels keep numba's Python entry: called from Python, an _inner kernel crashes
+_public = njit(cache=True, error_model="numpy")
 
 
 @_inner
@@ -76,7 +78,7 @@ def _separated(nx, ny, c):
     return not lap > tol * np.sqrt(nx * nx + ny * ny)
 
 
-@_inner
+@_public
 def sat_overlap(T: np.ndarray, i: int, j: int, tol: float) -> bool:
     """Separating-axis test of the screen triangles ``T[i]`` and ``T[j]`` (T (n, 3, 2)).
 
@@ -118,7 +120,7 @@ def _ccw6(x0, y0, x1, y1, x2, y2):
 CLIP_ROOM = 24
 
 
-@_inner
+@_public
 def intersection_centroid(
     T: np.ndarray, i: int, j: int, buf: np.ndarray
 ) -> tuple[float, float, float]:
@@ -520,7 +522,7 @@ def barycentric_depths(
     return out
 
 
-@_inner
+@_public
 def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     """Permutation sorting ``pairs (k, 2)`` (values in ``[0, n)``) lexicographically.
 

@@ -27,13 +27,8 @@ _VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the windo
 # crossing is rounded by ~eps / sin(sliver angle); a distance taken this way is off by <= 2 _VIS L
 
 
-# ----------------------------------------------------------------------------------------------
-# compiled kernel
-# ----------------------------------------------------------------------------------------------
-#: the decorator of the kernels only compiled code calls (all but :func:`walk_rings` and
-#: :func:`propagate`): without numba's CPython wrapper, the boxing and unboxing of arguments
-#: and results for a call from Python, which none makes (less machine code to optimise and emit
-#: on the first run).  Calling one from Python crashes the interpreter.
+#: the kernels only compiled code calls (all but :func:`walk_rings` and :func:`propagate`): no
+#: CPython wrapper to compile on the first run.  Calling one from Python crashes the interpreter.
 _inner = numba.njit(cache=True, error_model="numpy", nogil=True, no_cpython_wrapper=True)
 
 
@@ -276,17 +271,10 @@ def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
 def walk_rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
     """Walk each vertex's one-ring: ``cpos, csgn, theta, vbnd`` of :func:`propagate`."""
     n = twin.size
-    # np.empty and loops, not np.zeros: np.zeros is a compilation of its own per dtype
-    cpos = np.empty(n, dtype=np.float64)
-    csgn = np.empty(n, dtype=np.float64)
-    theta = np.empty(nv, dtype=np.float64)
-    vbnd = np.empty(nv, dtype=np.bool_)
-    for k in range(n):
-        cpos[k] = 0.0
-        csgn[k] = 0.0
-    for v in range(nv):
-        theta[v] = 0.0
-        vbnd[v] = False
+    # np.empty and fills, not np.zeros: np.zeros is a compilation of its own per dtype
+    cpos, csgn = np.empty(n, dtype=np.float64), np.empty(n, dtype=np.float64)
+    theta, vbnd = np.empty(nv, dtype=np.float64), np.empty(nv, dtype=np.bool_)
+    cpos[:], csgn[:], theta[:], vbnd[:] = 0.0, 0.0, 0.0, False
     for v in range(nv):
         k0 = vptr[v]
         deg = vptr[v + 1] - k0
@@ -421,19 +409,15 @@ DEAD = 2
 # columns of a window's row in ``wb`` (and of a child's in the children's buffer)
 B0, B1, SX, SY, SIG = range(5)
 
-#: the decorators of the steps of :func:`propagate`: compiled without numba's reference counting
-#: (``_nrt=False``), like :func:`propagate` itself, which allocates nothing (its scratch arrays
-#: come with the query's): the steps borrow the caller's arrays and return scalars.  ``_helper``:
-#: compiled into :func:`propagate` (``inline="always"``; the steps called once); ``_small``:
-#: compiled once and inlined by LLVM (steps called at several places, each a copy otherwise:
-#: slower to compile).  Measured on a 20k-face torus against the one long function it was before:
-#: the steps called, not inlined, 5x slower (each call passed the groups' 36 arrays field by field
-#: and counted a reference to each; uncounted, 1.5x); inlined but counted, 2.5x; inlined and
-#: uncounted, as fast.  A step that would allocate does not compile.  A ``_small`` step takes the
-#: arrays it uses, not the groups: compiled on its own with the groups' types, each cost about
-#: 0.5 s of first-run compilation.  Rare branches with loops are ``_small`` (:func:`_new_block`):
-#: numba copies an inlined function's IR block by block, each copy carrying its scope, so IR
-#: inlining costs compilation time growing faster than the function's length.
+#: the decorators of the steps of :func:`propagate`: without reference counting (``_nrt=False``),
+#: like :func:`propagate`, which allocates nothing: the steps borrow the caller's arrays and
+#: return scalars.  ``_helper``: compiled into :func:`propagate` (``inline="always"``, steps
+#: called once); ``_small``: compiled once, inlined by LLVM (steps called at several places, and
+#: rare branches with loops such as :func:`_new_block`: numba's IR inlining copies blocks with
+#: their scopes, costing compile time faster than length).  On a 20k-face torus against one long
+#: function: steps called, not inlined, 5x slower (36 arrays passed and counted; uncounted
+#: 1.5x); inlined but counted 2.5x; inlined and uncounted, as fast.  A ``_small`` step takes only
+#: the arrays it uses (compiled with the groups' types, each cost ~0.5 s of first compile).
 _helper = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
 _small = numba.njit(
     cache=True, error_model="numpy", nogil=True, _nrt=False, no_cpython_wrapper=True

@@ -153,7 +153,8 @@ def accidental_alignments(
     alignment, a near object merely lying in front of that edge, when
 
     * the far edge is the far object's *outline* (its other face turned away, or no edge at
-      all: its surface goes on in its plane), seen elsewhere along its length as an outline
+      all: its surface goes on in its plane) and either the two model edges do not pair up
+      corner to corner on screen, or it is seen elsewhere along its length as an outline
       against its backdrop (:func:`outline_seen`: background, or a surface at or behind it
       -- the floor a wall stands on); or
     * the far edge is a crease of its object whose hidden face the near face cannot continue
@@ -195,6 +196,10 @@ def accidental_alignments(
     t, L = on_line(A, B, C[F[sn, mn]], C[F[sn, (mn + 1) % 3]])
     corners = (np.abs(t[:, 0]) <= tol) & (np.abs(t[:, 1] - L) <= tol)
     bad = crease & ~corners
+    # an outline whose corners do not pair with the near edge's: the two edges merely overlap
+    # on screen (an arch's post's side behind the other post's, a short box's side along a
+    # tall box's); a junction's edges meet end to end, as a tribar's bar end on the column
+    bad |= outline & ~corners
     cand = outline
     far_mid = xy[Fa[hf // 3]].mean(axis=1)
     # each probe of a far edge looks only at the faces near it (boxes within the probes'
