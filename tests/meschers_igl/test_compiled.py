@@ -11,12 +11,7 @@ from meschers_igl.geometry2d import candidate_pairs
 from meschers_igl.order_graph import topological_sort
 
 
-# the kernels only compiled code calls have no CPython wrapper: called from here through these
-@njit(cache=False)
-def _sort_pairs(pairs, n):
-    return overlap.sort_pairs(pairs, n)
-
-
+# a kernel only compiled code calls has no CPython wrapper: called from here through this
 @njit(cache=False)
 def _cell_lists(c0, c1, ny, ncell, ok):
     return overlap._cell_lists(c0, c1, ny, ncell, ok)
@@ -32,10 +27,10 @@ def test_sort_pairs_is_numpys_stable_lexsort(n):
         vals = np.array([0, (n - 1) // 3, (n - 1) // 2, n - 1], dtype=np.int64)
         pairs = rng.choice(vals, size=(k, 2))
         want = np.lexsort((pairs[:, 1], pairs[:, 0]))
-        assert np.array_equal(_sort_pairs(pairs, n), want)
+        assert np.array_equal(overlap.sort_pairs(pairs, n), want)
         pairs = rng.integers(0, n, size=(k, 2), dtype=np.int64)
         want = np.lexsort((pairs[:, 1], pairs[:, 0]))
-        assert np.array_equal(_sort_pairs(pairs, n), want)
+        assert np.array_equal(overlap.sort_pairs(pairs, n), want)
 
 
 def _levels_reference(n: int, arcs: np.ndarray) -> np.ndarray:
