@@ -288,3 +288,42 @@ def overlapping_pairs(
         T, ok, lo, hi, *_grid(lo, hi), float(tol), True, bool(centroids), group
     )
     return pairs, (cen if centroids else None)
+
+
+def polygon_triangles(P: np.ndarray) -> np.ndarray | None:
+    """Triangles of a simple polygon, counter-clockwise, with no new points; None if it is not
+    simple.
+
+    A constrained Delaunay triangulation (``triangle``), so consecutive collinear corners make
+    no flat triangles as a fan would.  The polygon is checked first (shapely: a valid polygon,
+    no repeated corner): Triangle is given a ring that doubles back on itself or repeats a
+    corner crashes the process (a segfault, which no ``try`` catches).
+
+    Parameters
+    ----------
+    P : (n, 2) float
+        The corners in order (not closed).
+
+    Returns
+    -------
+    (n - 2, 3) int64 or None
+        Corner indices into ``P``.
+    """
+    import shapely
+    import triangle as tr
+
+    P = np.asarray(P, dtype=np.float64)
+    n = P.shape[0]
+    if n < 3 or np.unique(P, axis=0).shape[0] != n or not shapely.Polygon(P).is_valid:
+        return None
+    seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
+    out = tr.triangulate({"vertices": P, "segments": seg}, "pQ")
+    if out["vertices"].shape[0] != n or "triangles" not in out:
+        return None
+    T = np.asarray(out["triangles"], dtype=np.int64)
+    Q = P[T]
+    a2 = (Q[:, 1, 0] - Q[:, 0, 0]) * (Q[:, 2, 1] - Q[:, 0, 1]) - (Q[:, 2, 0] - Q[:, 0, 0]) * (
+        Q[:, 1, 1] - Q[:, 0, 1]
+    )
+    T[a2 < 0] = T[a2 < 0][:, [0, 2, 1]]
+    return T

@@ -6,7 +6,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 
-from ..geometry2d import overlapping_pairs
+from ..geometry2d import overlapping_pairs, polygon_triangles
 from .clip import plane_depth
 from .glue import he_depth, interior_edges
 from .records import Glue, Junction
@@ -121,7 +121,8 @@ def bridge_hidden_gaps(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=Non
             continue
         _, ib, poly, sb, gap, plane = best
         P = xy[poly]
-        tri = _polygon_triangles(P)
+        tri = polygon_triangles(P)
+        tri = None if tri is None else tri.tolist()
         if tri is None or _on_visible_edges(poly, tri, chains[ia][1], chains[ib][1], Fa):
             continue
         used |= {ia, ib}
@@ -169,25 +170,6 @@ def bridge_hidden_gaps(xy, Fa, src, Z, pl, N, glue, arcs, fe, tol, Tm, model=Non
 
 def cross2(a, b) -> float:
     return float(a[0] * b[1] - a[1] * b[0])
-
-
-def _polygon_triangles(P: np.ndarray) -> list:
-    """Triangles (local corner indices, CCW) of a simple polygon whose consecutive vertices may
-    be collinear (a fan would make flat triangles there): constrained Delaunay, no new points."""
-    import triangle as tr
-
-    n = P.shape[0]
-    seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
-    out = tr.triangulate({"vertices": P, "segments": seg}, "pQ")
-    T = np.asarray(out["triangles"], dtype=np.int64)
-    if out["vertices"].shape[0] != n:
-        return None  # not a simple polygon after all: no bridge here
-    Q = P[T]
-    a2 = (Q[:, 1, 0] - Q[:, 0, 0]) * (Q[:, 2, 1] - Q[:, 0, 1]) - (Q[:, 2, 0] - Q[:, 0, 0]) * (
-        Q[:, 1, 1] - Q[:, 0, 1]
-    )
-    T[a2 < 0] = T[a2 < 0][:, [0, 2, 1]]
-    return T.tolist()
 
 
 def _parallel_to_edge(s, tri, tol) -> bool:

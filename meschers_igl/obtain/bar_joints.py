@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ..geometry2d import barycentric, overlapping_pairs
+from ..geometry2d import barycentric, overlapping_pairs, polygon_triangles
 from .caps import unit_normals
 from .clip import plane_depth
 from .glue import cut_and_glue, edge_on_source, interior_edges
@@ -473,21 +473,12 @@ def split_edges_at(
 def _strip_triangles(xy, strip: HiddenStrip, C, F, tol):
     """Triangles of ``strip`` over ``xy`` (new vertices appended) and their source faces.
     Returns ``(xy, tris (m, 3), src (m,))`` or None when the strip does not triangulate."""
-    import triangle as tr
-
     ring = _with_points_on(strip.ring, xy, tol)
     d, idx = cKDTree(xy).query(ring)
-    n = ring.shape[0]
-    seg = np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1)
-    out = tr.triangulate({"vertices": ring, "segments": seg}, "pQ")
-    if out["vertices"].shape[0] != n:
+    T = polygon_triangles(ring)  # None for a ring doubling back on itself
+    if T is None:
         return None
-    T = np.asarray(out["triangles"], dtype=np.int64)
     Q = ring[T]
-    a2 = (Q[:, 1, 0] - Q[:, 0, 0]) * (Q[:, 2, 1] - Q[:, 0, 1]) - (Q[:, 2, 0] - Q[:, 0, 0]) * (
-        Q[:, 1, 1] - Q[:, 0, 1]
-    )
-    T[a2 < 0] = T[a2 < 0][:, [0, 2, 1]]
     new = d > tol
     vid = np.where(new, xy.shape[0] + np.cumsum(new) - 1, idx)
     xy = np.vstack([xy, ring[new]])

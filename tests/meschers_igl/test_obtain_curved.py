@@ -115,3 +115,23 @@ def test_near_directions_are_those_a_full_scan_finds(seed):
         scan = np.flatnonzero(np.abs(W @ u) >= np.cos(angle))
         np.testing.assert_array_equal(near_directions(W, tree, u, angle), scan)
         assert scan.size >= 1
+
+
+def test_polygon_triangles_refuses_what_would_crash_the_triangulator():
+    """A simple polygon (collinear corners included) is triangulated without new points, all
+    counter-clockwise, covering its area; a ring doubling back on itself or repeating a corner
+    (which made Triangle segfault, found by fuzzing block scenes) gives None."""
+    from meschers_igl.geometry2d import polygon_triangles
+
+    P = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [1, 1.5], [0, 1]], float)
+    T = polygon_triangles(P)
+    assert T.shape == (P.shape[0] - 2, 3)
+    Q = P[T]
+    a2 = np.cross(Q[:, 1] - Q[:, 0], Q[:, 2] - Q[:, 0])
+    assert np.all(a2 > 0)
+    assert 0.5 * a2.sum() == pytest.approx(2.5, rel=1e-12)  # the shoelace area
+    spike = np.array([[1.35, 3.29], [1.11, 3.34], [1.11, 2.37], [1.11, 1.41], [1.11, 2.37]])
+    assert polygon_triangles(spike) is None
+    assert polygon_triangles(np.array([[0, 0], [1, 0], [1, 0], [0, 1]], float)) is None
+    bowtie = np.array([[0, 0], [1, 1], [1, 0], [0, 1]], float)
+    assert polygon_triangles(bowtie) is None
