@@ -296,8 +296,8 @@ def polygon_triangles(P: np.ndarray) -> np.ndarray | None:
 
     A constrained Delaunay triangulation (``triangle``), so consecutive collinear corners make
     no flat triangles as a fan would.  The polygon is checked first (shapely: a valid polygon,
-    no repeated corner): Triangle is given a ring that doubles back on itself or repeats a
-    corner crashes the process (a segfault, which no ``try`` catches).
+    no repeated corner): given a ring that doubles back on itself or repeats a corner, Triangle
+    crashes the process (a segfault, which no ``try`` catches).
 
     Parameters
     ----------
