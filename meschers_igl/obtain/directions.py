@@ -53,7 +53,7 @@ def votes(U: np.ndarray, angle: float):
 
 
 def near_directions(W: np.ndarray, tree, u: np.ndarray, angle: float) -> np.ndarray:
-    """Sorted indices of the distinct unit directions ``W`` with ``|W . u| >= cos(angle)``.
+    """Sorted indices of the distinct unit directions ``W`` with ``abs(W @ u) >= cos(angle)``.
 
     The same set as scanning every row, found through ``tree`` (of ``W`` and ``-W``, as
     :func:`votes` builds it) within the angle's chord, slightly widened, then tested exactly:
