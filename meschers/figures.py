@@ -14,9 +14,6 @@ from typing import Any
 
 import numpy as np
 
-from pyvista_views.compare import trim_rows
-from pyvista_views.overlays import place_labels
-
 __all__ = [
     "Colorbar",
     "compose",
@@ -26,10 +23,8 @@ __all__ = [
     "format_values",
     "lines_over",
     "overlay",
-    "place_labels",
     "png_bytes",
     "screen_to_pixel",
-    "trim_rows",
 ]
 
 #: A value below this fraction of its scale is round-off and printed as 0.
@@ -191,6 +186,8 @@ def compose(
     """
     from PIL import Image, ImageDraw
 
+    from pyvista_views.compare import trim_rows
+
     cells = trim_rows(cells, min_height=160 if colorbar is not None else 0)
     h, w = np.asarray(cells[0][0]).shape[:2]
     n_rows, n_cols = len(cells), max(len(r) for r in cells)
@@ -268,6 +265,8 @@ def overlay(image: np.ndarray, bounds, segments=(), points=(), labels=()) -> np.
             draw.ellipse([c - r, rr - r, c + r, rr + r], fill=colour, outline="black")
     labels = list(labels)
     if labels:
+        from pyvista_views.overlays import place_labels
+
         anchors = np.vstack([screen_to_pixel(p, bounds, (w, h)) for p, _, _ in labels])
         sizes = []
         for _, text, _ in labels:

@@ -12,12 +12,13 @@ node: half the levels of a binary heap, and a node's children share a cache line
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .compiled import kernel
 
 __all__ = ["heap_pop", "heap_push"]
 
 
-@njit(cache=True, error_model="numpy", nogil=True, inline="always")
+@kernel(nogil=True, inline="always")
 def heap_push(keys: np.ndarray, vals: np.ndarray, size: int, key: float, val: int) -> int:
     """Insert ``(key, val)`` into the heap of ``size`` items; returns the new size.
 
@@ -37,7 +38,7 @@ def heap_push(keys: np.ndarray, vals: np.ndarray, size: int, key: float, val: in
     return size + 1
 
 
-@njit(cache=True, error_model="numpy", nogil=True, inline="always")
+@kernel(nogil=True, inline="always")
 def heap_pop(keys: np.ndarray, vals: np.ndarray, size: int):
     """Remove the smallest item of a heap of ``size >= 1`` items.
 

@@ -56,9 +56,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
-from numba import njit
 from scipy.spatial import cKDTree
 
+from .compiled import kernel
 from .errors import MescherError
 from .face_grid import FaceGrid as _FaceGrid
 from .face_grid import ranges as _ranges
@@ -412,7 +412,7 @@ def _walk_chains(n_nodes, u, v):
     return _walk_csr(start, ends, np.ascontiguousarray(u), np.ascontiguousarray(v))
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def _walk_csr(start, ends, u, v):  # pragma: no cover - compiled
     """:func:`_walk_chains` given the pieces' ends ``ends (2m,)`` (``u[k], v[k]`` at ``2k, 2k+1``)
     and their count per node as offsets ``start (n_nodes + 1,)``."""

@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
-from numba import njit
 
+from .compiled import kernel
 from .errors import MescherError
 from .heap import heap_pop, heap_push
 from .overlap import unique_sorted_pairs
@@ -126,7 +126,7 @@ def topological_sort(n: int, arcs: np.ndarray) -> tuple[np.ndarray, bool]:
     return order, nodes.shape[0] == n
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def _kahn_levels(indptr: np.ndarray, head: np.ndarray, n: int) -> np.ndarray:
     """Kahn's algorithm with a FIFO queue: the level of each node (0 with no arc in, else 1 + the
     largest level of its predecessors), -1 for the nodes a cycle blocks.
@@ -339,7 +339,7 @@ def in_sorted(sorted_keys: np.ndarray, q: np.ndarray) -> np.ndarray:
     return sorted_keys[pos] == q
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def _path_integrals(indptr, indices, weight, value, seeds, tstart, targets):
     nv = indptr.shape[0] - 1
     phi_out = np.empty(targets.shape[0], dtype=np.float64)

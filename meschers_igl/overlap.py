@@ -24,7 +24,8 @@ benchmark compares against single-threaded libigl, and serial kernels are determ
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .compiled import kernel
 
 __all__ = [
     "arcs_from_depths",
@@ -46,9 +47,9 @@ __all__ = [
 #: a call from Python, which none makes (about a third of a small kernel's machine code, and of
 #: its first-run compilation).  Calling one from Python crashes the interpreter: call the
 #: kernels that use them.
-_inner = njit(cache=True, error_model="numpy", no_cpython_wrapper=True)
+_inner = kernel(no_cpython_wrapper=True)
 # public kernels keep numba's Python entry: called from Python, an _inner kernel crashes
-_public = njit(cache=True, error_model="numpy")
+_public = kernel()
 
 
 @_inner
@@ -197,7 +198,7 @@ def intersection_centroid(
     return cx + ox, cy + oy, 0.5 * max(area2, 0.0)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def overlap_pairs_sat(T: np.ndarray, pairs: np.ndarray, tol: float) -> np.ndarray:
     """(k,) bool: :func:`sat_overlap` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]`` (T (n, 3, 2))."""
     k = pairs.shape[0]
@@ -301,7 +302,7 @@ def _cell_lists(c0: np.ndarray, c1: np.ndarray, ny: int, ncell: int, ok: np.ndar
     return cells, start, owner
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def grid_overlaps(T, ok, lo, hi, origin, h, c0, c1, ny, ncell, tol, narrow, centroids, group):
     """All pairs of triangles whose boxes (and, with ``narrow``, whose triangles) overlap.
 
@@ -454,7 +455,7 @@ def candidate_pairs_grid(
     return pairs
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def child_pairs(
     T: np.ndarray,
     ok: np.ndarray,
@@ -498,7 +499,7 @@ def child_pairs(
     return out[:k].copy()
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def barycentric_depths(
     P: np.ndarray, T: np.ndarray, Z: np.ndarray, faces: np.ndarray
 ) -> np.ndarray:
@@ -558,7 +559,7 @@ def sort_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     return perm
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def boxes_and_heights(T: np.ndarray):
     """Bounding boxes ``lo, hi (n, 2)`` and smallest heights ``(n,)`` of triangles ``T (n, 3, 2)``.
 
@@ -584,7 +585,7 @@ def boxes_and_heights(T: np.ndarray):
     return lo, hi, ht
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def unique_sorted_pairs(pairs: np.ndarray, n: int) -> np.ndarray:
     """``pairs (k, 2)`` (values in ``[0, n)``) sorted lexicographically, duplicates removed."""
     perm = sort_pairs(pairs, n)
@@ -616,7 +617,7 @@ def arcs_from_depths(pairs: np.ndarray, dz: np.ndarray, tol: float) -> np.ndarra
     return np.stack((pairs[sel, b], pairs[sel, 1 - b]), axis=1).astype(np.int64, copy=False)
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def pair_centroids(T: np.ndarray, pairs: np.ndarray):
     """:func:`intersection_centroid` of ``T[pairs[:, 0]]`` and ``T[pairs[:, 1]]``: ``(cen, area)``."""
     k = pairs.shape[0]

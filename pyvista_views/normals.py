@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
-from numba import njit
 
+from meschers_igl.compiled import kernel
 from meschers_igl.errors import MescherError
 
 __all__ = ["DEFAULT_FEATURE_ANGLE", "corner_groups", "as_feature_angle"]
@@ -122,7 +122,7 @@ def corner_groups(
     return remap[groups], group_vertex[used], normals[used]
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def _rough_vertices(
     F: np.ndarray, N: np.ndarray, vn: np.ndarray, half: float, nv: int
 ) -> np.ndarray:

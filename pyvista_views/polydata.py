@@ -37,8 +37,8 @@ from typing import Any
 import igl
 import numpy as np
 import pyvista as pv
-from numba import njit
 
+from meschers_igl.compiled import kernel
 from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_choice, as_faces, as_float_array, as_points
 
@@ -259,7 +259,7 @@ def split_folds(mesh: pv.PolyData) -> pv.PolyData:
     return split
 
 
-@njit(cache=True, error_model="numpy", inline="always")
+@kernel(inline="always")
 def _claim(F: np.ndarray, f: int, new_index: np.ndarray, i: int) -> tuple[int, int, int]:
     # Cell i (face f) claims the first of its corners 2, 0, 1 that no earlier cell claimed and
     # returns its corners rotated (orientation kept) to end with it; with every corner taken,
@@ -277,7 +277,7 @@ def _claim(F: np.ndarray, f: int, new_index: np.ndarray, i: int) -> tuple[int, i
     return a, b, c
 
 
-@njit(cache=True, error_model="numpy")
+@kernel()
 def _provoking_mesh(
     F: np.ndarray, draw: np.ndarray, points: np.ndarray, face_normals: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

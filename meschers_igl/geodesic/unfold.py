@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from typing import Any
 
-import numba
 import numpy as np
 import scipy.sparse as sp
 
 from .. import intrinsic, topology
+from ..compiled import kernel
 
 
 class _MeshData:
@@ -87,12 +87,12 @@ def _unfold(md: _MeshData, g: int, Pg: np.ndarray, k: int) -> tuple[int, np.ndar
 _apex_offset = intrinsic.apex_kernel()  # the law-of-cosines layout, compiled
 
 
-@numba.njit(cache=True, error_model="numpy", no_cpython_wrapper=True)  # called by kernels only
+@kernel(no_cpython_wrapper=True)  # called by kernels only
 def _area2(a0, a1, b0, b1, c0, c1) -> float:
     return (b0 - a0) * (c1 - a1) - (c0 - a0) * (b1 - a1)
 
 
-@numba.njit(cache=True, error_model="numpy")
+@kernel()
 def _funnel_kernel(F, l, faces, v0, v1):  # pragma: no cover - compiled
     """Unfold a strip of faces and pull the path from ``v0`` to ``v1`` taut in it.
 

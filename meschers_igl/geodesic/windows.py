@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
+from ..compiled import kernel
 from ..heap import heap_pop, heap_push
 
 TWO_PI = 2.0 * np.pi
@@ -29,7 +29,7 @@ _VIS = 1e-10  # relative slack of "the apex (or an end) is on a ray of the windo
 
 #: the kernels only compiled code calls (all but :func:`walk_rings` and :func:`propagate`): no
 #: CPython wrapper to compile on the first run.  Calling one from Python crashes the interpreter.
-_inner = numba.njit(cache=True, error_model="numpy", nogil=True, no_cpython_wrapper=True)
+_inner = kernel(nogil=True, no_cpython_wrapper=True)
 
 
 @_inner
@@ -267,7 +267,7 @@ def _ray_hit(cx, cy, psi):  # pragma: no cover - compiled
     return cx - dx * cy / dy
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True)
+@kernel(nogil=True)
 def walk_rings(F, twin, cang, vptr, vcorner, nv):  # pragma: no cover - compiled
     """Walk each vertex's one-ring: ``cpos, csgn, theta, vbnd`` of :func:`propagate`."""
     n = twin.size
@@ -418,10 +418,8 @@ B0, B1, SX, SY, SIG = range(5)
 #: function: steps called, not inlined, 5x slower (36 arrays passed and counted; uncounted
 #: 1.5x); inlined but counted 2.5x; inlined and uncounted, as fast.  A ``_small`` step takes only
 #: the arrays it uses (compiled with the groups' types, each cost ~0.5 s of first compile).
-_helper = numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False, inline="always")
-_small = numba.njit(
-    cache=True, error_model="numpy", nogil=True, _nrt=False, no_cpython_wrapper=True
-)
+_helper = kernel(nogil=True, _nrt=False, inline="always")
+_small = kernel(nogil=True, _nrt=False, no_cpython_wrapper=True)
 
 
 @_helper
@@ -833,7 +831,7 @@ def _queue_child(mesh, arr, ctr, kids_h, kids_b, j):  # pragma: no cover - compi
     ctr[C_HEAP] = heap_push(arr.hk, arr.hv, ctr[C_HEAP], kk, w)
 
 
-@numba.njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
+@kernel(nogil=True, _nrt=False)
 def propagate(mesh, arr, ctr, max_pops, targets):  # pragma: no cover - compiled
     """Exact distances from the sources queued in ``arr.hk, arr.hv`` (see the module docstring).
 

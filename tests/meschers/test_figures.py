@@ -11,10 +11,10 @@ from meschers.figures import (
     format_value,
     format_values,
     overlay,
-    place_labels,
     png_bytes,
     screen_to_pixel,
 )
+from pyvista_views.overlays import place_labels
 
 
 def test_round_off_prints_as_zero():
@@ -139,7 +139,7 @@ def test_heat_panels_are_at_most_5_percent_black():
 def test_compose_leaves_no_empty_band_between_rows():
     """A wide figure in square panels: the white rows common to every panel are cut (6 px
     kept either side), the same rows from each panel."""
-    from meschers.figures import trim_rows
+    from pyvista_views.compare import trim_rows
 
     a = np.full((200, 120, 3), 255, np.uint8)
     a[80:120, 10:110] = 90  # a wide figure in the middle

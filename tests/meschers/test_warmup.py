@@ -219,8 +219,22 @@ def test_the_estimate_counts_the_work_sharing_the_cores(monkeypatch):
     processes beyond the cores (compiling ones and the work's), never shortened."""
     from meschers import warmup
 
-    monkeypatch.setattr(warmup, "cold_groups", lambda groups: ["order", "geodesic"])
-    monkeypatch.setattr(warmup, "Compiling", lambda cold, n, say, by_work=(): (cold, n))
+    monkeypatch.setattr(
+        warmup, "cold_groups", lambda groups: [g for g in ("order", "geodesic") if g in groups]
+    )
+
+    class Started:  # what start_compiling started: its groups, processes and groups left
+        def __init__(self, cold, n, say, by_work=()):
+            self.cold, self.n, self.left = list(cold), n, []
+
+        def leave_to_work(self, groups):
+            self.left += groups
+            self.cold += groups
+
+        def __eq__(self, other):
+            return (self.cold, self.n) == other
+
+    monkeypatch.setattr(warmup, "Compiling", Started)
     monkeypatch.setattr(warmup.os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
     secs = warmup.COMPILE_SECONDS
     said = []
@@ -237,6 +251,39 @@ def test_the_estimate_counts_the_work_sharing_the_cores(monkeypatch):
         ["order", "geodesic"],
         1,
     )
+
+
+def test_groups_compiled_apart_start_before_a_group_left_to_the_work_is_checked(monkeypatch):
+    """Checking the rendering group imports its package (PyVista, about a second of one core):
+    the compiling processes are started before, so that core does not wait idle."""
+    from meschers import warmup
+
+    events = []
+
+    def cold(groups):
+        events.append(("check", list(groups)))
+        return list(groups)
+
+    class Started:
+        def __init__(self, cold, n, say, by_work=()):
+            events.append(("start", list(cold)))
+            self.cold = list(cold)
+
+        def leave_to_work(self, groups):
+            events.append(("leave", list(groups)))
+            self.cold += groups
+
+    monkeypatch.setattr(warmup, "cold_groups", cold)
+    monkeypatch.setattr(warmup, "Compiling", Started)
+    said = []
+    warmup.start_compiling(said.append, ["order", "render", "paths"], by_work=["render"])
+    assert events == [
+        ("check", ["order", "paths"]),
+        ("start", ["order", "paths"]),
+        ("check", ["render"]),
+        ("leave", ["render"]),
+    ]
+    assert said[-1].endswith("order, paths, render")
 
 
 def test_a_group_left_to_the_work_is_compiled_once_by_its_first_claimer(tmp_path, monkeypatch):

@@ -126,3 +126,27 @@ def test_order_kernels_compile_one_specialisation_each():
     assert counts["grid_overlaps"] == 1
     over = {k: v for k, v in counts.items() if v > (2 if k in two else 1)}
     assert not over, f"kernels compiled more than once: {over}"
+
+
+def test_every_kernel_is_compiled_with_the_policy():
+    """Each kernel of each group (the rendering package's too) is declared through
+    ``compiled.kernel``: cached, numpy's error model, no C-callable wrapper (each of those a
+    share of the first run's compile time), so a raw ``njit`` added later is caught here."""
+    from meschers.warmup import _modules
+
+    found = []
+    for group in (*compiled.GROUPS, "render"):
+        for d in compiled.kernels(_modules(group)):
+            found.append(d)
+            name = f"{d.py_func.__module__}.{d.py_func.__qualname__}"
+            assert d.targetoptions.get("error_model") == "numpy", name
+            assert d.targetoptions.get("no_cfunc_wrapper") is True, name
+            assert d._cache.__class__.__name__ != "NullCache", name  # cache=True
+    assert len(found) >= 40  # the groups' modules were found at all
+
+
+def test_kernel_options_extend_the_policy():
+    """``kernel(**options)`` adds to (or overrides) the policy; the result computes."""
+    k = compiled.kernel(cache=False, nogil=True)(lambda x: x / 0.0)
+    assert k(1.0) == np.inf  # numpy's error model: no ZeroDivisionError
+    assert k.targetoptions["nogil"] is True and k.targetoptions["no_cfunc_wrapper"] is True
