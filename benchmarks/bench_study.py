@@ -14,8 +14,9 @@ times each, and prints per run:
 
 With ``--fresh`` it measures instead what a new installation pays: the study twice in a row
 with the default ``--jobs``, the first from an empty numba cache (every kernel compiled, as after
-``pip install``), the second from the cache the first wrote, and prints first / second against
-the 1.3x target.
+``pip install``) and empty user caches (``XDG_CACHE_HOME``: Mesa's shader cache, Matplotlib's
+font list, as on a new machine), the second from the caches the first wrote, and prints first /
+second against the 1.3x target.
 
 Usage::
 
@@ -44,7 +45,11 @@ def _children_cpu() -> float:
 
 
 def run_study(
-    jobs: int | None, quick: bool, out: str, numba_cache: str | None = None
+    jobs: int | None,
+    quick: bool,
+    out: str,
+    numba_cache: str | None = None,
+    user_cache: str | None = None,
 ) -> tuple[float, float]:
     """(wall s, cpu s) of one ``meschers study`` in a fresh interpreter (workers included)."""
     cmd = [sys.executable, "-m", "meschers", "study", "--out", out, "--no-progress"]
@@ -52,6 +57,8 @@ def run_study(
     env = dict(os.environ, VTK_DEFAULT_OPENGL_WINDOW="vtkEGLRenderWindow")
     if numba_cache:
         env["NUMBA_CACHE_DIR"] = numba_cache
+    if user_cache:
+        env["XDG_CACHE_HOME"] = user_cache
     cpu0, t0 = _children_cpu(), time.perf_counter()
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
     wall, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
@@ -110,10 +117,10 @@ def fresh(what: str, quick: bool, repeat: int) -> int:
     ok = True
     for r in range(repeat):
         with tempfile.TemporaryDirectory() as tmp:
-            cache = os.path.join(tmp, "numba")
+            cache, user = os.path.join(tmp, "numba"), os.path.join(tmp, "cache")
             load = os.getloadavg()[0]
-            w1, c1 = run_study(None, quick, os.path.join(tmp, "first"), cache)
-            w2, c2 = run_study(None, quick, os.path.join(tmp, "second"), cache)
+            w1, c1 = run_study(None, quick, os.path.join(tmp, "first"), cache, user)
+            w2, c2 = run_study(None, quick, os.path.join(tmp, "second"), cache, user)
             ratio = w1 / w2
             ok &= ratio <= FRESH_TARGET
             print(
