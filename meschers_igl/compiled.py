@@ -9,16 +9,7 @@ CPU, and :func:`warm` runs a tiny representative call of each group of kernels (
 functions with the argument types real work uses, so the cached signatures are the ones later
 calls look up).
 
-Every kernel is declared with :func:`kernel`, which owns the compile policy:
-
-* ``cache=True``: machine code kept for every later process;
-* ``error_model="numpy"``: a float division by zero gives ``inf`` or ``nan`` as numpy does, with
-  no check and no exception path compiled after each division (about 6% less compile time).
-  Results are the same wherever no division by zero happens; where one did, a kernel raised
-  ``ZeroDivisionError`` before, a fault in its guards either way;
-* ``no_cfunc_wrapper=True``: no C-callable wrapper (``.ctypes``, ``cfunc`` addresses), which no
-  caller uses; Python calls go through the CPython wrapper and kernels call each other
-  directly (about 6% less compile time, measured on the four groups from an empty cache).
+Every kernel is declared with :func:`meschers_igl.jit.kernel`, which owns the compile policy.
 
 Groups (each can be warmed in its own process, in parallel):
 
@@ -41,10 +32,8 @@ from collections.abc import Iterable
 
 __all__ = [
     "GROUPS",
-    "POLICY",
     "cold_kernels",
     "is_cached",
-    "kernel",
     "kernels",
     "tiny_mescher",
     "warm",
@@ -56,38 +45,6 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "paths": ("meschers_igl.geodesic.unfold", "meschers_igl.intrinsic", "meschers_igl.heap"),
     "geodesic": ("meschers_igl.geodesic.windows",),
 }
-
-
-def kernel(**options):
-    """``numba.njit`` with the project's compile policy (see the module docstring).
-
-    Parameters
-    ----------
-    **options
-        Further numba options of this kernel (``nogil``, ``inline``, ``no_cpython_wrapper``,
-        ``_nrt``).
-
-    Returns
-    -------
-    callable
-        The decorator: ``@kernel()`` or ``kernel(nogil=True)(function)``.
-
-    Examples
-    --------
-    >>> from meschers_igl.compiled import kernel
-    >>> @kernel(cache=False)
-    ... def twice(x):
-    ...     return 2.0 * x
-    >>> twice(1.5)
-    3.0
-    """
-    import numba
-
-    return numba.njit(**{**POLICY, **options})
-
-
-#: the options every kernel is compiled with (:func:`kernel`)
-POLICY = {"cache": True, "error_model": "numpy", "no_cfunc_wrapper": True}
 
 
 def kernels(modules: Iterable[str]) -> list:

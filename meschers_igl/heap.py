@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compiled import kernel
+from .jit import kernel
 
 __all__ = ["heap_pop", "heap_push"]
 

@@ -349,7 +349,7 @@ def double_area_kernel():
     which every ``import meschers_igl.mescher`` would pay if it were compiled at import)."""
     global _AREA_JIT
     if _AREA_JIT is None:
-        from .compiled import kernel
+        from .jit import kernel
 
         _AREA_JIT = kernel(nogil=True)(double_area_kahan)
     return _AREA_JIT
@@ -359,7 +359,7 @@ def apex_kernel():
     """:func:`apex_offset` compiled by numba on first use (see :func:`double_area_kernel`)."""
     global _APEX_JIT, _dbl_area
     if _APEX_JIT is None:
-        from .compiled import kernel
+        from .jit import kernel
 
         _dbl_area = double_area_kernel()  # a compiled global for the kernel to call
         _APEX_JIT = kernel(nogil=True)(apex_offset)
@@ -370,7 +370,7 @@ def _flip_kernel():
     """The flip loop compiled by numba on first use (see :func:`double_area_kernel`)."""
     global _FLIP_JIT, _dbl_area, _apex_offset
     if _FLIP_JIT is None:
-        from .compiled import kernel
+        from .jit import kernel
 
         _dbl_area = double_area_kernel()  # compiled globals for the kernel to call
         _apex_offset = apex_kernel()

@@ -58,11 +58,11 @@ import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 from scipy.spatial import cKDTree
 
-from .compiled import kernel
 from .errors import MescherError
 from .face_grid import FaceGrid as _FaceGrid
 from .face_grid import ranges as _ranges
 from .geometry2d import default_tol, triangle_heights
+from .jit import kernel
 from .line_folds import NEAR_BASE as _NEAR_BASE
 from .line_folds import crossed, fold_ranks, lines_of_only, order_seams, seam_hidden
 from .line_folds import is_near as _is_near

@@ -18,9 +18,9 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
-from .compiled import kernel
 from .errors import MescherError
 from .heap import heap_pop, heap_push
+from .jit import kernel
 from .overlap import unique_sorted_pairs
 from .validate import as_int_array
 

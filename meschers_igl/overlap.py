@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compiled import kernel
+from .jit import kernel
 
 __all__ = [
     "arcs_from_depths",

@@ -18,8 +18,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
-from meschers_igl.compiled import kernel
 from meschers_igl.errors import MescherError
+from meschers_igl.jit import kernel
 
 __all__ = ["DEFAULT_FEATURE_ANGLE", "corner_groups", "as_feature_angle"]
 

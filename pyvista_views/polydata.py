@@ -38,8 +38,8 @@ import igl
 import numpy as np
 import pyvista as pv
 
-from meschers_igl.compiled import kernel
 from meschers_igl.errors import MescherError
+from meschers_igl.jit import kernel
 from meschers_igl.validate import as_choice, as_faces, as_float_array, as_points
 
 from .normals import DEFAULT_FEATURE_ANGLE, as_feature_angle, corner_groups

@@ -66,7 +66,9 @@ def _long_modules() -> dict[str, list[str]]:
 
 
 def _is_explained_kernel(node: ast.FunctionDef) -> bool:
-    numba = any("jit" in ast.unparse(d) for d in node.decorator_list)
+    numba = any(
+        "jit" in ast.unparse(d) or ast.unparse(d).startswith("kernel(") for d in node.decorator_list
+    )
     return numba and "One function" in (ast.get_docstring(node) or "")
 
 

@@ -13,7 +13,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import intrinsic, topology
-from ..compiled import kernel
+from ..jit import kernel
 
 
 class _MeshData:

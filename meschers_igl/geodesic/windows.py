@@ -13,8 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..compiled import kernel
 from ..heap import heap_pop, heap_push
+from ..jit import kernel
 
 TWO_PI = 2.0 * np.pi
 SADDLE_TOL = 1e-9  # angle excess (rad) above which a vertex is a saddle (pseudo-source)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from meschers_igl import compiled, overlap
+from meschers_igl import compiled, jit, overlap
 from meschers_igl.geometry2d import candidate_pairs
 from meschers_igl.order_graph import topological_sort
 
@@ -130,7 +130,7 @@ def test_order_kernels_compile_one_specialisation_each():
 
 def test_every_kernel_is_compiled_with_the_policy():
     """Each kernel of each group (the rendering package's too) is declared through
-    ``compiled.kernel``: cached, numpy's error model, no C-callable wrapper (each of those a
+    ``jit.kernel``: cached, numpy's error model, no C-callable wrapper (each of those a
     share of the first run's compile time), so a raw ``njit`` added later is caught here."""
     from meschers.warmup import _modules
 
@@ -147,6 +147,6 @@ def test_every_kernel_is_compiled_with_the_policy():
 
 def test_kernel_options_extend_the_policy():
     """``kernel(**options)`` adds to (or overrides) the policy; the result computes."""
-    k = compiled.kernel(cache=False, nogil=True)(lambda x: x / 0.0)
+    k = jit.kernel(cache=False, nogil=True)(lambda x: x / 0.0)
     assert k(1.0) == np.inf  # numpy's error model: no ZeroDivisionError
     assert k.targetoptions["nogil"] is True and k.targetoptions["no_cfunc_wrapper"] is True
