@@ -19,6 +19,14 @@ On the visible map this is built as follows (:func:`prepare_joints`, then :func:
   plane's face (a false edge whose depth gap is ``t``); the near bar's face beyond the line
   (the block's face the far bar enters through) is cut from it there.
 
+**Crease joints** (:func:`corner_gaps`): two mitred bar ends whose tips meet at one point on
+screen -- a cube frame with its corner cut away, each bar pulled back along itself -- share
+one pair of corners, ``t`` apart.  There the far bar's face through its corner is not in a
+near plane: its edge runs exactly behind a near crease from the shared corner (same 3D
+direction, so ``t`` behind all along), and the face bends away behind the near bar.  Its
+hidden part across that crease is the strip, glued to the near face on the crease's other
+side: a false edge that is a crease once glued.
+
 The rule only reads joints where the visible map glues no other junction.
 """
 
@@ -46,6 +54,10 @@ MAX_PAIRS = 64
 #: Most gaps examined (those with the most pairs first): a scene lining up many vertex pairs
 #: along the view is no tribar.
 MAX_GAPS = 8
+#: A hidden strip's corner within this many tolerances of a map vertex is that vertex (the
+#: strip is eroded and dilated by the tolerance with mitred joins, which bevel a sharp corner
+#: and move it by several tolerances).
+SNAP_CORNER = 20.0
 
 
 @dataclass(frozen=True)
@@ -112,6 +124,40 @@ def corner_vertices(C: np.ndarray, F: np.ndarray) -> np.ndarray:
     return corner
 
 
+def _gap_groups(C: np.ndarray, F: np.ndarray, tol: float):
+    """Pairs of corner vertices (:func:`corner_vertices`) that coincide on screen more than
+    10 ``tol`` apart in depth, grouped by equal gaps (to ``tol``).
+
+    Returns ``(t, near, far, starts, ends, vs, P)`` -- gaps, near and far ends (indices into
+    ``vs``), each group ``starts[k]:ends[k]``, the corner vertices ``vs`` and their points
+    ``P`` -- or None when there are none, or when the gaps shared by two or more pairs are
+    three or more multiples of one step (:func:`_lattice`: repeated blocks seen along their
+    repeat)."""
+    vs = np.unique(F)
+    if vs.size < 2 or vs.size > MAX_VERTICES:
+        return None
+    vs = vs[corner_vertices(C, F)[vs]]
+    if vs.size < 2:
+        return None
+    P = C[vs]
+    pr = cKDTree(P[:, :2]).query_pairs(tol, output_type="ndarray")
+    if pr.size == 0:
+        return None
+    dz = P[pr[:, 1], 2] - P[pr[:, 0], 2]
+    near = np.where(dz > 0, pr[:, 1], pr[:, 0])
+    far = np.where(dz > 0, pr[:, 0], pr[:, 1])
+    t = np.abs(dz)
+    keep = t > 10.0 * tol
+    near, far, t = near[keep], far[keep], t[keep]
+    order = np.argsort(t, kind="stable")
+    near, far, t = near[order], far[order], t[order]
+    cut = np.flatnonzero(np.diff(t) > tol) + 1
+    starts, ends = np.r_[0, cut], np.r_[cut, t.size]
+    if t.size == 0 or _lattice(t[starts[ends - starts >= 2]], tol):
+        return None
+    return t, near, far, starts, ends, vs, P
+
+
 def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
     """Depth gaps shared by two or more pairs of model vertices that coincide on screen.
 
@@ -131,34 +177,37 @@ def coincident_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
         most :data:`MAX_GAPS`, the most pairs first; none when the gaps are three or more
         multiples of one step (:func:`_lattice`: repeated blocks seen along their repeat).
     """
-    vs = np.unique(F)
-    if vs.size < 2 or vs.size > MAX_VERTICES:
+    g = _gap_groups(C, F, tol)
+    if g is None:
         return []
-    vs = vs[corner_vertices(C, F)[vs]]
-    if vs.size < 2:
-        return []
-    P = C[vs]
-    pr = cKDTree(P[:, :2]).query_pairs(tol, output_type="ndarray")
-    if pr.size == 0:
-        return []
-    dz = P[pr[:, 1], 2] - P[pr[:, 0], 2]
-    near = np.where(dz > 0, pr[:, 1], pr[:, 0])
-    far = np.where(dz > 0, pr[:, 0], pr[:, 1])
-    t = np.abs(dz)
-    keep = t > 10.0 * tol
-    near, far, t = near[keep], far[keep], t[keep]
-    order = np.argsort(t, kind="stable")
-    near, far, t = near[order], far[order], t[order]
-    cut = np.flatnonzero(np.diff(t) > tol) + 1
-    starts, ends = np.r_[0, cut], np.r_[cut, t.size]
-    if _lattice(t[starts[ends - starts >= 2]], tol):
-        return []
+    t, near, far, starts, ends, vs, P = g
     out = []
     for s, e in zip(starts.tolist(), ends.tolist()):  # a few gaps
         if 2 <= e - s <= MAX_PAIRS and _one_end(P[far[s:e]], tol):
             out.append((float(t[s:e].mean()), vs[near[s:e]], vs[far[s:e]]))
     out.sort(key=lambda g: -g[1].size)  # stable: equal counts keep the smaller gap first
     return out[:MAX_GAPS]
+
+
+def corner_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
+    """Single pairs of corners that coincide on screen (the tips of two mitred bar ends meeting
+    at a point: the impossible cube with its corner cut away), each as :func:`coincident_gaps`
+    lists a gap (``near``, ``far`` of size 1): the pairs of the gaps with the fewest pairs
+    first (a gap may be shared by a pair elsewhere that lines up by accident), at most
+    :data:`MAX_GAPS`.  They are read as *crease joints* only (:func:`joint_lines` with
+    ``crease``)."""
+    g = _gap_groups(C, F, tol)
+    if g is None:
+        return []
+    t, near, far, starts, ends, vs, P = g
+    size = ends - starts
+    rows = [
+        r
+        for k in np.argsort(size, kind="stable").tolist()
+        if size[k] <= MAX_PAIRS
+        for r in range(int(starts[k]), int(ends[k]))
+    ][:MAX_GAPS]
+    return [(float(t[r]), vs[near[r : r + 1]], vs[far[r : r + 1]]) for r in rows]
 
 
 def _planes(C, F, faces):
@@ -209,9 +258,15 @@ def joint_lines(
     far: np.ndarray,
     tol: float,
     grid: float,
+    crease: bool = False,
 ) -> list:
     """Visible edges where a near plane's face ends and the far plane runs on hidden across
     (the stretch of each edge that the far plane lies under).
+
+    With ``crease`` (one pair of corners: :func:`corner_gaps`), the far plane is *not* the
+    near one's: the far face bends away from the near face along the edge, which it meets
+    exactly ``gap`` behind at both ends of the stretch (its edge lies behind the near
+    crease, a false edge that is a crease once glued).
 
     Returns
     -------
@@ -220,8 +275,6 @@ def joint_lines(
         side, the far plane's front model faces, and the map faces in the plane of the near
         face beyond the edge.
     """
-    import shapely
-
     faces = np.flatnonzero(front)
     P4 = _planes(C, F, faces)
     # normals agree when their planes part by at most 4 tol across the model, as their
@@ -232,24 +285,53 @@ def joint_lines(
     h1, h2, he = interior_edges(Fa, xy.shape[0])
     out = []
     for gk in gkeys:  # a few planes through the near corners
-        match = [fk for fk in fkeys if np.abs(fk[:3] - gk[:3]).max() <= ntol]
-        match = [fk for fk in match if abs((gk[3] - fk[3]) - gk[2] * gap) <= 4 * tol]
-        if not match or abs(gk[2]) <= 1e-6:
+        if abs(gk[2]) <= 1e-6:
             continue
-        fk = match[0]
-        in_g = _same_plane(Psrc, gk, tol, ntol)
-        fpl = faces[_same_plane(P4, fk, tol, ntol)]
-        Tf = C[F[fpl], :2]
-        under = shapely.union_all(shapely.polygons(Tf), grid_size=grid)
-        for ha, hb in ((h1, h2), (h2, h1)):  # the near plane's face on either side
-            sel = in_g[ha // 3] & ~in_g[hb // 3]
-            sel[sel] = _ends_there(xy, Fa, src, C, F, ha[sel], tol)
-            for i in np.flatnonzero(sel).tolist():  # a few edges per joint
-                line = _joint_line(xy, Fa, pl, src, ha[i], hb[i], under, fk, tol)
-                if line is not None:  # the near bar's face beyond the line: its plane
-                    cover = np.flatnonzero(_same_plane(Psrc, Psrc[hb[i] // 3], tol, ntol))
-                    out.append((*line, fpl, cover))
+        par = [np.abs(fk[:3] - gk[:3]).max() <= ntol for fk in fkeys]
+        if crease:  # far planes bending away from the near one (seen: not edge-on)
+            match = [fk for fk, p in zip(fkeys, par) if not p and abs(fk[2]) > 1e-6]
+        else:  # the near plane continued, gap behind
+            match = [fk for fk, p in zip(fkeys, par) if p]
+            match = [fk for fk in match if abs((gk[3] - fk[3]) - gk[2] * gap) <= 4 * tol][:1]
+        for fk in match:  # a few far planes
+            key = (faces, P4, Psrc, (h1, h2), ntol, grid)
+            out += _lines_of(xy, Fa, src, pl, C, F, key, gk, fk, gap, tol)
     return out
+
+
+def _lines_of(xy, Fa, src, pl, C, F, key, gk, fk, gap, tol):
+    """:func:`joint_lines` for one near plane ``gk`` and one far plane ``fk``; ``key``: the
+    front faces, their planes, the map faces' planes, the map's interior half-edge pairs,
+    the normal tolerance and the grid."""
+    import shapely
+
+    faces, P4, Psrc, (h1, h2), ntol, grid = key
+    crease = np.abs(fk[:3] - gk[:3]).max() > ntol
+    in_g = _same_plane(Psrc, gk, tol, ntol)
+    fpl = faces[_same_plane(P4, fk, tol, ntol)]
+    under = shapely.union_all(shapely.polygons(C[F[fpl], :2]), grid_size=grid)
+    out = []
+    for ha, hb in ((h1, h2), (h2, h1)):  # the near plane's face on either side
+        sel = in_g[ha // 3] & ~in_g[hb // 3]
+        sel[sel] = _ends_there(xy, Fa, src, C, F, ha[sel], tol)
+        for i in np.flatnonzero(sel).tolist():  # a few edges per joint
+            line = _joint_line(xy, Fa, pl, src, ha[i], hb[i], under, fk, tol)
+            if line is None:
+                continue
+            if crease:  # the far face meets the stretch exactly gap behind, at both ends
+                ends = np.vstack(line[:2])
+                if np.abs(_plane_z(gk, ends) - _plane_z(fk, ends) - gap).max() > 4 * tol:
+                    continue
+            # the near bar's face beyond the line: its plane
+            cover = np.flatnonzero(_same_plane(Psrc, Psrc[hb[i] // 3], tol, ntol))
+            out.append((*line, fpl, cover))
+    return out
+
+
+def _plane_z(P4: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """(k,) depth of the plane ``P4`` (unit normal, offset; camera frame) at screen points
+    ``X`` (k, 2)."""
+    return (P4[3] - X @ P4[:2]) / P4[2]
 
 
 def _ends_there(xy, Fa, src, C, F, ha, tol) -> np.ndarray:
@@ -358,6 +440,9 @@ def hidden_strips(
                     continue
                 g = shapely.geometry.polygon.orient(g, 1.0)
                 ring = np.asarray(g.exterior.coords)[:-1]
+                # a sharp corner the mitred erosion bevelled: back onto the map's vertex
+                d, k = cKDTree(xy).query(ring)
+                ring = np.where((d <= SNAP_CORNER * tol)[:, None], xy[k], ring)
                 step = np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1)
                 ring = ring[step > tol]  # grid round-off can repeat a corner
                 if ring.shape[0] >= 3:
@@ -408,6 +493,9 @@ def prepare_joints(
     strips = []
     for gap, near, far in coincident_gaps(C, F, tol):  # a few gaps
         lines = joint_lines(xy, Fa, src, pl, C, F, front, gap, near, far, tol, grid)
+        strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid)
+    for gap, near, far in corner_gaps(C, F, tol):  # a few single pairs: crease joints
+        lines = joint_lines(xy, Fa, src, pl, C, F, front, gap, near, far, tol, grid, True)
         strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid)
     strips = _distinct_strips(strips, tol)
     if strips:

@@ -10,7 +10,7 @@ from ..errors import MescherError, MescherWarning
 from ..operators import view_frame
 from ..validate import as_faces, as_points
 from .amodal import bridge_hidden_gaps
-from .bar_joints import join_ends, prepare_joints
+from .bar_joints import corner_vertices, join_ends, prepare_joints
 from .cleanup import (
     drop_contact_faces,
     manifold_notes,
@@ -205,21 +205,33 @@ SNAP_ANGLE = np.radians(3.0)
 
 def _snap_view(V, F, R, tol_abs, rel, bridge, hidden):
     """The model seen from the view within :data:`SNAP_ANGLE` of ``R``'s from which a junction
-    lines up (:func:`find_model_view` started at it), with the snap reported; None if none."""
+    lines up (:func:`find_model_view` started at it, else the direction of a single pair of
+    corners lining up, :func:`_pair_views`), with the snap reported; None if none."""
 
     def judge(v, u):
         return _false_edge_seen(V, F, v, u, tol_abs)
 
-    try:
-        v, _ = find_model_view(V, F, tol_abs, start=R[2], judge=judge, within=SNAP_ANGLE)
-    except MescherError:
-        return None
-    angle = float(np.degrees(np.arctan2(np.linalg.norm(np.cross(v, R[2])), v @ R[2])))
-    if angle <= 1e-4:
-        return None  # the given view itself, to round-off: nothing lines up better
-    up = R[1] - (R[1] @ v) * v  # the person's up, kept on the new screen
-    vm = see_model(V, F, v, up, tol=rel, bridge=bridge, hidden=hidden, snap=False)
-    if not _has_junction(vm.report, tol_abs):
+    def views():  # the vote's view, then single pairs' (nearest first), judged lazily
+        try:
+            yield find_model_view(V, F, tol_abs, start=R[2], judge=judge, within=SNAP_ANGLE)[0]
+        except MescherError:
+            pass
+        # one pair of corners lining up (the vote above needs two pairs along one direction):
+        # taken when they are joined there (a crease joint, their gap); a pair lines up within
+        # a few degrees of almost any view, and other coincidences from its direction are
+        # accidents the person did not choose
+        for w, gap in _pair_views(V, F, R, tol_abs, SNAP_ANGLE):
+            if _joint_seen(V, F, w, _up_on(R, w), tol_abs, gap):
+                yield w
+
+    for v in views():
+        angle = float(np.degrees(np.arctan2(np.linalg.norm(np.cross(v, R[2])), v @ R[2])))
+        if angle <= 1e-4:
+            continue  # the given view itself, to round-off: nothing lines up better
+        vm = see_model(V, F, v, _up_on(R, v), tol=rel, bridge=bridge, hidden=hidden, snap=False)
+        if _has_junction(vm.report, tol_abs):
+            break
+    else:
         return None
     vm.report.reason = (
         f"view snapped by {angle:.3g} degrees to the view from which the junctions line up; "
@@ -229,6 +241,61 @@ def _snap_view(V, F, R, tol_abs, rel, bridge, hidden):
         f"view snapped by {angle:.3g} degrees (a person's view is approximate)"
     )
     return vm
+
+
+def _up_on(R, v):
+    """The person's up (``R[1]``), kept on the screen of view ``v``."""
+    return R[1] - (R[1] @ v) * v
+
+
+#: Most single corner pairs whose directions :func:`_pair_views` returns (each is judged by
+#: seeing the model from it).
+MAX_PAIR_VIEWS = 4
+#: Most corners :func:`_pair_views` pairs (a fine mesh, every vertex a corner, has no bar
+#: tips to line up; its pairs within a few degrees would be quadratic in number).
+MAX_PAIR_CORNERS = 2000
+
+
+def _pair_views(V, F, R, tol_abs, within) -> list:
+    """(unit direction toward the camera side of ``R[2]``, distance) of the pairs of corners
+    (:func:`~.bar_joints.corner_vertices`) that line up within ``within`` (radians) of the view
+    ``R[2]``, nearest first, at most :data:`MAX_PAIR_VIEWS`: from each, those two corners
+    coincide on screen (two mitred tips meeting at a point), that far apart in depth."""
+    C = V @ R.T
+    vs = np.unique(F)
+    vs = vs[corner_vertices(C, F)[vs]]
+    if vs.size < 2 or vs.size > MAX_PAIR_CORNERS:
+        return []
+    P = C[vs]
+    # two corners dz apart in depth line up within `within` when dz tan(within) apart on screen
+    r = float(np.ptp(P[:, 2])) * np.tan(within) + tol_abs
+    pr = cKDTree(P[:, :2]).query_pairs(r, output_type="ndarray")
+    if pr.size == 0:
+        return []
+    D = V[vs[pr[:, 1]]] - V[vs[pr[:, 0]]]
+    L = np.linalg.norm(D, axis=1)
+    D, L = D[L > 100 * tol_abs], L[L > 100 * tol_abs]
+    ang = np.arccos(np.clip(np.abs(D @ R[2]) / L, 0.0, 1.0))
+    k = np.flatnonzero((ang <= within) & (ang > np.radians(1e-4)))  # not the view itself
+    k = k[np.argsort(ang[k], kind="stable")][:MAX_PAIR_VIEWS]
+    return [(D[i] / L[i] * np.sign(D[i] @ R[2]), float(L[i])) for i in k.tolist()]
+
+
+def _joint_seen(V, F, v, up, tol, gap) -> bool:
+    """Does the visible surface from ``v`` join bar ends (a ``"bar joint"``) ``gap`` apart in
+    depth (to 10 ``tol``), with a loop that gains depth?"""
+    diag = float(np.linalg.norm(np.ptp(V[np.unique(F)], axis=0)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MescherWarning)
+        try:
+            vm = see_model(V, F, v, up, tol=tol / diag, bridge=False, hidden=False, snap=False)
+        except MescherError:
+            return False
+    if not any(
+        j.kind == "bar joint" and abs(j.depth_gap - gap) <= 10.0 * tol for j in vm.report.junctions
+    ):
+        return False
+    return depths_have_period(vm.F, vm.Z, 10.0 * tol)
 
 
 def _clean(V, F, tol_abs, report):
