@@ -533,13 +533,16 @@ def _to_holes(
     return out
 
 
-def _hidden_constraints(hidden: list, pixel: float):
+def _hidden_constraints(hidden: list, pixel: float, past_px: float = 1.5):
     """The hidden lines as constraints (shapely lines) and as the stretches to cut.
 
     Each starts a quarter pixel back so that it crosses the boundary it starts on (noding; the
     stub outside is not cut); one that ends on another hidden line crosses it by a quarter
-    pixel (not cut either), the others run 1.5 pixels past the last figure pixel, across the
-    straightened outline.
+    pixel (not cut either), the others run ``past_px`` pixels past the last figure pixel,
+    across the straightened outline.  With fitted outlines (``past_px = 0``) a line ending at
+    a notch ends on the outline's vertex, and run on it would follow the outline's edge there
+    (the same edge of the figure, so nearly along it): noded a hair off the vertex, it would
+    touch the outline twice and its cut would be left short of it.
     """
     import shapely
 
@@ -547,7 +550,7 @@ def _hidden_constraints(hidden: list, pixel: float):
     for k, seg_ in enumerate(hidden):
         u = (seg_[1] - seg_[0]) / np.linalg.norm(seg_[1] - seg_[0])
         on = any(_ends_on(seg_[1], s_, 1e-6 * pixel) for j, s_ in enumerate(hidden) if j != k)
-        end = seg_[1] + (0.0 if on else 1.5) * pixel * u
+        end = seg_[1] + (0.0 if on else past_px) * pixel * u
         ext.append(shapely.LineString([seg_[0] - 0.25 * pixel * u, end + 0.25 * on * pixel * u]))
         ident.append(np.stack([seg_[0], end]))
     return ext, ident
@@ -641,11 +644,12 @@ def mescher_from_picture(
     ambient: float = 0.2,
     background=(1.0, 1.0, 1.0),
     max_area_px: float = 12.0,
-    tolerance_px: float = 0.75,
+    tolerance_px: float | None = None,
     occlusion_deg: float = 15.0,
     complete: bool = True,
     small_px: float = 8.0,
     reach_px: float = 3.0,
+    straighten: str = "douglas-peucker",
 ) -> tuple[Mescher, np.ndarray, dict]:
     """The initialization from a picture: segment, triangulate with holes, lift from shading.
 
@@ -664,7 +668,8 @@ def mescher_from_picture(
     ambient : float
     background : (3,) float
     max_area_px, tolerance_px : float
-        Triangle size and boundary straightening, in pixels.
+        Triangle size and boundary straightening, in pixels (``tolerance_px`` None: the
+        ``straighten`` method's default, :func:`.regions.region_polygons`).
     occlusion_deg : float
     complete : bool, default: True
         Also cut along the occlusion lines the picture cannot show, between faces of one shade
@@ -684,6 +689,8 @@ def mescher_from_picture(
     reach_px : float
         A slit of the cut this many pixels (along mesh edges) from a hole runs on to it
         (:func:`_to_holes`).
+    straighten : {"douglas-peucker", "fit"}
+        How region boundaries become straight (:func:`.regions.region_polygons`).
 
     Returns
     -------
@@ -704,7 +711,7 @@ def mescher_from_picture(
             "target: expected three flat shades (a figure of boxes under one light), found "
             f"{len(seg.shades)}"
         )
-    polys, preg, lines = region_polygons(seg.labels, tolerance_px)
+    polys, preg, lines = region_polygons(seg.labels, tolerance_px, straighten=straighten)
     pixel = 2.0 / seg.labels.shape[1]
     xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
     edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
@@ -728,8 +735,8 @@ def mescher_from_picture(
     )
     hidden_edges = []
     if hidden:
-        ext, ident = _hidden_constraints(hidden, pixel)
-        polys, preg, lines = region_polygons(seg.labels, tolerance_px, ext)
+        ext, ident = _hidden_constraints(hidden, pixel, 0.0 if straighten == "fit" else 1.5)
+        polys, preg, lines = region_polygons(seg.labels, tolerance_px, ext, straighten)
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
         occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
