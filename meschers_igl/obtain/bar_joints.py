@@ -23,7 +23,8 @@ On the visible map this is built as follows (:func:`prepare_joints`, then :func:
 screen -- a cube frame with its corner cut away, each bar pulled back along itself -- share
 one pair of corners, ``t`` apart.  There the far bar's face through its corner is not in a
 near plane: its edge runs exactly behind a near crease from the shared corner (same 3D
-direction, so ``t`` behind all along), and the face bends away behind the near bar.  Its
+direction, so ``t`` behind all along), and the face bends away behind the near bar, oblique to
+the near face (a mitre; a square end is a block's side, read by the other rules).  Its
 hidden part across that crease is the strip, glued to the near face on the crease's other
 side: a false edge that is a crease once glued.
 
@@ -58,6 +59,10 @@ MAX_GAPS = 8
 #: strip is eroded and dilated by the tolerance with mitred joins, which bevel a sharp corner
 #: and move it by several tolerances).
 SNAP_CORNER = 20.0
+#: A crease joint's far face is a mitre: the cosine between its normal and the near face's
+#: is above this (about 3 degrees off square, beyond what jitter of 1e-3 of a bar's size tilts a
+#: face; mitres are cut at tens of degrees).
+MITRE_COS = 0.05
 
 
 @dataclass(frozen=True)
@@ -288,8 +293,14 @@ def joint_lines(
         if abs(gk[2]) <= 1e-6:
             continue
         par = [np.abs(fk[:3] - gk[:3]).max() <= ntol for fk in fkeys]
-        if crease:  # far planes bending away from the near one (seen: not edge-on)
-            match = [fk for fk, p in zip(fkeys, par) if not p and abs(fk[2]) > 1e-6]
+        if crease:  # far planes bending away from the near one (seen: not edge-on) at a mitre:
+            # oblique to it; a far face square to the near one is a block's side, whose edges
+            # line up behind a near crease along many views of a scene of blocks
+            match = [
+                fk
+                for fk, p in zip(fkeys, par)
+                if not p and abs(fk[2]) > 1e-6 and abs(fk[:3] @ gk[:3]) > MITRE_COS
+            ]
         else:  # the near plane continued, gap behind
             match = [fk for fk, p in zip(fkeys, par) if p]
             match = [fk for fk in match if abs((gk[3] - fk[3]) - gk[2] * gap) <= 4 * tol][:1]
@@ -400,9 +411,13 @@ def hidden_strips(
     gap: float,
     tol: float,
     grid: float,
+    crease: bool = False,
 ) -> list:
     """The far planes' hidden parts across the joint ``lines`` (:func:`joint_lines`), each
-    the part on the line's far side that touches it.  List of :class:`HiddenStrip`."""
+    the part on the line's far side that touches it.  List of :class:`HiddenStrip`.
+
+    With ``crease`` (a crease joint's mitre face), a strip corner within :data:`SNAP_CORNER`
+    tolerances of a map vertex is put on it: the mitred erosion below bevels a sharp corner."""
     import shapely
 
     if not lines:
@@ -440,9 +455,9 @@ def hidden_strips(
                     continue
                 g = shapely.geometry.polygon.orient(g, 1.0)
                 ring = np.asarray(g.exterior.coords)[:-1]
-                # a sharp corner the mitred erosion bevelled: back onto the map's vertex
-                d, k = cKDTree(xy).query(ring)
-                ring = np.where((d <= SNAP_CORNER * tol)[:, None], xy[k], ring)
+                if crease:  # a sharp corner the mitred erosion bevelled: onto the map's vertex
+                    d, k = cKDTree(xy).query(ring)
+                    ring = np.where((d <= SNAP_CORNER * tol)[:, None], xy[k], ring)
                 step = np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1)
                 ring = ring[step > tol]  # grid round-off can repeat a corner
                 if ring.shape[0] >= 3:
@@ -496,7 +511,7 @@ def prepare_joints(
         strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid)
     for gap, near, far in corner_gaps(C, F, tol):  # a few single pairs: crease joints
         lines = joint_lines(xy, Fa, src, pl, C, F, front, gap, near, far, tol, grid, True)
-        strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid)
+        strips += hidden_strips(xy, Fa, src, C, F, lines, gap, tol, grid, True)
     strips = _distinct_strips(strips, tol)
     if strips:
         pts = np.vstack([s.ring for s in strips])

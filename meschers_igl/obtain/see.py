@@ -10,7 +10,7 @@ from ..errors import MescherError, MescherWarning
 from ..operators import view_frame
 from ..validate import as_faces, as_points
 from .amodal import bridge_hidden_gaps
-from .bar_joints import corner_vertices, join_ends, prepare_joints
+from .bar_joints import coincident_gaps, corner_vertices, join_ends, prepare_joints
 from .cleanup import (
     drop_contact_faces,
     manifold_notes,
@@ -221,7 +221,10 @@ def _snap_view(V, F, R, tol_abs, rel, bridge, hidden):
         # a few degrees of almost any view, and other coincidences from its direction are
         # accidents the person did not choose
         for w, gap in _pair_views(V, F, R, tol_abs, SNAP_ANGLE):
-            if _joint_seen(V, F, w, _up_on(R, w), tol_abs, gap):
+            up = _up_on(R, w)
+            if _shared_gap(V, F, w, up, tol_abs, gap):
+                continue  # two or more pairs that far apart: the vote's to judge, above
+            if _joint_seen(V, F, w, up, tol_abs, gap):
                 yield w
 
     for v in views():
@@ -279,6 +282,15 @@ def _pair_views(V, F, R, tol_abs, within) -> list:
     k = np.flatnonzero((ang <= within) & (ang > np.radians(1e-4)))  # not the view itself
     k = k[np.argsort(ang[k], kind="stable")][:MAX_PAIR_VIEWS]
     return [(D[i] / L[i] * np.sign(D[i] @ R[2]), float(L[i])) for i in k.tolist()]
+
+
+def _shared_gap(V, F, v, up, tol, gap) -> bool:
+    """Do two or more pairs of corners coincide ``gap`` apart in depth (to 10 ``tol``) from
+    ``v`` (:func:`~.bar_joints.coincident_gaps`)?  Then the view is no single pair's: blocks on
+    a grid line up many pairs along a few directions, which the vote judges by their false
+    edges."""
+    C = V @ view_frame(v, up).T
+    return any(abs(g - gap) <= 10.0 * tol for g, _, _ in coincident_gaps(C, F, tol))
 
 
 def _joint_seen(V, F, v, up, tol, gap) -> bool:
