@@ -124,12 +124,16 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
         sp.coo_matrix((np.ones(len(E)), (E[:, 0], E[:, 1])), shape=(n, n)), directed=False
     )
     ci, cj = comp_v[F[arcs[:, 0], 0]], comp_v[F[arcs[:, 1], 0]]
-    # faces that only touch on screen (an occlusion contour) need not be apart in depth there;
-    # faces that overlap, and faces of different parts that touch along an occlusion contour,
-    # must be strictly ordered; faces of one part touching at equal depth carry no information
-    strict = ~touch | (ci != cj)
+    # faces that overlap on screen must be strictly ordered; faces that only touch there (an
+    # occlusion contour) need not be apart in depth: of one part they carry no information,
+    # of two parts they may be in contact (a block resting against another, flush faces
+    # meeting on screen both ways at equal depth)
+    strict = ~touch
     same = ci == cj
-    bad = same & np.where(strict, dz <= tol, dz < -tol)  # touching arcs: dz >= -tol suffices
+    # two faces of one part at equal depth (to tol) where the arc is checked meet there: the
+    # arc says nothing a placement could break (round-off decides its sign)
+    level = same & (np.abs(dz) <= tol)
+    bad = same & (dz < -tol)
     if bad.any():
         k = int(np.flatnonzero(bad)[np.argmin(dz[bad])])
         return (
@@ -161,11 +165,15 @@ def order_realisable(m: Any, order: Any, tol: float | None = None) -> tuple[bool
     bounds[0] = (0.0, 0.0)  # offsets are relative: pin one
     b_ub = np.where(st, dz[cross], dz[cross] + tol)
     res = linprog(cost, A_ub=A, b_ub=b_ub, bounds=bounds, method="highs")
+    if res.status == 2:  # the touching arcs alone admit no offsets: by how much at best
+        A = sp.hstack([A[:, :K], sp.csr_matrix(np.ones((a.size, 1)))]).tocsr()
+        res = linprog(cost, A_ub=A, b_ub=b_ub, bounds=bounds, method="highs")
+        st = np.ones_like(st)
     if res.status != 0:
         raise MescherError(f"order: the realisability LP failed ({res.message})")
     t = float(res.x[K]) if st.any() else scale
-    if same.any() and strict[same].any():
-        t = min(t, float(dz[same & strict].min()))
+    if (same & strict & ~level).any():
+        t = min(t, float(dz[same & strict & ~level].min()))
     if t > tol:
         return True, t, f"realisable with one offset per part (margin {t:.4g})"
     return (

@@ -673,14 +673,11 @@ def mescher_from_picture(
     occlusion_deg : float
     complete : bool, default: True
         Also cut along the occlusion lines the picture cannot show, between faces of one shade
-        (:func:`.occlusion.hidden_occlusions`; a stair's tread over the one below).  These run
-        on to the outline or a hole, where they really end, or to another hidden line; a piece
-        of the cut never touches the boundary twice (:func:`_one_contact`), so the loop that
-        carries the period stays whole.  They are read from jogs a few pixels long: on the
-        Penrose stairs at 128 x 128 seen from (1, 1, 2) (rises of 3.5 pixels) all eight step
-        edges are found, the two where a flight turns as a tread edge going on behind the next
-        tread and the corner it turns at (the lift's period within 5% of the true climb);
-        seen isometrically (rises of 2.5 pixels) the two found are wrong (down the walls).
+        (:func:`.occlusion.hidden_occlusions`; a stair's tread over the one below), on to the
+        outline, a hole or another hidden line; no piece of the cut touches the boundary twice
+        (:func:`_one_contact`), so the loop that carries the period stays whole.  Read from jogs
+        a few pixels long: the Penrose stairs at 128 px from (1, 1, 2) (rises of 3.5 px) show
+        all eight step edges (period within 5%); isometrically (2.5 px) two are wrong.
     small_px : float
         Pieces (faces of one region joined across edges) under this many square pixels weigh
         ``1e-3`` in the lift: a sliver of an end face under a stair's wall has a shape and a
@@ -728,11 +725,9 @@ def mescher_from_picture(
     else:
         normals, misfit = seg.normals, float("nan")
     occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
-    hidden = (
-        hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
-        if complete
-        else []
-    )
+    hidden = []
+    if complete:
+        hidden = hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
     hidden_edges = []
     if hidden:
         ext, ident = _hidden_constraints(hidden, pixel, 0.0 if straighten == "fit" else 1.5)

@@ -211,6 +211,11 @@ def test_real_impossible_cube_renders_like_its_z_buffer():
 #: meet square, no mitre), no snap to a single pair's direction (blocks on a grid line up two
 #: or more pairs there, which the vote judges), no strip corner moved onto a vertex.
 BLOCK_SCENES = [
+    (  # also: boxes flush against each other, touching on screen both ways at equal depth
+        [(0, 2, 2, 3, 3, 6), (4, 7, 1, 4, 3, 5), (3, 5, 2, 3, 1, 4), (0, 1, 1.5, 4.5, 0.5, 2.5)]
+        + [(0, 3, 0.5, 2.5, 1.5, 2.5)],
+        (-1.0, -1.0, 1.0),
+    ),
     (
         [(0, 1, 4, 6, 4, 7), (2, 5, 0, 1, 2, 3), (0, 1, 0, 1, 0, 1), (3, 6, 0, 3, 3, 5)]
         + [(2, 5, 2, 5, 1, 3), (1.5, 2.5, 0, 2, 0, 1)],

@@ -53,6 +53,37 @@ def test_touching_faces_need_not_part():
     assert m.is_impossible(order=[[0, 1]]).kind is None
 
 
+def test_parts_in_contact_may_touch_both_ways():
+    """Two separate squares meeting on screen along x = 1 at equal depth (a block resting
+    against another, flush): arcs both ways across that contour are realised by contact, with
+    no offset between the parts; overlapping faces still need a strict order."""
+    xy = np.array([[0, 0], [1, 0], [0, 1], [1, 1], [1, 0], [2, 0], [1, 1], [2, 1]], float)
+    F = np.array([[0, 1, 3], [0, 3, 2], [4, 5, 7], [4, 7, 6]])
+    m = Mescher.from_corner_depths(F, xy, np.zeros((4, 3)))
+    ok, margin, why = order_realisable(m, [[0, 2], [3, 1]])  # across x = 1, either way
+    assert ok, why
+    assert not m.is_impossible(order=[[0, 2], [3, 1]])
+    # the same two arcs between squares that overlap by a strip: no placement
+    m2 = Mescher.from_corner_depths(
+        F, xy - np.array([[0, 0]] * 4 + [[0.5, 0]] * 4), np.zeros((4, 3))
+    )
+    ok, margin, _ = order_realisable(m2, [[0, 3], [3, 0]])
+    assert not ok and margin <= 0.0
+
+
+def test_faces_of_one_part_at_equal_depth_say_nothing():
+    """One flat part folded over itself in its own plane: where its faces overlap they are at
+    equal depth, so an arc either way between them is round-off's to decide, not a
+    contradiction; folded out of the plane (1/3 behind) it is one."""
+    V = np.array([[0, 0, 0], [2, 0, 0], [0, 2, 0], [0.5, 0.5, 0.0]])
+    F = np.array([[0, 1, 2], [1, 3, 2]])  # face 1 folds back over face 0
+    m = Mescher.from_mesh(V, F)
+    for arcs in ([[0, 1]], [[1, 0]]):
+        assert order_realisable(m, arcs)[0]
+    V[3, 2] = 1.0
+    assert not order_realisable(Mescher.from_mesh(V, F), [[1, 0]])[0]
+
+
 def test_gallery_reutersvard_is_impossible_through_its_order_and_penrose_through_zeta():
     from meschers_igl.gallery import get_model
 
