@@ -64,9 +64,9 @@ def region_polygons(
         (along the figure's own edge directions where the run fits one), corners where
         neighbouring lines cross: the corners to a fraction of a pixel and never a pixel step,
         at any resolution and pixel phase.  Not the default: on the box model ``stairs``
-        (:mod:`.models`) the lift's period comes 6-7% short with it at 128 pixels (4-6% with
-        Douglas-Peucker), 21-22% at 256 and 17% at 512 (18-27%, 22-24%), for four of six
-        lights; the hidden-line rules (:mod:`.occlusion`) draw one straight line where a
+        (:mod:`meschers_igl.inverse.models`) the lift's period comes 6-7% short with it at
+        128 pixels (4-6% with Douglas-Peucker), 21-22% at 256 and 17% at 512 (18-27%,
+        22-24%), for four of six lights; the hidden-line rules (:mod:`.occlusion`) draw one straight line where a
         flight's turn hides a staircase of edges, and the error follows that, not the
         outline.
     extra_lines : sequence of shapely LineString
