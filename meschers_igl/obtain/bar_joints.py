@@ -26,7 +26,9 @@ near plane: its edge runs exactly behind a near crease from the shared corner (s
 direction, so ``t`` behind all along), and the face bends away behind the near bar, oblique to
 the near face (a mitre; a square end is a block's side, read by the other rules).  Its
 hidden part across that crease is the strip, glued to the near face on the crease's other
-side: a false edge that is a crease once glued.
+side: a false edge that is a crease once glued.  From the model alone (``view="auto"``),
+:func:`crease_pairs` lists the pairs of corners that form one seen along the direction joining
+them.
 
 The rule only reads joints where the visible map glues no other junction.
 """
@@ -36,11 +38,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from ..geometry2d import barycentric, overlapping_pairs, polygon_triangles
 from .caps import unit_normals
 from .clip import plane_depth
+from .directions import unique_rows
 from .glue import cut_and_glue, edge_on_source, interior_edges
 from .records import Glue, Junction
 
@@ -120,12 +125,17 @@ def corner_vertices(C: np.ndarray, F: np.ndarray) -> np.ndarray:
     figure (a bar's grid vertices line up along its diagonal like a lattice of blocks).
     """
     n = unit_normals(C, F)
-    M = np.zeros((C.shape[0], 3, 3))
-    np.add.at(M, F.reshape(-1), np.repeat(n[:, :, None] * n[:, None, :], 3, axis=0))
-    corner = np.linalg.eigvalsh(M)[:, 0] > CORNER_EIG
+    nv, at = C.shape[0], F.reshape(-1)
+    nn = np.repeat(n, 3, axis=0)
+    M = np.zeros((nv, 3, 3))
+    for a in range(3):  # sum n n^T over each vertex's faces (the lower triangle, symmetric)
+        for b in range(a + 1):
+            M[:, a, b] = np.bincount(at, weights=nn[:, a] * nn[:, b], minlength=nv)
+    corner = np.linalg.eigvalsh(M, UPLO="L")[:, 0] > CORNER_EIG
     he = np.sort(F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    e, cnt = np.unique(he, axis=0, return_counts=True)
-    corner[e[cnt == 1].reshape(-1)] = True
+    key, cnt = np.unique(he[:, 0] * nv + he[:, 1], return_counts=True)
+    open_edge = key[cnt == 1]
+    corner[open_edge // nv] = corner[open_edge % nv] = True
     return corner
 
 
@@ -213,6 +223,155 @@ def corner_gaps(C: np.ndarray, F: np.ndarray, tol: float) -> list:
         for r in range(int(starts[k]), int(ends[k]))
     ][:MAX_GAPS]
     return [(float(t[r]), vs[near[r : r + 1]], vs[far[r : r + 1]]) for r in rows]
+
+
+#: Most corners :func:`crease_pairs` compares (a fine mesh, every vertex a corner, has no bar
+#: tips; its parallel edges would pair up by the million).
+MAX_CREASE_CORNERS = 2000
+#: Most (near crease, far edge) candidates :func:`crease_pairs` forms before the exact tests;
+#: beyond, a model of many parallel mitred edges is no single joint of two tips: none.
+MAX_CREASE_CANDIDATES = 100_000
+#: Edges at two corners are compared when their unit directions differ by at most this chord
+#: (a first cut; the exact test is that the shorter edge's far end is within 4 ``tol`` of
+#: the other edge's line).
+CREASE_DIR = 1e-4
+#: Faces meeting at an edge at a smaller angle than this (radians) make no crease.
+CREASE_ANGLE = 1e-4
+#: A mitre is as far from parallel to the near face as from square to it: ``|n_f . n_g|``
+#: below this (about 3 degrees; a file's round-off tilts faces of one plane by far less).
+OBLIQUE_MAX = float(np.sqrt(1.0 - MITRE_COS**2))
+
+
+def _edge_records(V: np.ndarray, F: np.ndarray, corner: np.ndarray, tol: float):
+    """The creases at the corners (``corner``, (#V,) bool): each manifold edge whose two faces
+    meet at an angle over :data:`CREASE_ANGLE`, once from each end that is a corner.
+
+    Returns ``(n, vert, e, L, faces, m)``: the unit face normals (#F, 3); per record the corner
+    (k,), the unit direction of the edge away from it (k, 3), the edge's length (k,), its two
+    faces (k, 2) and, for each, the unit direction in the face's plane normal to the edge
+    pointing into the face (k, 2, 3)."""
+    n = unit_normals(V, F)
+    he = F[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    at = np.flatnonzero(corner[he].any(axis=1))  # half-edges at a corner (both of an edge)
+    he, opp = he[at], F[:, [2, 0, 1]].reshape(-1)[at]  # opp: the vertex across each
+    key = np.sort(he, axis=1)
+    _, inv, cnt = np.unique(
+        key[:, 0] * V.shape[0] + key[:, 1], return_inverse=True, return_counts=True
+    )
+    inv = inv.reshape(-1)
+    o = np.argsort(inv, kind="stable")
+    o = o[cnt[inv[o]] == 2]  # manifold edges: their two half-edges side by side
+    h1, h2 = o[0::2], o[1::2]
+    f1, f2 = at[h1] // 3, at[h2] // 3
+    bent = np.einsum("ij,ij->i", n[f1], n[f2]) < np.cos(CREASE_ANGLE)
+    h1, h2, f1, f2 = h1[bent], h2[bent], f1[bent], f2[bent]
+    a, b = he[h1, 0], he[h1, 1]
+    vert, other = np.r_[a, b], np.r_[b, a]
+    d = V[other] - V[vert]
+    L = np.linalg.norm(d, axis=1)
+    faces = np.stack([np.r_[f1, f1], np.r_[f2, f2]], axis=1)
+    third = np.stack([np.r_[opp[h1], opp[h1]], np.r_[opp[h2], opp[h2]]], axis=1)
+    keep = corner[vert] & (L > 4 * tol)
+    vert, d, L, faces, third = vert[keep], d[keep], L[keep], faces[keep], third[keep]
+    e = d / L[:, None]
+    w = V[third] - V[vert][:, None]
+    m = w - np.einsum("kij,kj->ki", w, e)[:, :, None] * e[:, None]
+    m /= np.maximum(np.linalg.norm(m, axis=2, keepdims=True), 1e-300)
+    return n, vert, e, L, faces, m
+
+
+def _parallel_groups(e: np.ndarray) -> np.ndarray:
+    """(k,) label of each unit direction ``e`` (k, 3): the connected sets of directions within
+    :data:`CREASE_DIR` (chord) of each other."""
+    W, inv, _ = unique_rows(e)
+    k = W.shape[0]
+    pq = cKDTree(W).query_pairs(CREASE_DIR, output_type="ndarray")
+    A = coo_matrix((np.ones(pq.shape[0]), (pq[:, 0], pq[:, 1])), shape=(k, k))
+    return connected_components(A, directed=False)[1][inv]
+
+
+def crease_pairs(V: np.ndarray, F: np.ndarray, tol: float) -> tuple:
+    """Pairs of corners that form a crease joint (:func:`corner_gaps`) from the direction
+    joining them, whatever the view: the candidates for a view of two mitred tips meeting.
+
+    A pair ``(p, q)`` seen along ``v = (p - q) / |p - q|`` (``p`` near, ``t = |p - q|`` in
+    front of ``q``) is one when, at ``p``, a crease between faces ``g`` and ``h`` and, at
+    ``q``, an edge of a face ``f`` leave in the same 3D direction ``e`` (to 4 ``tol`` at the
+    shorter edge's end: the far edge runs exactly ``t`` behind the near crease on screen) and
+
+    * ``f`` is a mitre: oblique to ``g`` (``MITRE_COS < |n_f . n_g| <``
+      :data:`OBLIQUE_MAX`), so it bends away behind the near bar instead of continuing
+      ``g``'s plane or meeting it square (boxes);
+    * ``g``, ``h`` and ``f`` face the viewer (``n . v > 0``, outward normals), the crease is
+      not seen end-on (a stretch over 4 ``tol`` on screen);
+    * on screen, ``f`` lies on ``h``'s side of the crease (hidden behind it) and ``g`` on the
+      other side: ``f``'s hidden part is glued to ``g`` across the crease.
+
+    Parameters
+    ----------
+    V : (#V, 3) float64
+        Vertices of a model whose parts are oriented outward.
+    F : (#F, 3) int64
+    tol : float
+        Absolute tolerance.
+
+    Returns
+    -------
+    near, far : (k,) int64
+        The corners ``p`` and ``q`` of each distinct pair.
+    view : (k, 3) float64
+        ``v``, unit, toward the camera.
+    gap : (k,) float64
+        ``t`` (over 10 ``tol``).
+
+    Empty when the model has more than :data:`MAX_CREASE_CORNERS` corners or more than
+    :data:`MAX_CREASE_CANDIDATES` pairs of parallel edges with oblique faces.
+    """
+    none = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros(0))
+    corner = np.zeros(V.shape[0], dtype=bool)
+    used = np.unique(F)
+    corner[used] = corner_vertices(V, F)[used]
+    if np.count_nonzero(corner) > MAX_CREASE_CORNERS:
+        return none
+    n, vert, e, L, faces, m = _edge_records(V, F, corner, tol)
+    if vert.size < 2:
+        return none
+    group = _parallel_groups(e)
+    o = np.argsort(group, kind="stable")
+    starts = np.searchsorted(group[o], np.arange(int(group.max()) + 2))
+    big = np.flatnonzero(np.diff(starts) >= 2)
+    cand, total = [], 0
+    for k in big.tolist():  # groups of parallel edges: mitred faces against near faces
+        r = o[starts[k] : starts[k + 1]]
+        N = n[faces[r]]  # (s, 2, 3)
+        for gs, fs in ((0, 0), (0, 1), (1, 0), (1, 1)):  # which face is g, which f
+            c = np.abs(N[:, gs] @ N[:, fs].T)
+            i, j = np.nonzero((c > MITRE_COS) & (c < OBLIQUE_MAX))
+            total += i.size
+            if total > MAX_CREASE_CANDIDATES:
+                return none
+            cand.append(np.stack([r[i], r[j], np.full(i.size, gs), np.full(i.size, fs)], 1))
+    if not cand:
+        return none
+    i, j, gs, fs = np.vstack(cand).T
+    D = V[vert[i]] - V[vert[j]]
+    t = np.linalg.norm(D, axis=1)
+    v = D / np.maximum(t, 1e-300)[:, None]
+    short = np.minimum(L[i], L[j])
+    ev = np.einsum("ij,ij->i", e[i], v)
+    ok = (t > 10 * tol) & (np.linalg.norm(e[i] - e[j], axis=1) * short <= 4 * tol)
+    ok &= short * np.sqrt(np.maximum(1.0 - ev**2, 0.0)) > 4 * tol
+    g, h, f = faces[i, gs], faces[i, 1 - gs], faces[j, fs]
+    for x in (g, h, f):  # all three toward the viewer
+        ok &= np.einsum("ij,ij->i", n[x], v) > 1e-6
+    s = np.cross(v, e[i])  # screen normal of the crease
+    side_g = np.sign(np.einsum("ij,ij->i", m[i, gs], s))
+    side_h = np.sign(np.einsum("ij,ij->i", m[i, 1 - gs], s))
+    side_f = np.sign(np.einsum("ij,ij->i", m[j, fs], s))
+    ok &= (side_g != 0) & (side_h == -side_g) & (side_f == side_h)
+    pq, first = np.unique(np.stack([vert[i], vert[j]], 1)[ok], axis=0, return_index=True)
+    k = np.flatnonzero(ok)[first]
+    return pq[:, 0], pq[:, 1], v[k], t[k]
 
 
 def _planes(C, F, faces):

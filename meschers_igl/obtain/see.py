@@ -470,11 +470,15 @@ def _auto_view(V, F, tol_abs, start, perceive):
     def judge(v, u):
         return _false_edge_seen(V, F, v, u, tol_abs)
 
+    def joint_judge(v, u, gap):  # mitred tips meeting: a crease joint of that gap
+        return _joint_seen(V, F, v, u, tol_abs, gap)
+
+    kw = dict(start=start, judge=judge, joint_judge=joint_judge)
     if perceive is None:
-        return find_model_view(V, F, tol_abs, start=start, judge=judge)
+        return find_model_view(V, F, tol_abs, **kw)
     views, err = [], None
     try:
-        views.append(find_model_view(V, F, tol_abs, start=start, judge=judge))
+        views.append(find_model_view(V, F, tol_abs, **kw))
     except MescherError as e:
         err = e
     views += [(v, up_for_view(v)) for v in _fronts(V, F, start)]

@@ -25,6 +25,7 @@ from ..errors import MescherError
 from ..operators import up_for_view, view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
+from .bar_joints import crease_pairs
 from .clip import FRONT_NZ, REL_TOL
 from .directions import near_directions, votes
 from .junctions import (
@@ -416,6 +417,7 @@ def find_model_view(
     start: Any = None,
     judge: Any = None,
     within: float = START_ANGLE,
+    joint_judge: Any = None,
 ):
     """``view="auto"`` for any model: the view from which its junctions line up.
 
@@ -447,7 +449,13 @@ def find_model_view(
        seeing over :data:`MAX_EDGE_ON` of the model edge-on (under :data:`EDGE_ON_FALLBACK`:
        a sheared or bevelled figure shows faces containing its view) is taken when a junction
        is seen from it, as in 1.
-    5. Ties: the vote's other directions, ranked by the junction a person sees -- corners
+    5. Crease joints (with ``joint_judge``): two mitred tips meeting at a point (a cube frame
+       with its corner cut away) line up one pair of corners, which the vote cannot tell
+       from accidents; a pair is a candidate when the corners' creases run along each other
+       from it with a mitre behind (:func:`~meschers_igl.obtain.bar_joints.crease_pairs`),
+       its direction taken when ``joint_judge`` sees them joined there
+       (:func:`_crease_views`: the nearest tips first, at most :data:`MAX_CREASE_VIEWS`).
+    6. Ties: the vote's other directions, ranked by the junction a person sees -- corners
        flush on screen and far apart through the model
        (:func:`~meschers_igl.obtain.view_rank.ranked_views`; box corners line up as many pairs
        along lattice directions) -- the first few judged from both sides, as in 1.
@@ -466,6 +474,10 @@ def find_model_view(
         ``judge(view, up) -> bool``: is a junction seen from the vote's view (besides paired
         caps)?  :func:`meschers_igl.obtain.see_model` passes one that glues the visible surface
         and asks for a loop that gains depth.
+    joint_judge : callable, optional
+        ``joint_judge(view, up, gap) -> bool``: are two corners ``gap`` apart in depth joined
+        from ``view`` (a bar joint closing a loop that gains depth)?  Without it, step 5 is
+        skipped.
 
     Returns
     -------
@@ -489,7 +501,7 @@ def find_model_view(
     )
     if stairs is not None:  # an open ring of flights whose top and bottom steps line up
         return stairs
-    v, up = _junction_view(V, F, tol, start, judge, within)
+    v, up = _junction_view(V, F, tol, start, judge, within, joint_judge)
     if start is None and chain is not None and v @ chain.up < np.sin(MIN_ELEVATION):
         el = np.degrees(np.arcsin(np.clip(v @ chain.up, -1.0, 1.0)))
         raise MescherError(  # seen from the side, columns of stairs line up by accident
@@ -499,8 +511,8 @@ def find_model_view(
     return v, up
 
 
-def _junction_view(V, F, tol, start, judge, within):
-    """Steps 1-4 of :func:`find_model_view`: (view, up) from which a junction lines up."""
+def _junction_view(V, F, tol, start, judge, within, joint_judge=None):
+    """Steps 1-6 of :func:`find_model_view`: (view, up) from which a junction lines up."""
     TT = np.asarray(igl.triangle_triangle_adjacency(F)[0], dtype=np.int64)
     pairs = bar_end_pairs(V, F, tol, TT)
     R0 = view_frame((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
@@ -547,6 +559,11 @@ def _junction_view(V, F, tol, start, judge, within):
             continue
         if seen(ve) or (judge is not None and judge(ve, upe)):
             return ve, upe
+    if joint_judge is not None:  # one pair of mitred tips meeting: a crease joint
+        for vc, gap in _crease_views(V, F, tol, start, within):
+            upc = up_for_view(vc)
+            if joint_judge(vc, upc, gap):
+                return vc, upc
     try:  # directions tied in the vote, ranked: a flush junction far through the model
         cands = _pick(vote, V, F, MAX_RANKED_DIRECTIONS, MAX_EDGE_ON) if vote else []
     except MescherError:
@@ -566,6 +583,45 @@ def _junction_view(V, F, tol, start, judge, within):
         f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {int(off.sum())} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
+
+
+#: Most pairs of corners forming a crease joint (:func:`_crease_views`) judged from their
+#: direction (each by seeing the model from it).
+MAX_CREASE_VIEWS = 4
+#: Crease views whose heights ``v_z`` agree to this (each with the next lower) are as high as
+#: each other (mirror images of a symmetric model, its file's round-off apart: 0.06 degrees).
+HEIGHT_TIE = 1e-3
+
+
+def _crease_views(V, F, tol, start, within, limit: int = MAX_CREASE_VIEWS) -> list:
+    """``(view, gap)`` of the pairs of corners forming a crease joint (:func:`crease_pairs`),
+    within ``within`` of ``start`` when given, in the order a person takes them: from above
+    the horizon (``v_z >= 0``, the modelling tools' camera) first, then the nearest tips
+    (the smallest gap, gaps within 10 ``tol`` of each other tied: a designed joint pulls the
+    tips back by a bar's width, mitres lining up across the model are far apart), then the
+    highest camera (to :data:`HEIGHT_TIE`), then the larger ``v_y`` (:func:`find_view`'s
+    convention at ``v_z = 0``); each direction once, the first ``limit``."""
+    _, _, W, gap = crease_pairs(V, F, tol)
+    if start is not None:
+        near = W @ start >= np.cos(within)
+        W, gap = W[near], gap[near]
+    if gap.size == 0:
+        return []
+    # ties: runs of gaps (heights) each within 10 tol (HEIGHT_TIE) of the one before
+    o = np.argsort(gap, kind="stable")
+    tied = np.empty(gap.size, dtype=np.int64)
+    tied[o] = np.cumsum(np.r_[0, np.diff(gap[o]) > 10.0 * tol])
+    o = np.lexsort((-W[:, 2], tied))
+    step = (np.diff(tied[o]) > 0) | (-np.diff(W[o, 2]) > HEIGHT_TIE)
+    tied[o] = np.cumsum(np.r_[0, step])
+    order = np.lexsort((-W[:, 1], tied, W[:, 2] < 0))
+    out: list = []
+    for k in order.tolist():  # each direction once (pairs repeating along it: one view)
+        if len(out) >= limit:
+            break
+        if not any(W[k] @ w >= np.cos(VOTE_ANGLE) for w, _ in out):
+            out.append((W[k], float(gap[k])))
+    return out
 
 
 def _cap_views(V, F, arr: _PairArrays, tol, start, within) -> list:
