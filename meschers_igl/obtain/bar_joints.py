@@ -614,9 +614,12 @@ def hidden_strips(
                     continue
                 g = shapely.geometry.polygon.orient(g, 1.0)
                 ring = np.asarray(g.exterior.coords)[:-1]
-                if crease:  # a sharp corner the mitred erosion bevelled: onto the map's vertex
-                    d, k = cKDTree(xy).query(ring)
-                    ring = np.where((d <= SNAP_CORNER * tol)[:, None], xy[k], ring)
+                if crease:  # a sharp corner the mitred erosion bevelled: onto the map's
+                    # vertex, or the far face's own corner hidden there (where its edge
+                    # leaves the crease, exactly gap behind it)
+                    at = np.vstack([xy, C[F[fpl], :2].reshape(-1, 2)])
+                    d, k = cKDTree(at).query(ring)
+                    ring = np.where((d <= SNAP_CORNER * tol)[:, None], at[k], ring)
                 step = np.linalg.norm(ring - np.roll(ring, 1, axis=0), axis=1)
                 ring = ring[step > tol]  # grid round-off can repeat a corner
                 if ring.shape[0] >= 3:
