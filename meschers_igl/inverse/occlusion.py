@@ -346,3 +346,94 @@ def occlusion_chains(
             continue
         out.append((va, vb, a_, b_, a_ if fit[0] < fit[1] else b_))
     return out
+
+
+def hidden_steps(xy, F, edges, cut, hidden, hidden_edges, normals, region, max_sin=0.05):
+    """Climbs the lift must make in place, where a hidden step cannot be cut open.
+
+    A hidden line between two faces of one orientation (a tread over the tread below) is cut
+    so that each side keeps its own depth; the step between them is then read from how the
+    two sides join elsewhere (a flight's treads join through their coplanar walls).  Where a
+    flight turns, the corner line (:func:`_onward_lines`: the turning tread's edge over the
+    tread behind) cannot be cut to its notch: with the rest of the turn's cut reaching a
+    hole, it would cut the figure apart (``_one_contact`` leaves part of it whole), and
+    nothing else joins the two treads.  Two parallel faces joined there are one plane: the
+    step is lost (a whole step of the Penrose stairs' climb).  The picture shows nothing of
+    that step's height, but the next step's: the riser the corner line lies off the onward
+    line parallel to it (the next tread's edge, which ends on the same line).  The tread in
+    front climbs that much over the one behind where they join, as a person reading the
+    stairs as even takes it; an uneven turn comes out off by the difference.
+
+    Parameters
+    ----------
+    xy : (#V, 2) float
+    F : (#F, 3) int
+    edges : (#E, 2) int
+    cut : (C,) int
+        The edges cut open.
+    hidden : list of (2, 2) float
+        The hidden lines (:func:`hidden_occlusions`), each from its start to its end.
+    hidden_edges : list of (k_i,) int
+        The edges on each hidden line.
+    normals : (K, 3) float
+    region : (#F,) int
+    max_sin : float
+        Lines within this ``|sin|`` are parallel.
+
+    Returns
+    -------
+    (#F, 3) float64 or None
+        Per face, the extra climb its half-edge opposite each corner is asked for (the order
+        of :func:`.turn._slope_wishes`), None where there is none: on the faces in front
+        around the part of a corner line left whole, the climb of the step from the faces
+        behind.
+    """
+    extra = np.zeros((len(F), 3))
+    for i, (seg, he) in enumerate(zip(hidden, hidden_edges)):  # a handful of lines
+        whole = he[~np.isin(he, cut)]
+        L = float(np.linalg.norm(seg[1] - seg[0]))
+        if whole.size == 0 or L == 0.0:
+            continue
+        u = (seg[1] - seg[0]) / L
+        nrm = np.array([-u[1], u[0]])
+        tol = 1e-6 * max(L, 1.0)
+        # the line it starts on, and the parallel line that ends on that one too
+        on = [k for k, s in enumerate(hidden) if k != i and _near_segment(seg[0], s, 1e3 * tol)]
+        par = [
+            j
+            for j, s in enumerate(hidden)
+            if j != i
+            and any(_near_segment(s[1], hidden[k], 1e3 * tol) for k in on)
+            and abs(_sin(u, s[1] - s[0])) < max_sin
+        ]
+        if not par:
+            continue
+        off = float((hidden[par[0]][0] - seg[0]) @ nrm)  # the riser, toward the side behind
+        neck = np.zeros(len(xy), dtype=bool)
+        neck[edges[whole].ravel()] = True
+        side = (xy[F].mean(axis=1) - seg[0]) @ nrm
+        front = neck[F].any(axis=1) & (np.sign(side) == -np.sign(off))
+        lab = np.bincount(region[neck[F].any(axis=1)], minlength=len(normals)).argmax()
+        n = normals[lab]
+        across = abs(float(n[0] * u[1] - n[1] * u[0])) / max(np.hypot(n[0], n[1]), 1e-12)
+        if across < 0.1 or not front.any():
+            continue
+        # planes of normal n a distance s apart: s |n_xy x u| apart on screen across the line
+        # and s / n_z apart in depth at one screen point; the one in front is nearer
+        climb = abs(off) / (across * np.hypot(n[0], n[1])) / n[2]
+        val = np.where(neck[F[front]], 0.0, climb)  # (f, 3) corner heights over the plane
+        # the half-edge opposite corner c runs c+1 -> c+2
+        extra[front] += val[:, [2, 0, 1]] - val[:, [1, 2, 0]]
+    return extra if np.any(extra) else None
+
+
+def _sin(u, d) -> float:
+    """The sine of the angle from the unit vector ``u`` to the vector ``d`` (screen)."""
+    return float(u[0] * d[1] - u[1] * d[0]) / max(float(np.hypot(d[0], d[1])), 1e-300)
+
+
+def _near_segment(p, seg, tol: float) -> bool:
+    """Whether the point ``p`` lies within ``tol`` of the segment ``seg`` ((2, 2))."""
+    d = seg[1] - seg[0]
+    t = float(np.clip((p - seg[0]) @ d / max(float(d @ d), 1e-300), 0.0, 1.0))
+    return bool(np.linalg.norm(seg[0] + t * d - p) <= tol)
