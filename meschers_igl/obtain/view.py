@@ -25,7 +25,6 @@ from ..errors import MescherError
 from ..operators import up_for_view, view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
-from .bar_joints import crease_pairs
 from .clip import FRONT_NZ, REL_TOL
 from .directions import near_directions, votes
 from .junctions import (
@@ -38,7 +37,7 @@ from .junctions import (
     parts_and_front,
     pieces_are_bars,
 )
-from .view_rank import MAX_RANKED_DIRECTIONS, ranked_views
+from .view_rank import MAX_RANKED_DIRECTIONS, crease_views, ranked_views
 from .view_stairs import MIN_ELEVATION, penrose_stairs_view, stair_chain
 
 #: Vertices taking part in the vote (all pairs among them are tried).
@@ -454,7 +453,7 @@ def find_model_view(
        from accidents; a pair is a candidate when the corners' creases run along each other
        from it with a mitre behind (:func:`~meschers_igl.obtain.bar_joints.crease_pairs`),
        its direction taken when ``joint_judge`` sees them joined there
-       (:func:`_crease_views`: the nearest tips first, at most :data:`MAX_CREASE_VIEWS`).
+       (:func:`~meschers_igl.obtain.view_rank.crease_views`: the nearest tips first).
     6. Ties: the vote's other directions, ranked by the junction a person sees -- corners
        flush on screen and far apart through the model
        (:func:`~meschers_igl.obtain.view_rank.ranked_views`; box corners line up as many pairs
@@ -560,7 +559,7 @@ def _junction_view(V, F, tol, start, judge, within, joint_judge=None):
         if seen(ve) or (judge is not None and judge(ve, upe)):
             return ve, upe
     if joint_judge is not None:  # one pair of mitred tips meeting: a crease joint
-        for vc, gap in _crease_views(V, F, tol, start, within):
+        for vc, gap in crease_views(V, F, tol, start, within, VOTE_ANGLE):
             upc = up_for_view(vc)
             if joint_judge(vc, upc, gap):
                 return vc, upc
@@ -583,45 +582,6 @@ def _junction_view(V, F, tol, start, judge, within, joint_judge=None):
         f"{np.round(v, 4).tolist()} lining up the most vertex pairs, and {int(off.sum())} pair(s) of "
         "bar ends for a hidden gap); pass view= or view_start="
     )
-
-
-#: Most pairs of corners forming a crease joint (:func:`_crease_views`) judged from their
-#: direction (each by seeing the model from it).
-MAX_CREASE_VIEWS = 4
-#: Crease views whose heights ``v_z`` agree to this (each with the next lower) are as high as
-#: each other (mirror images of a symmetric model, its file's round-off apart: 0.06 degrees).
-HEIGHT_TIE = 1e-3
-
-
-def _crease_views(V, F, tol, start, within, limit: int = MAX_CREASE_VIEWS) -> list:
-    """``(view, gap)`` of the pairs of corners forming a crease joint (:func:`crease_pairs`),
-    within ``within`` of ``start`` when given, in the order a person takes them: from above
-    the horizon (``v_z >= 0``, the modelling tools' camera) first, then the nearest tips
-    (the smallest gap, gaps within 10 ``tol`` of each other tied: a designed joint pulls the
-    tips back by a bar's width, mitres lining up across the model are far apart), then the
-    highest camera (to :data:`HEIGHT_TIE`), then the larger ``v_y`` (:func:`find_view`'s
-    convention at ``v_z = 0``); each direction once, the first ``limit``."""
-    _, _, W, gap = crease_pairs(V, F, tol)
-    if start is not None:
-        near = W @ start >= np.cos(within)
-        W, gap = W[near], gap[near]
-    if gap.size == 0:
-        return []
-    # ties: runs of gaps (heights) each within 10 tol (HEIGHT_TIE) of the one before
-    o = np.argsort(gap, kind="stable")
-    tied = np.empty(gap.size, dtype=np.int64)
-    tied[o] = np.cumsum(np.r_[0, np.diff(gap[o]) > 10.0 * tol])
-    o = np.lexsort((-W[:, 2], tied))
-    step = (np.diff(tied[o]) > 0) | (-np.diff(W[o, 2]) > HEIGHT_TIE)
-    tied[o] = np.cumsum(np.r_[0, step])
-    order = np.lexsort((-W[:, 1], tied, W[:, 2] < 0))
-    out: list = []
-    for k in order.tolist():  # each direction once (pairs repeating along it: one view)
-        if len(out) >= limit:
-            break
-        if not any(W[k] @ w >= np.cos(VOTE_ANGLE) for w, _ in out):
-            out.append((W[k], float(gap[k])))
-    return out
 
 
 def _cap_views(V, F, arr: _PairArrays, tol, start, within) -> list:

@@ -28,6 +28,7 @@ from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from ..operators import up_for_view
+from .bar_joints import crease_pairs
 from .caps import unit_normals
 
 #: Directions ranked at most (the best-supported first, as the vote orders them).
@@ -241,3 +242,45 @@ def ranked_views(
     cands = [c for c in cands if (v is None or abs(c[0] @ v) < same) and sides(c[0])]
     ranked = rank_directions(V, F, cands, tol)[:MAX_RANKED_VIEWS]
     return [(u, up_for_view(u)) for w, _, _ in ranked for u in sides(w)]
+
+
+#: Most pairs of corners forming a crease joint (:func:`crease_views`) judged from their
+#: direction (each by seeing the model from it).
+MAX_CREASE_VIEWS = 4
+#: Crease views whose heights ``v_z`` agree to this (each with the next lower) are as high as
+#: each other (mirror images of a symmetric model, its file's round-off apart: 0.06 degrees).
+HEIGHT_TIE = 1e-3
+
+
+def crease_views(
+    V, F, tol: float, start, within: float, same: float, limit: int = MAX_CREASE_VIEWS
+) -> list:
+    """``(view, gap)`` of the pairs of corners forming a crease joint (:func:`~.bar_joints.crease_pairs`),
+    within ``within`` of ``start`` when given, in the order a person takes them: from above
+    the horizon (``v_z >= 0``, the modelling tools' camera) first, then the nearest tips
+    (the smallest gap, gaps within 10 ``tol`` of each other tied: a designed joint pulls the
+    tips back by a bar's width, mitres lining up across the model are far apart), then the
+    highest camera (to :data:`HEIGHT_TIE`), then the larger ``v_y`` (``find_view``'s
+    convention at ``v_z = 0``); each direction once (directions within ``same`` radians are
+    one), the first ``limit``."""
+    _, _, W, gap = crease_pairs(V, F, tol)
+    if start is not None:
+        near = W @ start >= np.cos(within)
+        W, gap = W[near], gap[near]
+    if gap.size == 0:
+        return []
+    # ties: runs of gaps (heights) each within 10 tol (HEIGHT_TIE) of the one before
+    o = np.argsort(gap, kind="stable")
+    tied = np.empty(gap.size, dtype=np.int64)
+    tied[o] = np.cumsum(np.r_[0, np.diff(gap[o]) > 10.0 * tol])
+    o = np.lexsort((-W[:, 2], tied))
+    step = (np.diff(tied[o]) > 0) | (-np.diff(W[o, 2]) > HEIGHT_TIE)
+    tied[o] = np.cumsum(np.r_[0, step])
+    order = np.lexsort((-W[:, 1], tied, W[:, 2] < 0))
+    out: list = []
+    for k in order.tolist():  # each direction once (pairs repeating along it: one view)
+        if len(out) >= limit:
+            break
+        if not any(W[k] @ w >= np.cos(same) for w, _ in out):
+            out.append((W[k], float(gap[k])))
+    return out
