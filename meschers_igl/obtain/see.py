@@ -35,6 +35,7 @@ from .glue import (
     stuck_cuts,
 )
 from .junctions import closed_surface
+from .openings import period_around_opening
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame
 from .records import ConversionReport, VisibleModel
 from .stairs import glue_step_junctions, step_junctions
@@ -155,6 +156,11 @@ def see_model(
     g = _glue_visible(
         xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report, joints
     )
+    # blocks lined up by accident from this view: their ends are not joined
+    if joints and _accidental_joints(g, part, F.shape[0], tol_abs):
+        g = _glue_visible(
+            xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report
+        )
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
     _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
@@ -431,6 +437,26 @@ def _glue_visible(
     if perceive is None:  # glued: the riser bands narrowed below any pixel
         xy, Zb = narrow_step_bands(xy, Fb, sb, Zb, pl_all, C, F, n_model, tol_abs)
     return Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge | (sb >= n_model), sb
+
+
+def _accidental_joints(g: tuple, part: np.ndarray, n_model: int, tol: float) -> bool:
+    """Did gluing join bar ends (``"bar joint"`` junctions) into loops that enclose no opening?
+
+    A chain of bars joined end to end is read as a frame around a window
+    (:func:`~.openings.period_around_opening`); blocks that only line up from this view, with
+    every loop through the joint running over their own faces, are not joined there.
+    """
+    from ..mescher import Mescher
+    from .choose import PERIOD_RTOL
+
+    Fm, corner_vertex, xy, Z, bridges, src = g[0], g[1], g[2], g[3], g[6], g[8]
+    if not any(j.kind == "bar joint" and j.depth_gap > tol for j in bridges):
+        return False
+    first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
+    first[Fm.reshape(-1)] = corner_vertex
+    m = Mescher.from_corner_depths(Fm, xy[first], Z)
+    shown = np.where(src < n_model, part[np.minimum(src, n_model - 1)], -1)
+    return not period_around_opening(m, tol, PERIOD_RTOL * m.scale(), shown)
 
 
 def _expectation_warning(report, V, F, C, front) -> None:
