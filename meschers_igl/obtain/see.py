@@ -153,14 +153,10 @@ def see_model(
     if perceive is None:
         xy, Fa, src, joints = prepare_joints(xy, Fa, src, pl_all, C, F, front, tol_abs, grid)
     ftol = _part_tolerances(V, F, part, tol_abs, rel)
-    g = _glue_visible(
-        xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report, joints
-    )
-    # blocks lined up by accident from this view: their ends are not joined
-    if joints and _accidental_joints(g, part, F.shape[0], tol_abs):
-        g = _glue_visible(
-            xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report
-        )
+    glue_args = (xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report)
+    g = _glue_visible(*glue_args, joints)
+    if joints and _accidental_joints(g, part, F.shape[0], tol_abs):  # blocks lined up by chance
+        g = _glue_visible(*glue_args)
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
     _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
