@@ -22,6 +22,7 @@ from ..errors import MescherError
 from ..operators import view_frame
 from ..topology import boundary_loops
 from ..validate import as_faces, as_points
+from .clip import PERIOD_RTOL
 from .records import ConversionReport, Junction, VisibleModel
 from .see import see_model
 
@@ -29,9 +30,6 @@ __all__ = ["PERIOD_RTOL", "ROUTES", "Obtained", "drop_small_periods", "obtain"]
 
 #: Routes the door takes ("auto": decided from the model).
 ROUTES = ("auto", "cut", "seen")
-#: A period counts only above this share of the model's size: the conversion glues within
-#: 1e-5 of the size per vertex, and a loop crosses a junction a handful of times.
-PERIOD_RTOL = 1e-4
 
 
 @dataclass(frozen=True)

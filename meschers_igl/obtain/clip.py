@@ -16,6 +16,9 @@ from ..geometry2d import overlapping_pairs
 REL_TOL = 1e-5
 #: Grid of every shapely overlay, relative to the model's size (exact shared coordinates).
 REL_GRID = 1e-9
+#: A period counts only above this share of the model's size: the conversion glues within
+#: 1e-5 of the size per vertex, and a loop crosses a junction a handful of times.
+PERIOD_RTOL = 1e-4
 
 
 #: A face faces the viewer when its unit normal has n_z above this (edge-on faces are hidden).

@@ -18,7 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["opening_points", "period_around_opening", "winding_numbers"]
+from .. import topology as topo
+
+__all__ = ["opening_points", "period_around_opening", "periods", "winding_numbers"]
 
 #: holes smaller than this fraction of their part's silhouette area are slivers between faces
 MIN_HOLE_AREA = 1e-5
@@ -81,8 +83,44 @@ def winding_numbers(xy: np.ndarray, tail: np.ndarray, head: np.ndarray, pts: np.
     return np.rint(np.arctan2(cross, dot).sum(axis=1) / (2.0 * np.pi)).astype(np.int64)
 
 
-def period_around_opening(m, tol: float, period_tol: float, part: np.ndarray | None = None) -> bool:
-    """Does some homology loop of ``m`` with a period wind around an opening of its part?
+def periods(F: np.ndarray, xy: np.ndarray, Z: np.ndarray) -> tuple[list, np.ndarray]:
+    """The homology loops of the glued surface ``F`` and the depth each gains.
+
+    What :meth:`meschers_igl.Mescher.from_corner_depths` and its ``periods()`` give, from the
+    topology module directly: obtaining sits below the mescher class (which imports it), and
+    the glued depths agree along every glued edge, so the edges' averages need no projection.
+
+    Parameters
+    ----------
+    F : (#F, 3) int
+    xy : (#V, 2) float
+    Z : (#F, 3) float
+        Each face's corner depths.
+
+    Returns
+    -------
+    loops : list of ``(edges (k,) int, signs (k,) float)`` over ``edges``
+    periods : (len(loops),) float
+    edges : (#E, 2) int
+    """
+    edges, face_edges, signs = topo.edge_topology(F, xy.shape[0])
+    h = Z[:, [2, 0, 1]] - Z[:, [1, 2, 0]]  # half-edge opposite corner i runs i+1 -> i+2
+    fe = face_edges.reshape(-1)
+    zeta = np.bincount(fe, weights=(h * signs).reshape(-1), minlength=edges.shape[0])
+    zeta /= np.maximum(np.bincount(fe, minlength=edges.shape[0]), 1)
+    loops = topo.generator_loops(edges, face_edges, xy.shape[0])
+    return loops, np.array([float(zeta[e] @ s) for e, s in loops]), edges
+
+
+def period_around_opening(
+    F: np.ndarray,
+    xy: np.ndarray,
+    Z: np.ndarray,
+    tol: float,
+    period_tol: float,
+    part: np.ndarray | None = None,
+) -> bool:
+    """Does some homology loop of the glued surface with a period wind around an opening?
 
     The openings are the holes of the screen silhouette of the whole surface (a block in front
     of a ring of blocks covers its hole: no opening is seen there); with ``part``, also those
@@ -92,28 +130,28 @@ def period_around_opening(m, tol: float, period_tol: float, part: np.ndarray | N
 
     Parameters
     ----------
-    m : Mescher
+    F : (#F, 3) int
         The glued visible surface.
+    xy : (#V, 2) float
+    Z : (#F, 3) float
+        Each face's corner depths.
     tol : float
         Absolute screen tolerance (see :func:`opening_points`).
     period_tol : float
         Periods of at most this size are round-off.
     part : (#F,) int, optional
-        The 3D model part each face of ``m`` shows (``-1``: a face of no part, e.g. a band
-        added between parts).
+        The 3D model part each face shows (``-1``: a face of no part, e.g. a band added
+        between parts).
 
     Returns
     -------
     bool
-        False when every loop with a period encloses only its own part's surface (or the
-        mescher has no period).
+        False when every loop with a period encloses only the figure's own surface (or the
+        surface has no period).
     """
-    periods = np.asarray(m.periods(), dtype=float)
-    if not np.any(np.abs(periods) > period_tol):
+    loops, gained, edges = periods(F, xy, Z)
+    if not np.any(np.abs(gained) > period_tol):
         return False
-    E = np.asarray(m.edges)
-    F = np.asarray(m.F)
-    xy = np.asarray(m.xy, dtype=float)
     pts = opening_points(xy, F, tol)
     if part is not None:
         back = _backdrop(xy, F, np.asarray(part), tol)
@@ -121,11 +159,11 @@ def period_around_opening(m, tol: float, period_tol: float, part: np.ndarray | N
             pts = np.vstack([pts, opening_points(xy, F[~back], tol)])
     if pts.size == 0:
         return False
-    for (eidx, sign), p in zip(m.homology_generators(), periods):  # a few loops
+    for (eidx, sign), p in zip(loops, gained):  # a few loops
         if abs(p) <= period_tol:
             continue
-        tail = np.where(sign > 0, E[eidx, 0], E[eidx, 1])
-        head = np.where(sign > 0, E[eidx, 1], E[eidx, 0])
+        tail = np.where(sign > 0, edges[eidx, 0], edges[eidx, 1])
+        head = np.where(sign > 0, edges[eidx, 1], edges[eidx, 0])
         if np.any(winding_numbers(xy, tail, head, pts) != 0):
             return True
     return False

@@ -20,7 +20,7 @@ from .cleanup import (
     solid_like_parts,
     weld,
 )
-from .clip import FRONT_NZ, REL_GRID, REL_TOL, plane_depth, visible_map
+from .clip import FRONT_NZ, PERIOD_RTOL, REL_GRID, REL_TOL, plane_depth, visible_map
 from .glue import (
     STEP_BAND,
     add_step_bands,
@@ -442,17 +442,15 @@ def _accidental_joints(g: tuple, part: np.ndarray, n_model: int, tol: float) -> 
     (:func:`~.openings.period_around_opening`); blocks that only line up from this view, with
     every loop through the joint running over their own faces, are not joined there.
     """
-    from ..mescher import Mescher
-    from .choose import PERIOD_RTOL
-
     Fm, corner_vertex, xy, Z, bridges, src = g[0], g[1], g[2], g[3], g[6], g[8]
     if not any(j.kind == "bar joint" and j.depth_gap > tol for j in bridges):
         return False
     first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
     first[Fm.reshape(-1)] = corner_vertex
-    m = Mescher.from_corner_depths(Fm, xy[first], Z)
+    xy = xy[first]
+    size = float(np.linalg.norm(np.ptp(xy, axis=0)))
     shown = np.where(src < n_model, part[np.minimum(src, n_model - 1)], -1)
-    return not period_around_opening(m, tol, PERIOD_RTOL * m.scale(), shown)
+    return not period_around_opening(Fm, xy, Z, tol, PERIOD_RTOL * size, shown)
 
 
 def _expectation_warning(report, V, F, C, front) -> None:

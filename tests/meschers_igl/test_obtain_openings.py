@@ -19,7 +19,12 @@ from test_obtain_bar_joints import three_boxes
 from meschers_igl import MescherError
 from meschers_igl.mescher import Mescher
 from meschers_igl.obtain import PERIOD_RTOL, model_to_mescher
-from meschers_igl.obtain.openings import opening_points, period_around_opening, winding_numbers
+from meschers_igl.obtain.openings import (
+    opening_points,
+    period_around_opening,
+    periods,
+    winding_numbers,
+)
 
 UP = np.array([0.0, 0.0, 1.0])
 
@@ -83,7 +88,9 @@ def test_three_box_tribar_winds_around_its_opening(floor):
     assert any(j.kind == "bar joint" for j in report.junctions)
     # on the mescher alone (no 3D parts) the floor, glued where the boxes stand on it, fills
     # the opening; the conversion knows the parts and takes the floor away as a backdrop
-    seen = period_around_opening(m, 1e-9 * m.scale(), PERIOD_RTOL * m.scale())
+    seen = period_around_opening(
+        m.F, m.xy, m.corner_depths(), 1e-9 * m.scale(), PERIOD_RTOL * m.scale()
+    )
     assert seen == (not floor)
 
 
@@ -98,29 +105,27 @@ def _climbing_ring(climb=1.0):
 
 def test_a_climbing_frame_has_its_period_around_the_opening():
     xy, F, Z = _climbing_ring()
-    flat = Mescher.from_corner_depths(F, xy, np.zeros_like(Z))
-    assert not period_around_opening(flat, 1e-9, 1e-6)  # no period at all
+    assert not period_around_opening(F, xy, np.zeros_like(Z), 1e-9, 1e-6)  # no period at all
+    # the loop's period, as the mescher measures it
     ring = Mescher.from_corner_depths(F, xy, Z)
     assert np.abs(ring.periods()).max() == pytest.approx(2 * np.pi)
-    assert period_around_opening(ring, 1e-9, 1e-6)
+    _, gained, _ = periods(F, xy, Z)
+    assert np.allclose(np.abs(gained), np.abs(ring.periods()), atol=1e-12)
+    assert period_around_opening(F, xy, Z, 1e-9, 1e-6)
     # a plate behind, wider than the frame: without the 3D parts it fills the opening; as a
     # part of its own whose box holds the frame (a backdrop), it is taken away
     plate_xy = np.array([[-3.0, -3.0], [3.0, -3.0], [3.0, 3.0], [-3.0, 3.0]])
     plate = np.array([[0, 1, 2], [0, 2, 3]]) + 8
-    both = Mescher.from_corner_depths(
-        np.vstack([F, plate]), np.vstack([xy, plate_xy]), np.vstack([Z, np.full((2, 3), -9.0)])
-    )
-    assert not period_around_opening(both, 1e-9, 1e-6)
+    both = np.vstack([F, plate]), np.vstack([xy, plate_xy]), np.vstack([Z, np.full((2, 3), -9.0)])
+    assert not period_around_opening(*both, 1e-9, 1e-6)
     part = np.r_[np.zeros(F.shape[0], dtype=np.int64), np.ones(2, dtype=np.int64)]
-    assert period_around_opening(both, 1e-9, 1e-6, part)
+    assert period_around_opening(*both, 1e-9, 1e-6, part)
     # a smaller block in front of the opening is no backdrop: the opening is covered
     block_xy = plate_xy / 2.5
-    front = Mescher.from_corner_depths(
-        np.vstack([F, plate]), np.vstack([xy, block_xy]), np.vstack([Z, np.full((2, 3), 9.0)])
-    )
-    assert not period_around_opening(front, 1e-9, 1e-6, part)
+    front = np.vstack([F, plate]), np.vstack([xy, block_xy]), np.vstack([Z, np.full((2, 3), 9.0)])
+    assert not period_around_opening(*front, 1e-9, 1e-6, part)
     # the period alone is not enough: below the tolerance it is round-off
-    assert not period_around_opening(ring, 1e-9, 10.0)
+    assert not period_around_opening(F, xy, Z, 1e-9, 10.0)
 
 
 # box scenes that line up two corner pairs from the view auto chose (and from which the
