@@ -14,6 +14,8 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
+from .faces import _abs_sin
+
 
 def _screen_axes(normals: np.ndarray) -> np.ndarray:
     """(K, 2) unit screen projections of the region normals (the box's edge directions)."""
@@ -404,7 +406,7 @@ def hidden_steps(xy, F, edges, cut, hidden, hidden_edges, normals, region, max_s
             for j, s in enumerate(hidden)
             if j != i
             and any(_near_segment(s[1], hidden[k], 1e3 * tol) for k in on)
-            and abs(_sin(u, s[1] - s[0])) < max_sin
+            and _abs_sin((s[1] - s[0])[None], u[None])[0, 0] < max_sin
         ]
         if not par:
             continue
@@ -425,11 +427,6 @@ def hidden_steps(xy, F, edges, cut, hidden, hidden_edges, normals, region, max_s
         # the half-edge opposite corner c runs c+1 -> c+2
         extra[front] += val[:, [2, 0, 1]] - val[:, [1, 2, 0]]
     return extra if np.any(extra) else None
-
-
-def _sin(u, d) -> float:
-    """The sine of the angle from the unit vector ``u`` to the vector ``d`` (screen)."""
-    return float(u[0] * d[1] - u[1] * d[0]) / max(float(np.hypot(d[0], d[1])), 1e-300)
 
 
 def _near_segment(p, seg, tol: float) -> bool:

@@ -7,7 +7,7 @@ packed together that line up by accident from one view enclose nothing: every po
 loop through them is covered by those same blocks, and nobody sees a bar joint there.
 
 :func:`period_around_opening` tells the two apart on the glued visible surface: a loop with a
-period that winds around a hole of its own connected part's screen silhouette.  The winding
+period that winds around a hole of the surface's screen silhouette (a backdrop taken away).  The winding
 number of a closed chain of directed edges around a point is the sum of the angles its edges
 subtend there, so it needs no ordering of the loop's edges; around an uncovered point it is
 the same for every loop of one homology class (a homotopy on the surface moves the loop only
@@ -22,7 +22,7 @@ from .. import topology as topo
 
 __all__ = ["opening_points", "period_around_opening", "periods", "winding_numbers"]
 
-#: holes smaller than this fraction of their part's silhouette area are slivers between faces
+#: holes smaller than this fraction of the silhouette's area are slivers between faces
 MIN_HOLE_AREA = 1e-5
 
 
@@ -34,7 +34,7 @@ def opening_points(xy: np.ndarray, F: np.ndarray, tol: float) -> np.ndarray:
     xy : (n, 2) float
         Screen positions.
     F : (m, 3) int
-        Triangles (one connected part).
+        Triangles.
     tol : float
         Absolute tolerance: triangles are grown by it before their union, so faces meeting
         along an edge up to round-off leave no slit.
@@ -83,7 +83,7 @@ def winding_numbers(xy: np.ndarray, tail: np.ndarray, head: np.ndarray, pts: np.
     return np.rint(np.arctan2(cross, dot).sum(axis=1) / (2.0 * np.pi)).astype(np.int64)
 
 
-def periods(F: np.ndarray, xy: np.ndarray, Z: np.ndarray) -> tuple[list, np.ndarray]:
+def periods(F: np.ndarray, xy: np.ndarray, Z: np.ndarray) -> tuple[list, np.ndarray, np.ndarray]:
     """The homology loops of the glued surface ``F`` and the depth each gains.
 
     What :meth:`meschers_igl.Mescher.from_corner_depths` and its ``periods()`` give, from the

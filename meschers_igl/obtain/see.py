@@ -159,8 +159,7 @@ def see_model(
         g = _glue_visible(*glue_args)
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
     _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
-    first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
-    first[Fm.reshape(-1)] = corner_vertex
+    first = _corner_of_vertex(Fm, corner_vertex)
     if snap and perceive is None and hidden is not False and not _has_junction(report, tol_abs):
         snapped = _snap_view(V, F, R, tol_abs, rel, bridge, hidden)
         if snapped is not None:
@@ -435,6 +434,14 @@ def _glue_visible(
     return Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge | (sb >= n_model), sb
 
 
+def _corner_of_vertex(Fm: np.ndarray, corner_vertex: np.ndarray) -> np.ndarray:
+    """For each vertex of the glued faces ``Fm``, one corner of the visible map at it (the
+    index its screen position is read at)."""
+    first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
+    first[Fm.reshape(-1)] = corner_vertex
+    return first
+
+
 def _accidental_joints(g: tuple, part: np.ndarray, n_model: int, tol: float) -> bool:
     """Did gluing join bar ends (``"bar joint"`` junctions) into loops that enclose no opening?
 
@@ -445,9 +452,7 @@ def _accidental_joints(g: tuple, part: np.ndarray, n_model: int, tol: float) -> 
     Fm, corner_vertex, xy, Z, bridges, src = g[0], g[1], g[2], g[3], g[6], g[8]
     if not any(j.kind == "bar joint" and j.depth_gap > tol for j in bridges):
         return False
-    first = np.zeros(int(Fm.max()) + 1, dtype=np.int64)
-    first[Fm.reshape(-1)] = corner_vertex
-    xy = xy[first]
+    xy = xy[_corner_of_vertex(Fm, corner_vertex)]
     size = float(np.linalg.norm(np.ptp(xy, axis=0)))
     shown = np.where(src < n_model, part[np.minimum(src, n_model - 1)], -1)
     return not period_around_opening(Fm, xy, Z, tol, PERIOD_RTOL * size, shown)
