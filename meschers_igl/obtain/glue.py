@@ -58,14 +58,15 @@ def interior_edges(Fa: np.ndarray, n: int):
     return h1, h2, he
 
 
-def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None):
+def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None, false_edges=True):
     """Per shared screen edge: glue (continuous or false edge) or cut with an arc.
 
     ``ftol`` (#F,): per model face, the tolerance of its own part (``tol`` relative to the
     part's size, not the scene's): a false edge needs both model edges to coincide on screen
     to their parts' precision, so blocks a hair apart in a large scene are not glued.
     Model faces from ``n_model`` on are riser bands (:func:`add_step_bands`): their edges are
-    never a silhouette, so they take no part in a false edge.
+    never a silhouette, so they take no part in a false edge.  ``false_edges=False`` glues
+    continuous edges only (every depth jump is an occlusion).
     """
     ftol = np.full(F.shape[0], tol) if ftol is None else ftol
     h1, h2, he = interior_edges(Fa, xy.shape[0])
@@ -100,7 +101,7 @@ def classify(xy, Fa, src, Z, C, F, front, tol, ftol=None, n_model=None):
     # a false edge: both sides lie on an edge of their own model face and the nearer side ends
     # there (silhouette or boundary); the farther side may turn a crease whose other face the
     # nearer one hides -- the viewer sees one crease or one flat continuation
-    false_edge = ~continuous & parallel & on1 & on2 & np.where(far1, e2, e1)
+    false_edge = ~continuous & parallel & on1 & on2 & np.where(far1, e2, e1) & false_edges
     # ... unless the near object merely lies in front of the far edge
     sides = EdgeSides(h1, h2, far1, m1, m2, nb1, nb2, e1, e2)
     false_edge &= ~accidental_alignments(xy, Fa, Z, C, F, TT, front, src, sides, false_edge, tol)

@@ -12,6 +12,10 @@ number of a closed chain of directed edges around a point is the sum of the angl
 subtend there, so it needs no ordering of the loop's edges; around an uncovered point it is
 the same for every loop of one homology class (a homotopy on the surface moves the loop only
 over points the surface covers).
+
+A staircase built of separate steps may hide its own courtyard behind its far side: its loop
+then encloses no uncovered point, but it runs through a ring of at least :data:`RING_PARTS`
+parts, where blocks lining up by chance close short loops through two or three.
 """
 
 from __future__ import annotations
@@ -20,10 +24,14 @@ import numpy as np
 
 from .. import topology as topo
 
-__all__ = ["opening_points", "period_around_opening", "periods", "winding_numbers"]
+__all__ = ["RING_PARTS", "opening_points", "period_around_opening", "periods", "winding_numbers"]
 
 #: holes smaller than this fraction of the silhouette's area are slivers between faces
 MIN_HOLE_AREA = 1e-5
+
+#: a loop through at least this many separate parts is a ring of them (the fewest flights a
+#: Penrose staircase turns through is four)
+RING_PARTS = 4
 
 
 def opening_points(xy: np.ndarray, F: np.ndarray, tol: float) -> np.ndarray:
@@ -119,7 +127,8 @@ def period_around_opening(
     tol: float,
     period_tol: float,
     part: np.ndarray | None = None,
-) -> bool:
+    ring: int | None = None,
+) -> bool | None:
     """Does some homology loop of the glued surface with a period wind around an opening?
 
     The openings are the holes of the screen silhouette of the whole surface (a block in front
@@ -142,16 +151,27 @@ def period_around_opening(
     part : (#F,) int, optional
         The 3D model part each face shows (``-1``: a face of no part, e.g. a band added
         between parts).
+    ring : int, optional
+        With ``part``: a loop with a period through faces of at least this many parts counts
+        as well, opening or not -- a ring of separate steps climbing round a courtyard that
+        its own far side hides from this view (Penrose stairs of columns); blocks lining up by
+        chance close short loops through two or three.
 
     Returns
     -------
-    bool
-        False when every loop with a period encloses only the figure's own surface (or the
-        surface has no period).
+    bool or None
+        False when every loop with a period encloses only the figure's own surface; None when
+        the surface has no period.
     """
     loops, gained, edges = periods(F, xy, Z)
     if not np.any(np.abs(gained) > period_tol):
-        return False
+        return None
+    if ring is not None and part is not None:
+        face_edges = topo.edge_topology(F, xy.shape[0])[1]
+        for (eidx, _), p in zip(loops, gained):  # a few loops
+            on = np.isin(face_edges, eidx).any(axis=1)
+            if abs(p) > period_tol and np.unique(part[on & (part >= 0)]).size >= ring:
+                return True
     pts = opening_points(xy, F, tol)
     if part is not None:
         back = _backdrop(xy, F, np.asarray(part), tol)

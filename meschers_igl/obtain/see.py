@@ -35,7 +35,7 @@ from .glue import (
     stuck_cuts,
 )
 from .junctions import closed_surface
-from .openings import period_around_opening
+from .openings import RING_PARTS, period_around_opening
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame
 from .records import ConversionReport, VisibleModel
 from .stairs import glue_step_junctions, step_junctions
@@ -155,8 +155,8 @@ def see_model(
     ftol = _part_tolerances(V, F, part, tol_abs, rel)
     glue_args = (xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report)
     g = _glue_visible(*glue_args, joints)
-    if joints and _accidental_joints(g, part, F.shape[0], tol_abs):  # blocks lined up by chance
-        g = _glue_visible(*glue_args)
+    if perceive is None and _lined_up_by_chance(g, part, F.shape[0], tol_abs):
+        g = _glue_visible(*glue_args, plain=True)
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
     _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
     first = _corner_of_vertex(Fm, corner_vertex)
@@ -377,17 +377,35 @@ def _part_tolerances(V, F, part, tol_abs, rel):
 
 
 def _glue_visible(
-    xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report, joints=None
+    xy,
+    Fa,
+    src,
+    pl_all,
+    C,
+    F,
+    N,
+    front,
+    tol_abs,
+    ftol,
+    bridge,
+    perceive,
+    report,
+    joints=None,
+    plain=False,
 ):
     """Classify, bridge, perceive and glue the visible map; occlusion edges still glued through
-    their end fans are split and the map glued again (at most 4 passes).
+    their end fans are split and the map glued again (at most 4 passes).  ``plain``: no false
+    edges and no hidden gaps bridged (steps are still joined).
 
     Returns (Fm, corner_vertex, xy, Z, arcs, false_edges, bridges, is_bridge, source)."""
+    bridge = bridge and not plain
     E = axes_model = None
     n_model, model, steps = F.shape[0], (C, F), perceive is None
     for _ in range(5):  # occlusion edges that stay glued through their end fans get split
         Z = plane_depth(xy[Fa], pl_all[src][:, None, :])
-        glue, arcs, fe = classify(xy, Fa, src, Z, C, F, front, tol_abs, ftol, n_model)
+        glue, arcs, fe = classify(
+            xy, Fa, src, Z, C, F, front, tol_abs, ftol, n_model, false_edges=not plain
+        )
         if steps:  # once: steps with a hidden riser get their riser band, then glue again
             steps = False
             hf, near = hidden_step_edges(xy, Fa, src, pl_all, C, F, N, front, glue, tol_abs)
@@ -442,20 +460,26 @@ def _corner_of_vertex(Fm: np.ndarray, corner_vertex: np.ndarray) -> np.ndarray:
     return first
 
 
-def _accidental_joints(g: tuple, part: np.ndarray, n_model: int, tol: float) -> bool:
-    """Did gluing join bar ends (``"bar joint"`` junctions) into loops that enclose no opening?
+def _lined_up_by_chance(g: tuple, part: np.ndarray, n_model: int, tol: float) -> bool:
+    """Did gluing join parts that only line up from this view: a period from false edges, bar
+    joints or hidden gaps, with no loop around an opening?
 
-    A chain of bars joined end to end is read as a frame around a window
-    (:func:`~.openings.period_around_opening`); blocks that only line up from this view, with
-    every loop through the joint running over their own faces, are not joined there.
+    A closed chain of bars is read as a frame around a window
+    (:func:`~.openings.period_around_opening`); blocks that merely line up from this view, with
+    every loop through the joint running over their own faces, are not joined there.  Without
+    bar joints, a loop through a ring of parts counts too (steps round a courtyard their far
+    side hides); step junctions (a staircase climbing round a floored courtyard) are kept by
+    the plain gluing.
     """
-    Fm, corner_vertex, xy, Z, bridges, src = g[0], g[1], g[2], g[3], g[6], g[8]
-    if not any(j.kind == "bar joint" and j.depth_gap > tol for j in bridges):
+    Fm, corner_vertex, xy, Z, fe, bridges, src = g[0], g[1], g[2], g[3], g[5], g[6], g[8]
+    kinds = {j.kind for j in false_edge_junctions(xy, fe) + bridges if j.depth_gap > tol}
+    if not kinds - {"occluded continuation"}:
         return False
     xy = xy[_corner_of_vertex(Fm, corner_vertex)]
     size = float(np.linalg.norm(np.ptp(xy, axis=0)))
     shown = np.where(src < n_model, part[np.minimum(src, n_model - 1)], -1)
-    return not period_around_opening(Fm, xy, Z, tol, PERIOD_RTOL * size, shown)
+    ring = None if "bar joint" in kinds else RING_PARTS  # bar ends joined: a frame's window
+    return period_around_opening(Fm, xy, Z, tol, PERIOD_RTOL * size, shown, ring) is False
 
 
 def _expectation_warning(report, V, F, C, front) -> None:

@@ -105,7 +105,7 @@ def _climbing_ring(climb=1.0):
 
 def test_a_climbing_frame_has_its_period_around_the_opening():
     xy, F, Z = _climbing_ring()
-    assert not period_around_opening(F, xy, np.zeros_like(Z), 1e-9, 1e-6)  # no period at all
+    assert period_around_opening(F, xy, np.zeros_like(Z), 1e-9, 1e-6) is None  # no period
     # the loop's period, as the mescher measures it
     ring = Mescher.from_corner_depths(F, xy, Z)
     assert np.abs(ring.periods()).max() == pytest.approx(2 * np.pi)
@@ -117,15 +117,15 @@ def test_a_climbing_frame_has_its_period_around_the_opening():
     plate_xy = np.array([[-3.0, -3.0], [3.0, -3.0], [3.0, 3.0], [-3.0, 3.0]])
     plate = np.array([[0, 1, 2], [0, 2, 3]]) + 8
     both = np.vstack([F, plate]), np.vstack([xy, plate_xy]), np.vstack([Z, np.full((2, 3), -9.0)])
-    assert not period_around_opening(*both, 1e-9, 1e-6)
+    assert period_around_opening(*both, 1e-9, 1e-6) is False
     part = np.r_[np.zeros(F.shape[0], dtype=np.int64), np.ones(2, dtype=np.int64)]
     assert period_around_opening(*both, 1e-9, 1e-6, part)
     # a smaller block in front of the opening is no backdrop: the opening is covered
     block_xy = plate_xy / 2.5
     front = np.vstack([F, plate]), np.vstack([xy, block_xy]), np.vstack([Z, np.full((2, 3), 9.0)])
-    assert not period_around_opening(*front, 1e-9, 1e-6, part)
+    assert period_around_opening(*front, 1e-9, 1e-6, part) is False
     # the period alone is not enough: below the tolerance it is round-off
-    assert not period_around_opening(F, xy, Z, 1e-9, 10.0)
+    assert period_around_opening(F, xy, Z, 1e-9, 10.0) is None
 
 
 # box scenes that line up two corner pairs from the view auto chose (and from which the
