@@ -527,9 +527,11 @@ def bridges_blocked(V: np.ndarray, F: np.ndarray, R: np.ndarray, pairs: list) ->
     """Does the bridge :func:`junction_at` would build for each pair from view ``R`` run
     through a solid?
 
-    The bridge's axis, ``c0 + s l d`` for ``s`` in (1/4, 1/2, 3/4) with ``c0`` the first cap's
-    centroid and ``T = l d + g v`` solved in least squares, is blocked where libigl's
-    generalized winding number exceeds 1/2.  One winding-number call for all pairs: its
+    The bridge's axis, ``c0 + s l d`` for ``s`` in (1/1000, 1/4, 1/2, 3/4) with ``c0`` the
+    first cap's centroid and ``T = l d + g v`` solved in least squares, is blocked where
+    libigl's generalized winding number exceeds 1/2.  So is a pair either of whose caps rests
+    on another part (a tower standing on its ground slab: just outside the flat cap, a
+    thousandth of ``l`` along its normal, lies a solid): that end is not broken off.  One winding-number call for all pairs: its
     set-up is what a call costs, so judging a scene's thousands of pairs one by one grew
     with pairs times faces.
 
@@ -557,7 +559,14 @@ def bridges_blocked(V: np.ndarray, F: np.ndarray, R: np.ndarray, pairs: list) ->
     ell = (np.linalg.pinv(M, 3.0 * np.finfo(np.float64).eps) @ T[:, :, None])[:, 0, 0]
     c0 = np.array([V[pairs[i].first.loop].mean(axis=0) for i in k])
     axis = c0[:, None] + np.array([0.25, 0.5, 0.75])[None, :, None] * (ell[:, None] * d)[:, None]
-    w = winding_numbers(V, F, axis.reshape(-1, 3)).reshape(-1, 3)
+    c1 = np.array([V[pairs[i].second.loop].mean(axis=0) for i in k])
+    n0 = np.array([pairs[i].first.normal for i in k])
+    n1 = np.array([pairs[i].second.normal for i in k])
+    past = 1e-3 * np.abs(ell)[:, None]
+    rests = np.stack([c0 + past * n0, c1 + past * n1], axis=1)  # (k, 2, 3)
+    w = winding_numbers(V, F, np.concatenate([axis, rests], axis=1).reshape(-1, 3)).reshape(-1, 5)
+    flat = np.array([[pairs[i].first.flat, pairs[i].second.flat] for i in k])
+    w[:, 3:] *= flat  # past a shaped end's loop lies its own point or roof
     out[k] = np.any(np.abs(w) > 0.5, axis=1)
     return out
 

@@ -140,3 +140,31 @@ def test_a_loop_with_no_opening_counts_only_through_a_ring_of_parts(n_parts, kep
     assert period_around_opening(F, xy, Z, 1e-9, 1e-6, part, RING_PARTS) is kept
     flat = np.zeros_like(Z)  # no period: nothing to keep, whatever the parts
     assert period_around_opening(F, xy, flat, 1e-9, 1e-6, part, RING_PARTS) is None
+
+
+def _city():
+    """Nine towers of heights 1..4 on a 3 x 3 grid (spacing 2) standing on a ground slab."""
+    towers = [
+        box_mesh([2 * x, 2 * y, 0], [2 * x + 1, 2 * y + 1, 1 + (7 * x + 3 * y) % 4])
+        for x in range(3)
+        for y in range(3)
+    ]
+    return merge_meshes([*towers, box_mesh([-1, -1, -0.1], [6, 6, 0])])
+
+
+def test_towers_standing_on_a_slab_are_not_broken_bars():
+    """Seen from below along (0, -20, -21): a tower's top and another's foot, standing on the
+    slab, are congruent caps lined up on screen 2.9 apart in depth, the foot hidden by the slab.
+    A foot resting on the slab is no end of a broken bar: nothing is bridged, the city is
+    possible (in zeta and in its order) from there and from ``view="auto"``."""
+    V, F = _city()
+    v = np.array([0.0, -20.0, -21.0]) / 29.0
+    m, order, report = _convert(V, F, v)
+    assert not [j for j in report.junctions if j.kind == "hidden gap"]
+    assert not m.is_impossible(order=order)
+    try:
+        m, order, _ = _convert(V, F, "auto")
+    except MescherError as err:
+        assert str(err).startswith(("view:", "V:"))
+        return
+    assert not m.is_impossible(order=order)
