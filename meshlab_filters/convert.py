@@ -152,7 +152,7 @@ def model_to_mescher(
     report : meschers_igl.obtain.ConversionReport
         Junctions with their depth gaps, arcs, repairs (clean-up included), warnings, the view.
     """
-    from meschers_igl.obtain import drop_contact_faces, weld
+    from meschers_igl.obtain import drop_contact_faces, drop_repeated_faces, weld
     from meschers_igl.obtain import model_to_mescher as core_model_to_mescher
 
     from .cleanup import clean_mesh
@@ -171,9 +171,17 @@ def model_to_mescher(
             )
         diag = float(np.linalg.norm(np.ptp(V0, axis=0)))
         V0, F0, n_w = weld(V0, F0, max(merge_tol, 1e-9 * diag))
+        F0, n_r = drop_repeated_faces(F0)
         F0, n_c = drop_contact_faces(F0)
+        if F0.shape[0] == 0:
+            raise MescherError(
+                f"path: expected faces left after clean-up in '{path_or_V_F}', found none (every "
+                "face lies on another, facing it)"
+            )
         if n_w:
             pre.append(f"welded {n_w} vertex(es) that coincide in 3D (before PyMeshLab)")
+        if n_r:
+            pre.append(f"removed {n_r} repeated face(s) (a part duplicated in place)")
         if n_c:
             pre.append(f"removed {n_c} pair(s) of coincident opposite faces (blocks touching)")
         # blocks that touch along an edge keep every face (their vertices split, then welded

@@ -27,7 +27,7 @@ What a step hands the next is a typed record (:mod:`.records`): :class:`Junction
 from __future__ import annotations
 
 from .choose import PERIOD_RTOL, ROUTES, Obtained, drop_small_periods, obtain
-from .cleanup import drop_contact_faces, orient_outward, solid_like_parts, weld
+from .cleanup import drop_contact_faces, drop_repeated_faces, orient_outward, solid_like_parts, weld
 from .junctions import BarEnds, bar_end_pairs, close_junctions
 from .perceive import model_face_axes, perceive_manhattan, perceived_frame, snap_to_manhattan
 from .records import ConversionReport, EdgeSides, FalseEdges, Glue, Junction, VisibleModel
@@ -50,6 +50,7 @@ __all__ = [
     "close_junctions",
     "cut_model_to_mescher",
     "drop_contact_faces",
+    "drop_repeated_faces",
     "drop_small_periods",
     "find_model_view",
     "find_view",

@@ -38,6 +38,28 @@ def weld(V: np.ndarray, F: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarr
     return Vw[used], new[Fw[ok]], n - k
 
 
+def drop_repeated_faces(F: np.ndarray) -> tuple[np.ndarray, int]:
+    """Keep one of each set of faces with the same corners in the same cyclic order.
+
+    A part duplicated in place (a copy left where it was made) repeats every face with its
+    orientation; :func:`drop_contact_faces` would take both copies for blocks touching face to
+    face and remove the part.  Faces of opposite orientation are left to it.
+
+    Returns
+    -------
+    F : (#F', 3) int64
+        The first face of each repeated set kept, the input's order otherwise.
+    n_repeats : int
+        Faces removed.
+    """
+    if F.shape[0] == 0:
+        return F, 0
+    r = np.argmin(F, axis=1)  # each face from its smallest corner: its cyclic order kept
+    R = np.take_along_axis(F, (r[:, None] + np.arange(3)) % 3, axis=1)
+    _, first = np.unique(R, axis=0, return_index=True)
+    return F[np.sort(first)], F.shape[0] - first.size
+
+
 def drop_contact_faces(F: np.ndarray) -> tuple[np.ndarray, int]:
     """Remove faces whose vertex set appears more than once (two blocks touching face to face).
 

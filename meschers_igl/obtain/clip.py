@@ -150,7 +150,8 @@ def split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: floa
     """Split faces whose edges pass through other vertices (T-junctions), as fans.
 
     Only edges with a single incident face can carry a T-junction in a planar map; each pass
-    splits one such edge per face at all vertices lying on it, until none is left.
+    splits one such edge per face at all vertices lying on it (within ``tol`` of it and more
+    than ``tol`` along it from both ends), until none is left.
     """
     tree = cKDTree(xy)
     for _ in range(64):  # each pass removes the T-junctions of one edge per face
@@ -176,9 +177,14 @@ def split_t_junctions(xy: np.ndarray, Ft: np.ndarray, src: np.ndarray, tol: floa
                 # tol of the base, and splitting there would repeat a corner
                 if v == p or v == q or v == Ft[f, k]:
                     continue
+                # and a vertex within tol of an end, along the edge, is at that corner: split
+                # there, a few points a tol apart split each other's edges back and forth
                 w = xy[v] - xy[p]
                 t = float(w @ d) / L2
-                if 0.0 < t < 1.0 and abs(w[0] * d[1] - w[1] * d[0]) / np.sqrt(L2) <= tol:
+                margin = tol / np.sqrt(L2)
+                if margin < t < 1.0 - margin and abs(w[0] * d[1] - w[1] * d[0]) <= tol * np.sqrt(
+                    L2
+                ):
                     on.append((t, v))
             if on:
                 split[f] = (k, [v for _, v in sorted(on)])

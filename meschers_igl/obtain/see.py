@@ -13,6 +13,7 @@ from .amodal import bridge_hidden_gaps
 from .bar_joints import coincident_gaps, corner_vertices, join_ends, prepare_joints
 from .cleanup import (
     drop_contact_faces,
+    drop_repeated_faces,
     manifold_notes,
     open_faces,
     orient_outward,
@@ -317,10 +318,18 @@ def _clean(V, F, tol_abs, report):
     V, F, n_merged = weld(V, F, 0.5 * tol_abs)
     if n_merged:
         report.repairs.append(f"welded {n_merged} vertex(es) that coincide in 3D")
+    F, n_repeat = drop_repeated_faces(F)
+    if n_repeat:
+        report.repairs.append(f"removed {n_repeat} repeated face(s) (a part duplicated in place)")
     F, n_contact = drop_contact_faces(F)
     if n_contact:
         report.repairs.append(
             f"removed {n_contact} pair(s) of coincident opposite faces (blocks touching)"
+        )
+    if F.shape[0] == 0:
+        raise MescherError(
+            "F: expected faces left after clean-up, found none (every face lies on another, "
+            "facing it: a sheet of two sides or a degenerate model)"
         )
     F, n_flip, part = orient_outward(V, F)
     if n_flip:
