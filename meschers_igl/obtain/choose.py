@@ -12,7 +12,7 @@ use it without an import circle).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -30,6 +30,10 @@ __all__ = ["PERIOD_RTOL", "ROUTES", "Obtained", "drop_small_periods", "obtain"]
 
 #: Routes the door takes ("auto": decided from the model).
 ROUTES = ("auto", "cut", "seen")
+
+#: A model whose box centre lies more than this many box diagonals from the origin is seen from
+#: its centre (:func:`obtain`).
+FAR = 4.0
 
 
 @dataclass(frozen=True)
@@ -99,6 +103,13 @@ def obtain(
 ) -> Obtained:
     """Pick the route for a model and obtain its arrays (see the module docstring).
 
+    A model whose bounding box's centre ``c`` lies more than :data:`FAR` diagonals from the
+    origin (as in the scene it was exported from) is seen from ``c``: so far out, every plane
+    and cross product would lose the digits its junctions are told by.  The screen positions
+    (arrays and junctions) are moved back after, ``+ (R c)[:2]``; depths are relative and do
+    not move.  (Nearer models are left where they are: a translation is exact only up to
+    rounding, and their results stay bit for bit those of their own coordinates.)
+
     Parameters are those of :func:`meschers_igl.obtain.route.model_to_mescher`.
     """
     if route not in ROUTES:
@@ -107,6 +118,21 @@ def obtain(
         raise MescherError(f"hidden: expected 'auto', True or False, found {hidden!r}")
     V = as_points(V, "V", 3)
     F = as_faces(F, "F", V.shape[0])
+    centre = 0.5 * (V.min(axis=0) + V.max(axis=0)) if V.shape[0] else np.zeros(3)
+    if np.linalg.norm(centre) <= FAR * np.linalg.norm(np.ptp(V, axis=0)):
+        centre = np.zeros(3)
+    got = _obtain(V - centre, F, view, up, perceive, tol, bridge, hidden, view_start, route)
+    report = got.report
+    R = view_frame(view, up) if report.view is None else view_frame(report.view, report.up)
+    shift = (R @ centre)[:2]
+    report.junctions = [replace(j, position=j.position + shift) for j in report.junctions]
+    if got.cut is not None:
+        return replace(got, cut=replace(got.cut, xy=got.cut.xy + shift))
+    return replace(got, seen=replace(got.seen, xy=got.seen.xy + shift))
+
+
+def _obtain(V, F, view, up, perceive, tol, bridge, hidden, view_start, route) -> Obtained:
+    """:func:`obtain` on checked arrays."""
     auto_view = isinstance(view, str)
     if route == "cut" or (route == "auto" and perceive is None and not auto_view and hidden):
         if route == "cut" and (auto_view or perceive is not None):
