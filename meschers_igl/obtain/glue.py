@@ -48,13 +48,26 @@ def flat_edges(C: np.ndarray, F: np.ndarray, s: np.ndarray, nb: np.ndarray, tol:
 
 
 def interior_edges(Fa: np.ndarray, n: int):
-    """(pairs of faces sharing an edge, the edge's vertices, corner index in each face)."""
+    """(pairs of faces sharing an edge, the edge's vertices, corner index in each face).
+
+    Each half-edge pairs with at most one running the other way: the ``r``-th of an edge's
+    half-edges one way (in face order) with its ``r``-th the other way.  An edge of two faces
+    gives one pair; where faces overlap along an edge (a sliver left by clipping, a strip laid
+    over a face), pairing more would glue one half-edge to two others (a non-manifold edge)
+    or two running the same way (each end of the edge to the other).
+    """
     he = np.stack([Fa[:, [1, 2]], Fa[:, [2, 0]], Fa[:, [0, 1]]], axis=1).reshape(-1, 2)
     key = np.minimum(he[:, 0], he[:, 1]) * n + np.maximum(he[:, 0], he[:, 1])
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    same = np.flatnonzero(ks[1:] == ks[:-1])
-    h1, h2 = order[same], order[same + 1]
+    way = he[:, 0] < he[:, 1]
+    order = np.lexsort((way, key))  # by edge, then way; face order kept within each
+    ks, ws = key[order], way[order]
+    new = np.r_[True, (ks[1:] != ks[:-1]) | (ws[1:] != ws[:-1])]
+    first = np.flatnonzero(new)
+    rank = np.arange(ks.size) - first[np.cumsum(new) - 1]
+    o2 = np.lexsort((ws, rank, ks))  # the r-th of each way side by side
+    k2, r2, w2 = ks[o2], rank[o2], ws[o2]
+    same = np.flatnonzero((k2[1:] == k2[:-1]) & (r2[1:] == r2[:-1]) & (w2[1:] != w2[:-1]))
+    h1, h2 = order[o2[same]], order[o2[same + 1]]
     return h1, h2, he
 
 

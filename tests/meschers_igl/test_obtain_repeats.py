@@ -20,6 +20,7 @@ from visible_models import ISO_UP, ISO_VIEW
 from meschers_igl import MescherError
 from meschers_igl.obtain import drop_contact_faces, drop_repeated_faces, model_to_mescher
 from meschers_igl.obtain.clip import split_t_junctions
+from meschers_igl.obtain.glue import interior_edges
 
 
 def test_repeats_in_any_rotation_keep_one_and_opposites_are_left():
@@ -96,3 +97,48 @@ def test_points_a_tolerance_apart_do_not_split_each_other_back_and_forth():
     F = np.array([[0, 1, 2], [3, 2, 4]])
     Ft, _ = split_t_junctions(xy, F, np.zeros(2, dtype=np.int64), 1.0)
     np.testing.assert_allclose(np.abs(_area(xy, Ft)).sum(), np.abs(_area(xy, F)).sum(), rtol=1e-12)
+
+
+def test_half_edges_pair_once_and_only_against_each_other():
+    """An edge (0, 1) of k faces: the r-th half-edge one way pairs with the r-th the other way,
+    each at most once; two faces on one side of it (overlapping) do not pair."""
+    cases = {
+        "two opposite": ([[0, 1, 2], [1, 0, 3]], 1),
+        "two one way": ([[0, 1, 2], [0, 1, 3]], 0),
+        "three": ([[0, 1, 2], [1, 0, 3], [0, 1, 4]], 1),
+        "two and two": ([[0, 1, 2], [0, 1, 4], [1, 0, 3], [1, 0, 5]], 2),
+    }
+    for name, (F, pairs) in cases.items():
+        F = np.asarray(F)
+        h1, h2, he = interior_edges(F, 6)
+        on = (np.sort(he[h1], axis=1) == [0, 1]).all(axis=1)
+        assert on.sum() == pairs, name
+        assert np.all(he[h1, 0] == he[h2, 1]) and np.all(he[h1, 1] == he[h2, 0]), name
+        both = np.concatenate([h1, h2])
+        assert np.unique(both).size == both.size, name  # each half-edge at most once
+
+
+def test_a_scene_of_tori_an_icosahedron_and_a_cylinder_converts():
+    """Primitives merged as a scene (two tori, an icosahedron, a tilted cylinder), seen from a
+    view where clipping leaves three faces along one screen edge: a possible mescher (the
+    gluing once made that edge non-manifold and the conversion was refused)."""
+    import pyvista as pv
+
+    parts = [
+        pv.ParametricTorus(ringradius=1, crosssectionradius=0.3).translate((-2.618, 2.278, -1.003)),
+        pv.ParametricTorus(ringradius=1, crosssectionradius=0.3).translate((2.841, 2.062, -1.63)),
+        pv.Icosahedron(center=(-1.908, -2.586, 2.566)),
+        pv.Cylinder(
+            center=(-1.891, 2.045, -2.4),
+            direction=(0.06723839, 0.92483598, -0.17351975),
+            radius=0.4713807413583951,
+            height=1.515828296730119,
+            resolution=15,
+        ),
+    ]
+    m = pv.merge([p.extract_surface(algorithm=None).triangulate() for p in parts])
+    V = np.asarray(m.points, float)
+    F = np.asarray(m.faces).reshape(-1, 4)[:, 1:]
+    view = np.array([1.42079579, -1.35987168, -1.32479679])
+    mm, order, _ = _convert(V, F, view / np.linalg.norm(view), (0.0, 0.0, 1.0))
+    assert not mm.is_impossible(order=order)
