@@ -2,8 +2,9 @@
 
 Every model of the test suites (and, when the development set of real files is present, each
 of its files) is perturbed the ways real files differ from clean ones -- vertex jitter at 1e-6
-and 1e-3 of the size, dropped faces, flipped faces, duplicated parts, quads split along the
-other diagonal -- and converted through the one door from its view.  The outcome must be a
+and 1e-3 of the size, dropped faces, flipped faces, duplicated parts (moved, or left in
+place), the model moved a thousand sizes away, quads split along the other diagonal -- and
+converted through the one door from its view.  The outcome must be a
 valid mescher whose verdict agrees with its periods, or a ``MescherError``.  A seeded subset
 runs by default; ``MESCHERS_FUZZ=200`` runs 200 perturbations per model.
 
@@ -28,7 +29,7 @@ from meschers_igl.obtain import PERIOD_RTOL, model_to_mescher
 
 REAL = Path(__file__).resolve().parents[3] / "shared" / "real_models"
 N_FUZZ = int(os.environ.get("MESCHERS_FUZZ", "6"))
-KINDS = ("jitter6", "jitter3", "drop", "flip", "duplicate", "resplit")
+KINDS = ("jitter6", "jitter3", "drop", "flip", "duplicate", "inplace", "far", "resplit")
 
 
 def _suite():
@@ -97,6 +98,10 @@ def perturb(V, F, kind, seed):
     if kind == "duplicate":
         shift = rng.normal(size=3) * size
         return np.vstack([V, V + shift]), np.vstack([F, F + V.shape[0]])
+    if kind == "inplace":  # a copy left where it was made
+        return np.vstack([V, V]), np.vstack([F, F + V.shape[0]])
+    if kind == "far":  # placed far out in the scene it was exported from
+        return V + rng.normal(size=3) * 1e3 * size, F
     return V, _resplit(V, F, rng)
 
 
@@ -129,7 +134,12 @@ SUITE = _suite()
 def test_perturbed_suite_models_convert_or_refuse(name, kind, seed):
     V, F, view, up = SUITE[name]
     Vp, Fp = perturb(V, F, kind, seed)
-    _convert(Vp, Fp, view, up)
+    out = _convert(Vp, Fp, view, up)
+    if kind in ("inplace", "far"):  # the same picture: the same verdict and periods
+        m0, _ = _convert(V, F, view, up)
+        assert out is not None and bool(out[0].is_impossible()) == bool(m0.is_impossible())
+        p0, p1 = np.abs(np.asarray(m0.periods())), np.abs(np.asarray(out[0].periods()))
+        assert np.isclose(p1.max(initial=0.0), p0.max(initial=0.0), rtol=1e-6)
 
 
 @pytest.mark.skipif(not REAL.is_dir(), reason="the development set of real models is absent")
