@@ -67,31 +67,107 @@ def clip_occluded(T: np.ndarray, pl: np.ndarray, tol: float, grid: float):
         return [], involved
     i, j = pairs[:, 0], pairs[:, 1]
     dz = plane_depth(cen, pl[j]) - plane_depth(cen, pl[i])
-    # the farther face of each overlapping pair is clipped by the nearer one
-    back = np.where(dz > 0, i, j)
-    front = np.where(dz > 0, j, i)
-    keep = (
-        np.abs(dz) > tol
-    )  # faces crossing in 3D at the overlap: leave to the z-order of centroids
-    back, front = back[keep], front[keep]
     involved[i] = involved[j] = True
     # only faces that overlap something go through shapely (on the fixed grid)
     polys = np.empty(T.shape[0], dtype=object)
     inv_ids = np.flatnonzero(involved)
     polys[inv_ids] = shapely.set_precision(shapely.polygons(T[inv_ids]), grid)
+    # faces that cross in 3D (interpenetrating parts): each is hidden only where the other is
+    # nearer, the overlap cut along the line where their planes meet
+    cross = _crossing_pairs(T, pl, i, j, tol)
+    cb, cf, cocc = _crossing_occluders(polys, pl, i[cross], j[cross], dz[cross], tol, grid)
+    # the farther face of every other overlapping pair is clipped by the nearer one
+    keep = (np.abs(dz) > tol) & ~cross  # coplanar overlaps: neither hides the other
+    back = np.r_[np.where(dz > 0, i, j)[keep], cb]
+    front = np.r_[np.where(dz > 0, j, i)[keep], cf]
+    occ = np.empty(back.size, dtype=object)
+    occ[: back.size - cb.size] = polys[front[: back.size - cb.size]]
+    occ[back.size - cb.size :] = cocc
     # visible part = face minus each face in front of it, one vectorised GEOS pass per rank
     # (the k-th occluder of every face at once): no Python loop over faces
     order = np.argsort(back, kind="stable")
-    back, front = back[order], front[order]
+    back, occ = back[order], occ[order]
     starts = np.flatnonzero(np.r_[True, back[1:] != back[:-1]])
     rank = np.arange(back.size) - np.repeat(starts, np.diff(np.r_[starts, back.size]))
     vis = polys.copy()
     for r in range(int(rank.max(initial=-1)) + 1):  # as many passes as the most occluders
         sel = rank == r
         b = back[sel]
-        vis[b] = polygonal_only(shapely.difference(vis[b], polys[front[sel]], grid_size=grid))
+        vis[b] = polygonal_only(shapely.difference(vis[b], occ[sel], grid_size=grid))
     pieces = [(int(f), vis[f]) for f in inv_ids.tolist()]
     return pieces, involved
+
+
+def _crossing_pairs(T, pl, i, j, tol) -> np.ndarray:
+    """(k,) bool: overlapping pairs whose depth difference may change sign where they overlap.
+
+    ``T`` (n, 3, 2) screen triangles, ``pl`` their depth planes.  ``z_j - z_i`` is affine on
+    the screen, so on each triangle it ranges between its values at the corners; the overlap
+    lies in both, so a sign change there needs both ranges to hold values beyond ``tol`` on
+    either side.
+    """
+    coef = (pl[j] - pl[i])[:, None, :]  # z_j - z_i = coef . (x, y, 1)
+    di, dj = plane_depth(T[i], coef), plane_depth(T[j], coef)
+    lo = np.maximum(di.min(axis=1), dj.min(axis=1))
+    hi = np.minimum(di.max(axis=1), dj.max(axis=1))
+    return (lo < -tol) & (hi > tol)
+
+
+def _crossing_occluders(polys, pl, i, j, dzc, tol, grid):
+    """For faces ``i``, ``j`` that may cross in 3D: (back, front, occluder polygon) entries,
+    ``i`` hidden by the part of the overlap where ``j`` is nearer and ``j`` by the rest.  Pairs
+    whose overlap after all lies on one side are one entry, the nearer face hiding the other;
+    an overlap grid snapping leaves without area is left to the depths at its centroid
+    (``dzc = z_j - z_i`` there), as any overlapping pair."""
+    import shapely
+
+    back, front, occ = [], [], []
+    if i.size == 0:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, dtype=object)
+    over = shapely.intersection(polys[i], polys[j], grid_size=grid)
+    for a, b, o, d in zip(i.tolist(), j.tolist(), over, dzc.tolist()):  # crossing: few
+        o = shapely.convex_hull(o)  # two triangles overlap in a convex polygon
+        coef = pl[b] - pl[a]  # z_b - z_a = coef . (x, y, 1)
+        n = len(occ)
+        for far, near, sign in ((a, b, 1.0), (b, a, -1.0)):
+            part = _half_plane(o, sign * coef, tol)
+            if part is not None:
+                part = shapely.set_precision(part, grid)
+                if not part.is_empty and part.area > 0:
+                    back.append(far)
+                    front.append(near)
+                    occ.append(part)
+        if len(occ) == n and abs(d) > tol:
+            back.append(a if d > 0 else b)
+            front.append(b if d > 0 else a)
+            occ.append(polys[b if d > 0 else a])
+    out = np.empty(len(occ), dtype=object)
+    out[:] = occ
+    return np.asarray(back, np.int64), np.asarray(front, np.int64), out
+
+
+def _half_plane(poly, coef, tol):
+    """The part of the convex polygon ``poly`` where ``coef . (x, y, 1) > 0`` (None if none)."""
+    import shapely
+
+    ring = np.asarray(poly.exterior.coords)[:-1] if hasattr(poly, "exterior") else None
+    if ring is None or ring.shape[0] < 3:
+        return None
+    d = ring @ coef[:2] + coef[2]
+    if np.all(d <= tol):
+        return None
+    if np.all(d >= -tol):
+        return poly
+    # Sutherland-Hodgman against one line: the corners on the positive side and the points
+    # where the edges cross the line, in order (a few corners)
+    out = []
+    for k in range(ring.shape[0]):
+        p, q, dp, dq = ring[k], ring[(k + 1) % ring.shape[0]], d[k], d[(k + 1) % ring.shape[0]]
+        if dp > 0:
+            out.append(p)
+        if (dp > 0) != (dq > 0):
+            out.append(p + (q - p) * (dp / (dp - dq)))
+    return shapely.Polygon(out) if len(out) >= 3 else None
 
 
 def triangulate_pieces(pieces, grid: float):

@@ -156,8 +156,9 @@ def see_model(
     ftol = _part_tolerances(V, F, part, tol_abs, rel)
     glue_args = (xy, Fa, src, pl_all, C, F, N, front, tol_abs, ftol, bridge, perceive, report)
     g = _glue_visible(*glue_args, joints)
-    if perceive is None and _lined_up_by_chance(g, part, F.shape[0], tol_abs):
-        g = _glue_visible(*glue_args, plain=True)
+    chance = _lined_up_by_chance(g, part, F.shape[0], tol_abs) if perceive is None else None
+    if chance is not None:  # blocks lined up by chance: glued again without what joined them
+        g = _glue_visible(*glue_args, plain=chance == "plain")
     Fm, corner_vertex, xy, Zb, arcs, fe, bridges, is_bridge, sb = g
     _visible_report(report, false_edge_junctions(xy, fe) + bridges, arcs, is_bridge, sb, perceive)
     first = _corner_of_vertex(Fm, corner_vertex)
@@ -469,9 +470,11 @@ def _corner_of_vertex(Fm: np.ndarray, corner_vertex: np.ndarray) -> np.ndarray:
     return first
 
 
-def _lined_up_by_chance(g: tuple, part: np.ndarray, n_model: int, tol: float) -> bool:
-    """Did gluing join parts that only line up from this view: a period from false edges, bar
-    joints or hidden gaps, with no loop around an opening?
+def _lined_up_by_chance(g: tuple, part: np.ndarray, n_model: int, tol: float) -> str | None:
+    """Did gluing join parts that only line up from this view?  ``"plain"``: a period from
+    false edges, bar joints or hidden gaps, with no loop around an opening (glue again without
+    them); ``"joints"``: bar joints that close no loop with a period (glue again without the
+    joints: a joint is read only as part of a frame); None: keep the gluing.
 
     A closed chain of bars is read as a frame around a window
     (:func:`~.openings.period_around_opening`); blocks that merely line up from this view, with
@@ -483,12 +486,15 @@ def _lined_up_by_chance(g: tuple, part: np.ndarray, n_model: int, tol: float) ->
     Fm, corner_vertex, xy, Z, fe, bridges, src = g[0], g[1], g[2], g[3], g[5], g[6], g[8]
     kinds = {j.kind for j in false_edge_junctions(xy, fe) + bridges if j.depth_gap > tol}
     if not kinds - {"occluded continuation"}:
-        return False
+        return None
     xy = xy[_corner_of_vertex(Fm, corner_vertex)]
     size = float(np.linalg.norm(np.ptp(xy, axis=0)))
     shown = np.where(src < n_model, part[np.minimum(src, n_model - 1)], -1)
     ring = None if "bar joint" in kinds else RING_PARTS  # bar ends joined: a frame's window
-    return period_around_opening(Fm, xy, Z, tol, PERIOD_RTOL * size, shown, ring) is False
+    around = period_around_opening(Fm, xy, Z, tol, PERIOD_RTOL * size, shown, ring)
+    if around is None:
+        return "joints" if "bar joint" in kinds else None
+    return None if around else "plain"
 
 
 def _expectation_warning(report, V, F, C, front) -> None:
