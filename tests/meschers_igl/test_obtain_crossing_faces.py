@@ -129,3 +129,50 @@ def test_each_point_shows_the_nearest_face(name, view):
     z_seen = np.einsum("pk,pk->p", Np[seen[hit]], C[F[seen[hit], 0]])
     z_got = np.einsum("pk,pk->p", Np[seen[hit]], C[F[got[hit], 0]])
     assert np.all(same & np.isclose(z_seen, z_got, atol=1e-9))
+
+
+def _random_scene(rng):
+    """1-6 boxes on a half-unit grid (often overlapping), sometimes on a floor."""
+    boxes = []
+    for _ in range(int(rng.integers(1, 7))):  # test code
+        lo = rng.integers(0, 5, size=3) * (0.5 if rng.random() < 0.5 else 1.0)
+        boxes.append(box_mesh(lo, lo + rng.integers(1, 4, size=3)))
+    if rng.random() < 0.3:
+        boxes.append(box_mesh([-2, -2, -0.3], [8, 8, 0]))
+    return merge_meshes(boxes)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_random_block_scenes_show_the_nearest_face_everywhere(seed):
+    """Random scenes from isometric or random views: wherever the mescher shows a face of the
+    model (bridges behind the surface left out), it is the plane the ray cast finds nearest."""
+    rng = np.random.default_rng(100 + seed)
+    V, F = _random_scene(rng)
+    v = rng.normal(size=3)
+    v = np.sign(v) / np.sqrt(3.0) if rng.random() < 0.5 else v / np.linalg.norm(v)
+    up = UP if abs(v[2]) < 0.99 else np.array([0.0, 1.0, 0.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m, _, report = model_to_mescher(V, F, view=v, up=up)
+    R = view_frame(report.view, report.up)
+    C = V @ R.T
+    lo, hi = C[:, :2].min(axis=0), C[:, :2].max(axis=0)
+    P = lo + rng.random((3000, 2)) * (hi - lo)
+    seen = _seen_source(V, F, R, P)
+    src = np.asarray(report.source_face)
+    xy, Fm = np.asarray(m.xy), np.asarray(m.F)
+    got = np.full(P.shape[0], -1)
+    for f in np.flatnonzero(src >= 0):  # test code
+        a, b, c = xy[Fm[f]]
+        M = np.array([b - a, c - a]).T
+        if abs(np.linalg.det(M)) < 1e-15:
+            continue
+        uv = np.linalg.solve(M, (P - a).T).T
+        got[np.all(np.c_[1 - uv.sum(axis=1), uv] > 1e-6, axis=1)] = f
+    both = (seen >= 0) & (got >= 0)
+    T = C[F]
+    n_seen = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    n_seen /= np.linalg.norm(n_seen, axis=1, keepdims=True)
+    n_got = np.asarray(m.face_normals())
+    agree = np.einsum("pk,pk->p", n_seen[seen[both]], n_got[got[both]]) > 1 - 1e-6
+    assert both.sum() > 100 and agree.all(), (both.sum(), int((~agree).sum()))
