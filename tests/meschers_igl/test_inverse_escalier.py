@@ -32,7 +32,8 @@ def _floored_stairs(drop: float, thickness: float = 0.6) -> mdl.BoxModel:
     The slab is moved along the view so that it shows through the ring: a point ``P`` and
     ``P - t (1, 1, steep)`` land on one screen point, so a slab ``z`` under the treads shifts
     by ``z / steep`` in x and y.  It overlaps the ring's inner blocks by 0.3 cell, so no
-    ground shows between them and the floor.
+    ground shows between them and the floor; the blocks being thin (0.6), the slab also shows
+    below the two near flights, joined in the picture to their treads (one shade).
     """
     m = mdl.penrose_stairs(FLIGHTS, thickness=thickness, steep=STEEP)
     a, b = FLIGHTS[:2]
