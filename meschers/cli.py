@@ -111,10 +111,9 @@ def _cmd_study(args: argparse.Namespace) -> int:
 
 def _default_jobs() -> int:
     """Worker processes of a study by default: the cores this process may use, at most 4."""
-    import os
+    from .warmup import available_cores
 
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return max(1, min(int(cores or 1), 4))
+    return max(1, min(available_cores(), 4))
 
 
 def _cmd_info(args: argparse.Namespace) -> int:

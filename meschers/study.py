@@ -326,7 +326,7 @@ def run_study(
     from meschers_igl.validate import as_count
 
     from .report import write_report
-    from .warmup import BY_WORK, start_compiling
+    from .warmup import ALL_GROUPS, BY_WORK, available_cores, start_compiling
 
     jobs = as_count(jobs, "jobs", minimum=1)
     specs = default_models(other_tools) if models is None else expand_models(list(models))
@@ -339,13 +339,17 @@ def run_study(
     st = study_settings(quick)
     keys = _keys(specs)
     t_start = time.perf_counter()
-    # missing kernels compiled once, in processes of their own, while the workers start; a model
-    # waits for the groups it needs (study_model), so no kernel is compiled twice; the rendering
-    # kernels (BY_WORK) by the first worker to draw
+    # missing kernels compiled once: a model waits for the groups it needs (study_model), so no
+    # kernel is compiled twice.  Local workers that fill every core compile the groups
+    # themselves (the first to need one, or to wait, claims it): a process of its own would
+    # first pay an interpreter and the imports every worker has done anyway.  Otherwise the
+    # groups compile in processes of their own on the cores left, the rendering kernels
+    # (BY_WORK) by the first worker to draw.
+    fill = not scheduler and jobs > 1 and jobs >= available_cores()
     compiling = start_compiling(
         lambda line: print(line, file=sys.stderr),
         beside=0 if scheduler else jobs,
-        by_work=BY_WORK,
+        by_work=ALL_GROUPS if fill else BY_WORK,
     )
     try:
         if scheduler or jobs > 1:

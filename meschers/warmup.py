@@ -33,12 +33,14 @@ from typing import Any
 from meschers_igl import compiled
 
 __all__ = [
+    "ALL_GROUPS",
     "BY_WORK",
     "COMPILE_SECONDS",
     "FIRST_NEEDED",
     "STEP_GROUPS",
     "Compiling",
     "announce_compilation",
+    "available_cores",
     "cold_groups",
     "ensure_compiled",
     "start_compiling",
@@ -60,6 +62,9 @@ COMPILE_SECONDS = {"order": 8.6, "render": 1.8, "paths": 2.3, "geodesic": 6.4}
 #: their own would first import PyVista and VTK (about 3.5 CPU s), which the workers import
 #: anyway; and each worker compiling them itself would pay them once per worker.
 BY_WORK: tuple[str, ...] = ("render",)
+
+#: Every kernel group, the rendering one included.
+ALL_GROUPS: tuple[str, ...] = (*compiled.GROUPS, "render")
 
 #: The groups a model's first steps use (building and ordering it, drawing it, its homology
 #: loops), in order.
@@ -99,7 +104,14 @@ def _modules(group: str) -> tuple[str, ...]:
     )
 
 
-def cold_groups(groups: Iterable[str] = (*compiled.GROUPS, "render")) -> list[str]:
+def available_cores() -> int:
+    """The cores this process may run on (its CPU affinity where the system has one)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return int(os.cpu_count() or 1)
+
+
+def cold_groups(groups: Iterable[str] = ALL_GROUPS) -> list[str]:
     """The groups with at least one kernel that has no machine code cached for this CPU."""
     return [g for g in groups if compiled.cold_kernels(_modules(g))]
 
@@ -160,7 +172,7 @@ class Compiling:
         self.cold, self.say, self.failed = list(cold), say, []
         left = set(by_work)
         self.by_work = [g for g in self.cold if g in left]
-        self.t0 = time.perf_counter()
+        self.t0, self.started = time.perf_counter(), time.time()
         self.took = 0.0
         self.folder = tempfile.mkdtemp(prefix="meschers-compiling-")
         with open(os.path.join(self.folder, "owner"), "w") as f:
@@ -234,6 +246,10 @@ class Compiling:
     def close(self) -> float:
         """Wait for every group, report, remove the markers; the wall seconds compiling took."""
         self._thread.join()
+        # the groups the work compiled: until the last of them was marked done by its claimer
+        marked = [os.path.join(self.folder, f"{g}.done") for g in self.by_work]
+        ends = [os.path.getmtime(m) for m in marked if os.path.exists(m)]
+        self.took = max([self.took, *(end - self.started for end in ends)])
         for g in self.by_work:  # the work is over: nobody may wait for a group it never claimed
             self._mark(g)
         if os.environ.get(_ENV) == self.folder:
@@ -298,6 +314,37 @@ def _claim(folder: str, group: str) -> int | None:
     return None
 
 
+def _compile_claimed(folder: str, group: str) -> None:
+    """Compile ``group``, claimed by this process, and mark it done whatever happens."""
+    try:
+        warm_group(group)
+    except Exception:  # noqa: BLE001 -- a warm-up only: the step compiles what it uses
+        pass
+    finally:
+        with open(os.path.join(folder, f"{group}.done"), "w"):
+            pass
+
+
+def _steal(folder: str) -> bool:
+    """Claim and compile a group left to the work that nobody has claimed yet, the longest
+    first (so that the waits at the end are short); False when there is none.
+
+    A process waiting for a group another one is compiling takes one of the others meanwhile
+    instead of leaving its core idle.
+    """
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return False
+    left = {n.rsplit(".", 1)[0] for n in names if n.endswith(".bywork")}
+    free = [g for g in left if f"{g}.claim" not in names and f"{g}.done" not in names]
+    for g in sorted(free, key=_seconds, reverse=True):
+        if _claim(folder, g) is None:
+            _compile_claimed(folder, g)
+            return True
+    return False
+
+
 def _wait_markers(folder: str, groups: Iterable[str], owner: int, timeout: float = 900.0) -> None:
     end = time.monotonic() + timeout
     for g in groups:
@@ -307,25 +354,20 @@ def _wait_markers(folder: str, groups: Iterable[str], owner: int, timeout: float
         if os.path.exists(os.path.join(folder, f"{g}.bywork")) and not os.path.exists(done):
             claimer = _claim(folder, g)
             if claimer is None:  # this process compiles it; the others wait
-                try:
-                    warm_group(g)
-                except Exception:  # noqa: BLE001 -- a warm-up only: the step compiles what it uses
-                    pass
-                finally:
-                    with open(done, "w"):
-                        pass
+                _compile_claimed(folder, g)
                 continue
         else:
             claimer = 0
         while not os.path.exists(done) and os.path.isdir(folder):
             if not _alive(owner) or (claimer and not _alive(claimer)) or time.monotonic() > end:
                 return  # nobody will finish it: the work compiles what it needs itself
-            time.sleep(0.02)
+            if not _steal(folder):
+                time.sleep(0.02)
 
 
 def start_compiling(
     say: Callable[[str], None] | None = print,
-    groups: Iterable[str] = (*compiled.GROUPS, "render"),
+    groups: Iterable[str] = ALL_GROUPS,
     processes: int | None = None,
     beside: int = 0,
     by_work: Iterable[str] = (),
@@ -366,7 +408,7 @@ def start_compiling(
     # work may import its package (the rendering one: PyVista and VTK, about 1 s of one core,
     # while the other would wait)
     apart = cold_groups([g for g in groups if g not in left])
-    cores = len(os.sched_getaffinity(0))
+    cores = available_cores()
     shares = _share(apart, processes or cores) if apart else []
     running = Compiling(apart, len(shares), say) if apart else None
     by_work = cold_groups([g for g in groups if g in left])
@@ -378,7 +420,12 @@ def start_compiling(
     # one core's seconds for the longest share, stretched when more processes than cores run
     crowd = max(1.0, (len(shares) + max(int(beside), 0)) / cores)
     longest = max((sum(map(_seconds, share)) for share in shares), default=0.0)
-    estimate = max(max(longest, sum(map(_seconds, by_work))) * crowd, 1.0)
+    # the groups left to the work are shared by its busy processes (each waiting one takes the
+    # longest group nobody has claimed), the largest group at least
+    left = [_seconds(g) for g in by_work]
+    sharing = max(1, min(int(beside), cores))
+    by_hand = max(max(left, default=0.0), sum(left) / sharing)
+    estimate = max(max(longest, by_hand) * crowd, 1.0)
     if say is not None:
         said = ", ".join(running.cold)
         say(f"compiling kernels (first run only, about {estimate:.0f} s): {said}")
@@ -400,12 +447,12 @@ def wait_compiled(groups: Iterable[str] | None = None) -> None:
             owner = int(f.read())
     except (OSError, ValueError):
         return
-    _wait_markers(folder, (*compiled.GROUPS, "render") if groups is None else groups, owner)
+    _wait_markers(folder, ALL_GROUPS if groups is None else groups, owner)
 
 
 def ensure_compiled(
     say: Callable[[str], None] | None = print,
-    groups: Iterable[str] = (*compiled.GROUPS, "render"),
+    groups: Iterable[str] = ALL_GROUPS,
     processes: int | None = None,
 ) -> float:
     """Compile the missing kernel groups before the work starts: :func:`start_compiling`

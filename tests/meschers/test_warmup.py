@@ -365,3 +365,69 @@ def test_a_compilation_marks_groups_left_to_the_work_only_when_it_closes(monkeyp
     c.close()
     assert not os.path.exists(folder)
     assert warmup.BY_WORK == ("render",)
+
+
+def test_a_process_waiting_for_a_group_compiles_the_unclaimed_ones_meanwhile(tmp_path, monkeypatch):
+    """Workers that fill the cores compile the groups themselves: one waiting for a group
+    another is compiling takes the unclaimed groups, the longest first, instead of idling; it
+    never takes a group claimed or done, and stops once its own group is done."""
+    import threading
+    import time
+
+    from meschers import warmup
+
+    calls = []
+
+    def fake(group):
+        calls.append(group)
+        time.sleep(0.05)
+        return 0.05
+
+    monkeypatch.setattr(warmup, "warm_group", fake)
+    monkeypatch.setenv("MESCHERS_COMPILING", str(tmp_path))
+    (tmp_path / "owner").write_text(str(os.getpid()))
+    claimer = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    try:
+        for g in ("order", "paths", "geodesic", "render", "heap"):
+            (tmp_path / f"{g}.wait").write_text("")
+            (tmp_path / f"{g}.bywork").write_text("")
+        (tmp_path / "order.claim").write_text(str(claimer.pid))  # being compiled elsewhere
+        (tmp_path / "heap.claim").write_text(str(claimer.pid))
+        (tmp_path / "render.done").write_text("")  # compiled already
+        waiter = threading.Thread(target=warmup.wait_compiled, args=(["order"],))
+        waiter.start()
+        time.sleep(0.6)
+        assert waiter.is_alive()  # its own group is not done yet
+        secs = warmup.COMPILE_SECONDS
+        assert secs["geodesic"] > secs["paths"]
+        assert calls == ["geodesic", "paths"]  # the longest first, each once
+        assert (tmp_path / "geodesic.done").exists() and (tmp_path / "paths.done").exists()
+        assert not (tmp_path / "heap.done").exists()  # claimed by another: left to it
+        (tmp_path / "order.done").write_text("")
+        waiter.join(5.0)
+        assert not waiter.is_alive() and calls == ["geodesic", "paths"]
+    finally:
+        claimer.kill()
+        claimer.wait()
+
+
+def test_a_local_parallel_study_leaves_every_group_to_workers_that_fill_the_cores(
+    tmp_path, monkeypatch
+):
+    """No compiling process beside workers that take every core (each would first pay an
+    interpreter and the imports the workers do anyway); a serial study keeps them on the cores
+    left."""
+    from meschers import study, warmup
+
+    seen = []
+
+    def fake_start(say, beside=0, by_work=()):
+        seen.append((beside, tuple(by_work)))
+        raise KeyboardInterrupt  # stop the study here: only the decision is tested
+
+    monkeypatch.setattr(warmup, "start_compiling", fake_start)
+    monkeypatch.setattr(warmup, "available_cores", lambda: 2)
+    for jobs in (2, 1):
+        with pytest.raises(KeyboardInterrupt):
+            study.run_study(models=["penrose_triangle"], out=tmp_path, jobs=jobs)
+    assert seen == [(2, warmup.ALL_GROUPS), (1, warmup.BY_WORK)]
