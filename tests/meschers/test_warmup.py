@@ -431,3 +431,33 @@ def test_a_local_parallel_study_leaves_every_group_to_workers_that_fill_the_core
         with pytest.raises(KeyboardInterrupt):
             study.run_study(models=["penrose_triangle"], out=tmp_path, jobs=jobs)
     assert seen == [(2, warmup.ALL_GROUPS), (1, warmup.BY_WORK)]
+
+
+def test_the_cycle_collector_is_paused_while_a_group_compiles_and_restored_after(monkeypatch):
+    """Compiling makes many short-lived cycles and each full collection walks every object of
+    the process: the collector is off during a group's warm-up, and its state is restored after,
+    also when the warm-up fails."""
+    import gc
+
+    from meschers import warmup
+
+    seen = []
+
+    def fake(group):
+        seen.append(gc.isenabled())
+        if group == "broken":
+            raise RuntimeError("a failing warm-up")
+
+    monkeypatch.setattr(warmup, "_warm", fake)
+    assert gc.isenabled()
+    warmup.warm_group("order")
+    assert seen == [False] and gc.isenabled()
+    with pytest.raises(RuntimeError):
+        warmup.warm_group("broken")
+    assert seen == [False, False] and gc.isenabled()
+    gc.disable()
+    try:
+        warmup.warm_group("order")
+        assert not gc.isenabled()  # a caller that had it off keeps it off
+    finally:
+        gc.enable()
