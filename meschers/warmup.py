@@ -12,9 +12,16 @@ once, by one process, while the other cores start the workers and the first mode
 :func:`ensure_compiled` is the same, waiting for everything.
 
 A group can instead be left to the work (``by_work``, a study's :data:`BY_WORK`): the first
-process whose step needs it claims it and compiles it there, the others wait for it.  That
+process whose step needs it claims it and compiles it there; a process waiting for a group
+another one compiles claims and compiles the longest group nobody has claimed meanwhile.  That
 suits the rendering kernels, whose own process would first import the rendering stack that
-every worker imports anyway.
+every worker imports anyway, and every group when the workers take all the cores (a study's
+default): a compiling process would only add an interpreter and the workers' imports.
+
+Python's cycle collector is paused while a group compiles (:func:`warm_group`) and while a
+command's kernel compiles (:func:`announce_compilation`): numba's compiler makes hundreds of
+thousands of short-lived cyclic objects, and each full collection walks every object of the
+process.
 """
 
 from __future__ import annotations
