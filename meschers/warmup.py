@@ -18,10 +18,11 @@ suits the rendering kernels, whose own process would first import the rendering 
 every worker imports anyway, and every group when the workers take all the cores (a study's
 default): a compiling process would only add an interpreter and the workers' imports.
 
-Python's cycle collector is paused while a group compiles (:func:`warm_group`) and while a
-command's kernel compiles (:func:`announce_compilation`): numba's compiler makes hundreds of
-thousands of short-lived cyclic objects, and each full collection walks every object of the
-process.
+Python's cycle collector is paused while a group compiles (:func:`warm_group`): numba's
+compiler makes hundreds of thousands of short-lived cyclic objects, and each full collection
+walks every object of the process.  Only there, in a process compiling on purpose: a command's
+own compilations (:func:`announce_compilation`) leave the collector alone, since a long-lived
+process (a notebook, a test run) would have it toggled around every later compilation.
 """
 
 from __future__ import annotations
