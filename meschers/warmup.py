@@ -519,12 +519,6 @@ def announce_compilation(say: Callable[[str], None], groups: Iterable[str]) -> N
 
     class _Notice(event.Listener):
         def on_start(self, ev: Any) -> None:
-            # the cycle collector paused while the outermost compilation runs (see
-            # _no_cycle_collection)
-            if self.depth == 0:
-                self.collecting = gc.isenabled()
-                gc.disable()
-            self.depth += 1
             if self.done:
                 return
             f = getattr(ev.data.get("dispatcher"), "py_func", None)
@@ -536,14 +530,12 @@ def announce_compilation(say: Callable[[str], None], groups: Iterable[str]) -> N
             say(f"compiling kernels (first run only, about {estimate:.0f} s)")
 
         def on_end(self, ev: Any) -> None:
-            self.depth = max(self.depth - 1, 0)
-            if self.depth == 0 and self.collecting:
-                gc.enable()
+            pass
 
     for old in _announced:  # one notice per process: the last caller's
         event.unregister("numba:compile", old)
     _announced.clear()
     listener = _Notice()
-    listener.done, listener.depth, listener.collecting = False, 0, True
+    listener.done = False
     event.register("numba:compile", listener)
     _announced.append(listener)

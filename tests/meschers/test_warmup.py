@@ -461,36 +461,3 @@ def test_the_cycle_collector_is_paused_while_a_group_compiles_and_restored_after
         assert not gc.isenabled()  # a caller that had it off keeps it off
     finally:
         gc.enable()
-
-
-def test_a_command_pauses_the_cycle_collector_only_while_a_kernel_compiles(monkeypatch):
-    """A command's kernels compile as it reaches them: the collector is off from the outermost
-    compilation's start (a kernel compiles the kernels it calls inside its own) to its end, a
-    failed compilation included, and back on after."""
-    import gc
-
-    from numba.core import event
-
-    from meschers import warmup
-
-    monkeypatch.setattr(warmup, "cold_groups", lambda groups: [])
-    said = []
-    warmup.announce_compilation(said.append, ["order"])
-    try:
-        data = {"dispatcher": warmup.announce_compilation}  # no py_func of ours: no notice
-        assert gc.isenabled()
-        event.start_event("numba:compile", data=data)
-        assert not gc.isenabled()
-        event.start_event("numba:compile", data=data)  # a callee, inside
-        event.end_event("numba:compile", data=data)
-        assert not gc.isenabled()  # the outer one still compiles
-        with pytest.raises(ValueError), event.trigger_event("numba:compile", data=data):
-            raise ValueError("a typing error")
-        assert not gc.isenabled()
-        event.end_event("numba:compile", data=data)
-        assert gc.isenabled() and said == []
-    finally:
-        for old in warmup._announced:
-            event.unregister("numba:compile", old)
-        warmup._announced.clear()
-        gc.enable()
