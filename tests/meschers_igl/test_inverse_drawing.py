@@ -122,3 +122,50 @@ def test_cli_takes_a_drawing_and_saves_the_mescher_with_its_order(tmp_path, trib
     assert m.n_faces == metrics["faces"] and order.n_arcs == metrics["order_arcs"]
     light = np.asarray(metrics["light"][0])
     assert math.isclose(float(np.linalg.norm(light)), 1.0, rel_tol=1e-9)
+
+
+def _line_art(spec: str, path, size: int = 512):
+    """The project's own line art of ``spec`` as an antialiased PNG, and the true period of its
+    mescher in picture units (the drawing spans its default screen box)."""
+    pytest.importorskip("cairosvg")
+    from PIL import Image
+
+    from meschers.cli import main
+    from meschers.inputs import load_mescher, resolve
+    from pyvista_views.lineart import default_bounds
+
+    assert main(["draw", spec, "-o", str(path), "--size", str(size)]) == 0
+    picture = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
+    m, _ = load_mescher(resolve(spec))
+    xy = m.xy
+    x0, x1, _, _ = default_bounds(
+        (xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()), (size, size)
+    )
+    return picture, float(np.abs(m.periods()).max()) * 2.0 / (x1 - x0)
+
+
+@pytest.mark.render
+@pytest.mark.parametrize(
+    "spec",
+    [
+        "penrose_triangle",
+        "paradox:reutersvard_rectangle__iso_exact",
+        "paradox:impossible_arch__iso_exact",
+    ],
+)
+def test_the_projects_own_line_art_reads_as_the_figure(tmp_path, spec):
+    """Line art as drawing programs write it: antialiased, so a line's flanks are grey and only
+    its middle is black.  It is told from a picture and read back with the period of the
+    mescher it was drawn from."""
+    picture, period = _line_art(spec, tmp_path / "drawing.png")
+    grey = picture.mean(axis=-1)
+    assert np.mean(grey[grey < 0.98] < 0.1) < 0.6  # most ink is grey: antialiased
+    assert drw.is_line_drawing(picture)
+    r = drw.shade_drawing(picture)
+    from meschers_igl.inverse.picture import mescher_from_picture
+
+    m, _, _ = mescher_from_picture(r.picture, r.light, 0.2)
+    assert m.is_impossible()
+    assert figure_period(m) == pytest.approx(period, rel=0.05)
+    # the shaded reading of it, and a z-buffer picture, are not drawings
+    assert not drw.is_line_drawing(r.picture)
