@@ -21,10 +21,17 @@ stands in the way, on light 0:
 - a tooth on the well's side runs along the crease direction of the tread and the well's wall
   and is read as a crease: the onward rule then runs a hidden line from it along the flight,
   through the treads, instead of across;
-- pairing the tooth tips across the flight directly (mutually facing rays along one of the
-  treads' edge directions, within 1.5 px) pairs only 1 of the 6 front-left steps: the tips lie
-  up to 1.4 px off the true step edges, and rays along the flight pair teeth of different
-  steps.
+- pairing reflex corners of the treads' region across it, along one of its edge directions
+  (mutually best aligned, within 3 px, treads' pixels between and on both sides, the two
+  corners far apart along the region's boundary, the line at their mean offset run 2 px past
+  both) finds the six front-left steps and three of the five back ones: -21 to -23%; with
+  the onward rays parallel to those steps run on to the outline, all five back ones: -18%
+  on light 0 (the back lines lie about a pixel off the true edges; set at the inner
+  corner's offset instead of the mean: -73%).
+
+With the model's own invisible step edges (its z-buffer's face ids) cut instead, run 2 px past
+both ends, the start comes to -4.3, -5.4, -6.3 and -6.9%: the step lines alone do not reach 5%
+under lights 1, 2 and 4 (cut 1 px past: -13%, not past: -30%).
 
 The test pins the failure (strict: a rule that reads the steps turns it into a pass, and the
 marker must go).  It skips without the development set.
