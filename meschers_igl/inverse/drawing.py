@@ -13,7 +13,9 @@ module makes that reading into the flat-shaded picture the rest of the pipeline 
    straightened outlines) give three directions and, by :func:`.picture.frames_from_creases`,
    the right-angled frame (of its two Necker readings, the one seen from above).  A region
    whose edges follow two of the directions is a face of the third direction's orientation;
-   a region with edges along all three (the hole of a tribar) or along none is a hole.  Each
+   a region with edges along all three (the hole of a tribar) or along none is a hole, and so
+   is one a heavier outline closes all round where the drawing's outline is heavier than its
+   inner lines (:func:`_outlined`: the outline runs round a hole as round the figure).  Each
    face is painted with the Lambertian shade of its normal under a light that gives the three
    orientations three distinct shades, and each line pixel takes the colour of the nearest
    face or hole, so that the figure's outline runs along the middle of its outer lines.
@@ -139,6 +141,65 @@ def _directions_and_outlines(lines, polys, piece_region, n_regions: int, min_sep
     return dirs, along, total
 
 
+def _outlined(
+    t: np.ndarray,
+    line: np.ndarray,
+    ground: np.ndarray,
+    reg: np.ndarray,
+    n_regions: int,
+    heavier: float = 1.5,
+    radius: int = 3,
+) -> np.ndarray:
+    """Which regions a heavier outline closes all round: the holes of a drawing whose outline
+    is drawn heavier than its inner lines (the drafting convention, and the project's own line
+    art), as the outline runs round a hole as round the figure.
+
+    A line's width is its ink across it: the ink ``1 - grey`` within ``radius`` pixels of a line
+    pixel over the disc's diameter, so antialiased flanks count as the part of a pixel they
+    cover.  The outline's width is the median over the line pixels next to the ground; the
+    drawing is weighted when 15% of the other line pixels are ``heavier`` times thinner (the
+    heavy lines have the most pixels, so a median would not tell).
+    A region is outlined when nine in ten of the line pixels within two pixels of its paper
+    are over 0.8 of the outline's width, and none of its paper is within the outline's width
+    and two pixels of the ground (a face on the figure's rim is closed by the outline too).
+
+    Returns
+    -------
+    (R,) bool
+    """
+    from scipy import ndimage
+
+    ink = np.clip(1.0 - t.mean(axis=-1), 0.0, 1.0)
+    yy, xx = np.mgrid[-radius : radius + 1, -radius : radius + 1]
+    disc = (xx**2 + yy**2 <= radius * radius).astype(np.float64)
+    width = ndimage.convolve(ink, disc, mode="constant") / (2.0 * radius)
+    near_ground = ndimage.binary_dilation(ground, iterations=2)
+    rim = line & near_ground
+    inner = line & ~near_ground
+    out = np.zeros(n_regions, dtype=bool)
+    if not rim.any() or not inner.any():
+        return out
+    w_out = float(np.median(width[rim]))
+    if np.mean(width[inner] < w_out / heavier) < 0.15:  # one weight for every line
+        return out
+    # per region: its line pixels (within two pixels of its paper), and how many are heavy
+    paper = np.where(~line & (reg >= 0), reg, -1)
+    heavy = width > 0.8 * w_out
+    count = np.zeros(n_regions)
+    thick = np.zeros(n_regions)
+    for step in range(1, 3):  # pixels one and two steps from a region's paper
+        grown = ndimage.grey_dilation(paper + 1, size=2 * step + 1) - 1
+        on = line & (grown >= 0)
+        count += np.bincount(grown[on], minlength=n_regions)
+        thick += np.bincount(grown[on & heavy], minlength=n_regions)
+    # a face on the figure's rim: its paper within the outline's width (and two pixels) of the
+    # ground
+    rim_reach = ndimage.binary_dilation(ground, iterations=int(np.ceil(w_out)) + 2)
+    touches = np.zeros(n_regions, dtype=bool)
+    touches[np.unique(paper[rim_reach & (paper >= 0)])] = True
+    return (count > 0) & (thick >= 0.9 * count) & ~touches
+
+
 def shade_drawing(
     target: np.ndarray,
     background=(1.0, 1.0, 1.0),
@@ -213,7 +274,7 @@ def shade_drawing(
     own = share[np.arange(len(regions)), k_min]
     # a face: its edges follow the two other directions, hardly its own
     face_like = (own < third_share) & (share.sum(axis=1) - own > 0.6)
-    orient = np.where(face_like, k_min, -1)
+    orient = np.where(face_like & ~_outlined(t, line, ground, reg, len(regions)), k_min, -1)
     if np.unique(orient[orient >= 0]).size < 3:
         raise MescherError(
             "target: expected faces of three orientations between the lines, found "

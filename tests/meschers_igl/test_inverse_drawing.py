@@ -169,3 +169,69 @@ def test_the_projects_own_line_art_reads_as_the_figure(tmp_path, spec):
     assert figure_period(m) == pytest.approx(period, rel=0.05)
     # the shaded reading of it, and a z-buffer picture, are not drawings
     assert not drw.is_line_drawing(r.picture)
+
+
+def _frame_drawing(hole_px: int, rim_px: int = 3, inner_px: int = 1) -> np.ndarray:
+    """A 64 x 64 drawing of a square frame: its outline ``rim_px`` wide, its hole's outline
+    ``hole_px`` wide, and two ``inner_px`` lines across each of the frame's sides (eight
+    pieces of the frame, and the hole)."""
+    d = np.ones((64, 64, 3))
+
+    def square(lo, hi, w):
+        d[lo : lo + w, lo:hi] = 0.0
+        d[hi - w : hi, lo:hi] = 0.0
+        d[lo:hi, lo : lo + w] = 0.0
+        d[lo:hi, hi - w : hi] = 0.0
+
+    square(6, 58, rim_px)
+    square(24, 40, hole_px)
+    for a, b in ((6, 24), (40, 58)):  # across each side of the frame, twice
+        for c in (16, 46):
+            d[a:b, c : c + inner_px] = 0.0
+            d[c : c + inner_px, a:b] = 0.0
+    return d
+
+
+def test_a_heavier_outline_closes_the_holes_it_runs_round():
+    """The drafting convention: the outline, drawn heavier than the inner lines, runs round a
+    hole as round the figure.  A region it closes all round, away from the figure's rim, is a
+    hole; drawn with the inner lines' weight it is not, and neither is a face on the rim."""
+    from scipy import ndimage
+
+    for hole_px, expect in ((3, True), (1, False)):
+        d = _frame_drawing(hole_px)
+        line = d.mean(axis=-1) < 0.5
+        lab, _ = ndimage.label(~line)
+        border = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
+        ground = np.isin(lab, border) & ~line
+        inside = [r for r in np.unique(lab[~line]) if r not in set(border.tolist())]
+        reg = np.full(lab.shape, -1)
+        for i, r in enumerate(inside):
+            reg[lab == r] = i
+        reg = np.where(line, -1, reg)
+        out = drw._outlined(d, line, ground, reg, len(inside))
+        hole = int(reg[32, 32])
+        assert out[hole] == expect
+        assert not np.delete(out, hole).any()  # the frame's pieces lie on its rim
+    # one weight for every line: no convention to read
+    d = _frame_drawing(3, rim_px=3, inner_px=3)
+    line = d.mean(axis=-1) < 0.5
+    assert not drw._outlined(d, line, np.zeros_like(line), np.full(line.shape, -1), 1).any()
+
+
+@pytest.mark.render
+def test_the_arch_drawn_with_a_heavier_outline_reads_its_hole_at_128():
+    """The impossible arch's line art: the heavier outline round its opening makes it a hole, so
+    the period still shows at the 128 pixels ``meschers inverse`` fits at (read as a face
+    behind, the opening joined the arch's front and no period was left)."""
+    import tempfile
+
+    from meschers.inverse_cli import _resize_flat
+    from meschers_igl.inverse.picture import mescher_from_picture
+
+    with tempfile.TemporaryDirectory() as tmp:
+        picture, period = _line_art("paradox:impossible_arch__iso_exact", f"{tmp}/arch.png")
+    r = drw.shade_drawing(picture)
+    assert r.faces[256, 256] == -1  # the opening's middle
+    m, _, _ = mescher_from_picture(_resize_flat(r.picture, 128), r.light, 0.2)
+    assert figure_period(m) == pytest.approx(period, rel=0.05)
