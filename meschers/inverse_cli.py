@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from meschers_igl.errors import MescherError
-from meschers_igl.validate import as_count
+from meschers_igl.validate import as_count, as_vector
 
 DEFAULT_LIGHT = "0.6,-0.1,1"
 #: built-in targets: the soft-rasterized Penrose triangle and z-buffered box models
@@ -101,6 +101,7 @@ def zbuffer_picture(
     ambient : float
     extent : float
     background : (3,) float
+        The ground's colour, each channel in [0, 1] (integers too: ``(1, 1, 1)`` is white).
 
     Returns
     -------
@@ -116,6 +117,11 @@ def zbuffer_picture(
 
     configure_headless()  # EGL/OSMesa without a display, before the first window
     res = as_count(resolution, "resolution", minimum=8)
+    ground = as_vector(background, "background", 3)
+    if not np.all((ground >= 0.0) & (ground <= 1.0)):
+        raise MescherError(
+            f"background: expected an RGB colour of three numbers in [0, 1], found {background!r}"
+        )
     R = model.camera_frame()
     C, scale, centre = picture_frame(model, extent)
     faces = np.hstack([np.full((len(model.F), 1), 3), model.F]).ravel()
@@ -123,7 +129,8 @@ def zbuffer_picture(
     pl = pv.Plotter(off_screen=True, window_size=(res, res), lighting="none")
     try:
         pl.disable_anti_aliasing()
-        pl.set_background(tuple(background))
+        # floats in [0, 1], as the returned picture: PyVista reads integers as 0-255
+        pl.set_background(tuple(float(c) for c in ground))
         pl.add_mesh(
             mesh,
             color="white",

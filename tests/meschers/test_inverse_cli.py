@@ -211,3 +211,19 @@ def test_cli_picture_without_a_figure_is_refused(tmp_path):
     Image.fromarray(np.full((64, 64, 3), 255, np.uint8)).save(blank)
     with pytest.raises(MescherError, match="expected a figure"):
         inverse_main([str(blank), "--out", str(tmp_path / "o"), "--no-progress"])
+
+
+@pytest.mark.render
+def test_zbuffer_ground_is_read_in_zero_to_one_integers_included():
+    """``(1, 1, 1)`` is white, as ``(1.0, 1.0, 1.0)`` (PyVista alone would read integers as
+    0-255 and paint the ground black); a colour outside [0, 1] is refused by name."""
+    from meschers.inverse_cli import zbuffer_picture
+    from meschers_igl.inverse.models import penrose_tribar
+
+    model = penrose_tribar()
+    ints, _ = zbuffer_picture(model, 32, background=(1, 1, 1))
+    floats, _ = zbuffer_picture(model, 32, background=(1.0, 1.0, 1.0))
+    np.testing.assert_array_equal(ints, floats)
+    np.testing.assert_array_equal(ints[0, 0], [1.0, 1.0, 1.0])
+    with pytest.raises(MescherError, match="background"):
+        zbuffer_picture(model, 32, background=(255, 255, 255))
