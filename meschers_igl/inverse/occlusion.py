@@ -1,7 +1,8 @@
 """Occlusions a picture of boxes shows, and the ones it hides between faces of one shade.
 
 A boundary between two shade regions that does not run along their crease is an occlusion: an
-edge of the face in front (:func:`occlusion_chains` tells which side that is).  Where such an
+edge of the face in front (:func:`occlusion_chains` tells which side that is), and so is the
+crossbar of a T-junction on both sides of its stem (:func:`crossbar_occlusions`).  Where such an
 edge meets a crease, the picture often stops showing it though the edge goes on, because the
 face behind it changes to one of the same shade as a face next to it (a stair's tread over the
 tread below).  :func:`hidden_occlusions` follows those edges on.
@@ -348,6 +349,116 @@ def occlusion_chains(
             continue
         out.append((va, vb, a_, b_, a_ if fit[0] < fit[1] else b_))
     return out
+
+
+def crossbar_occlusions(
+    xy: np.ndarray,
+    ends: np.ndarray,
+    pairs: np.ndarray,
+    occluding: np.ndarray,
+    normals: np.ndarray,
+    max_sin: float,
+    pixel: float,
+    margin: float = 0.15,
+) -> np.ndarray:
+    """``occluding`` with the crossbars of T-junctions run on.
+
+    A bar seen ending against a bar in front: the front face ``A``'s edge (the crossbar)
+    passes in front of one face ``Q`` of the bar behind (an occlusion chain ``A | Q``,
+    :func:`occlusion_chains`), then, past the junction where the bar behind's edge (the stem,
+    the boundary ``Q | S``) ends, of its other face ``S``.  When the bar in front runs along
+    the bar behind's third axis (the projection of ``Q``'s normal, ``n_A x n_S``), the stretch
+    ``A | S`` runs along the crease of ``A`` and ``S``, and nothing in its own direction tells
+    it from a crease.  The crossbar does, where the chain ``A | Q`` runs along that same crease
+    (within ``max_sin``, end to end: ``A``'s edge goes on straight) and the stem is convex
+    (``Q``'s normal leans from the junction toward ``Q``'s side): the stem is then the bar
+    behind's edge, one line of ``Q`` and ``S``, so at the junction ``S`` lies as deep as ``Q``,
+    behind ``A``; along a straight line the depths of ``A``'s edge and of ``S``'s plane part
+    linearly, so apart at the junction they are apart all along, and the whole ``A | S``
+    stretch, from the junction to where that boundary ends (another junction, the outline or a
+    hole), is an occlusion too.  (Were ``A | S`` a crease instead, ``S`` a wall standing on
+    ``A``'s edge and ending at the stem, the convex end of the wall would face the viewer: a
+    face of ``Q``'s orientation standing on ``A``, which meets ``A`` along the projection of
+    ``S``'s normal, not along the crossbar.)  A concave stem (two faces of an inner corner
+    behind ``A``, or the silhouette of such a wall) is left alone.
+
+    Parameters
+    ----------
+    xy : (#V, 2) float
+    ends : (B, 2) int
+        Vertices of the region-boundary edges.
+    pairs : (B, 2) int
+        Their two regions.
+    occluding : (B,) bool
+    normals : (K, 3) float
+        Region normals.
+    max_sin : float
+        ``|sin|`` within which a direction follows a crease (the occlusion test's).
+    pixel : float
+        A pixel's size (screen units).  A chain's ends are known to about a pixel, so only a
+        chain ``pixel / max_sin`` long at least tells its direction within ``max_sin``; a
+        shorter one (a pixel step where two lines meet) starts nothing.
+    margin : float
+        :func:`occlusion_chains`' margin for telling the face in front.
+
+    Returns
+    -------
+    (B,) bool
+        ``occluding`` and the crossbars run on.
+    """
+    ends = np.asarray(ends, dtype=np.int64)
+    pk = np.sort(np.asarray(pairs, dtype=np.int64), axis=1)
+    occ = np.asarray(occluding, dtype=bool).copy()
+    if ends.size == 0:
+        return occ
+    n = len(xy)
+    deg = np.bincount(ends.ravel(), minlength=n)
+    # boundary edges at each vertex, as a CSR table (vertex -> edge indices)
+    inc = sp.csr_matrix(
+        (np.ones(2 * len(ends)), (ends.ravel(), np.repeat(np.arange(len(ends)), 2))),
+        shape=(n, len(ends)),
+    )
+
+    def at(v):
+        return inc.indices[inc.indptr[v] : inc.indptr[v + 1]]
+
+    for _ in range(len(ends)):  # each round runs on at least one edge; a few rounds
+        grown = False
+        for va, vb, a_, b_, A in occlusion_chains(xy, ends, pk, occ, normals, margin):
+            Q = b_ if A == a_ else a_
+            if np.linalg.norm(xy[vb] - xy[va]) * max_sin < pixel:
+                continue
+            for v, w in ((va, vb), (vb, va)):  # the tip v, seen from the other tip w
+                u = xy[v] - xy[w]
+                here = at(v)
+                for e in here[~occ[here]]:
+                    S = int(pk[e, 0] + pk[e, 1] - A) if A in pk[e] else -1
+                    if S < 0 or S == Q:
+                        continue
+                    stem = (pk[here, 0] == min(Q, S)) & (pk[here, 1] == max(Q, S))
+                    if not stem.any():
+                        continue
+                    o = ends[e, 0] + ends[e, 1] - v
+                    crease = np.cross(normals[A], normals[S])[:2]
+                    crease = crease / max(float(np.linalg.norm(crease)), 1e-12)
+                    along = _abs_sin(u[None], crease[None])[0, 0] < max_sin
+                    # straight on (not back along the chain), and the stem convex: Q's
+                    # normal leans from the junction toward Q's side, the chain's
+                    convex = u @ normals[Q, :2] < 0
+                    if not (along and convex and u @ (xy[o] - xy[v]) > 0):
+                        continue
+                    # the A | S boundary from the junction on, to the next junction
+                    prev, cur = v, int(e)
+                    while not occ[cur] and (pk[cur] == pk[e]).all():
+                        occ[cur] = grown = True
+                        nxt = int(ends[cur, 0] + ends[cur, 1] - prev)
+                        if deg[nxt] != 2:
+                            break
+                        cand = at(nxt)
+                        prev, cur = nxt, int(cand[cand != cur][0])
+        if not grown:
+            break
+    return occ
 
 
 def hidden_steps(xy, F, edges, cut, hidden, hidden_edges, normals, region, max_sin=0.05):

@@ -21,7 +21,8 @@ The initialization, in four steps, none of which renders:
    its plane, ``grad z = -(n_x, n_y) / n_z``, on its three edges, and ``zeta = d01 z + H c`` is
    fitted to those wishes by least squares: closed by construction, with the periods ``c`` the
    picture implies.  Before the lift the mesh is cut along occlusions: region boundaries that
-   do not run along their crease, and (:func:`hidden_occlusions`) the occluding edges no
+   do not run along their crease, the crossbars of T-junctions run on past their stems
+   (:func:`.occlusion.crossbar_occlusions`), and (:func:`hidden_occlusions`) the occluding edges no
    picture shows because both sides have one shade (a stair's tread over the tread below),
    followed from where a visible occlusion turns into a crease to a notch of the outline.
 """
@@ -37,7 +38,7 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 from .faces import _three_means, _two_groups, split_shared_shade
-from .occlusion import hidden_occlusions, hidden_steps
+from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import node_constraints, region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
 from .targets import target_mask
@@ -365,6 +366,15 @@ def crease_misalignment(normals: np.ndarray, dirs: np.ndarray, pairs: np.ndarray
     return np.abs(c[:, 0] * d[:, 1] - c[:, 1] * d[:, 0])
 
 
+def _occlusions(xy, ends, dirs, pairs, normals, occlusion_deg: float, pixel: float):
+    """(B,) which region boundaries are occlusions: those more than ``occlusion_deg`` off
+    their crease (:func:`crease_misalignment`), and the crossbars of T-junctions run on past
+    the stem (:func:`.occlusion.crossbar_occlusions`)."""
+    max_sin = math.sin(math.radians(occlusion_deg))
+    occl = crease_misalignment(normals, dirs, pairs) > max_sin
+    return crossbar_occlusions(xy, ends, pairs, occl, normals, max_sin, pixel)
+
+
 def _off_outline(F: np.ndarray, xy: np.ndarray, edges: np.ndarray, cut: np.ndarray):
     """The cut edges without a vertex on the figure's outline (its outer boundary loop).
 
@@ -661,7 +671,9 @@ def mescher_from_picture(
 
     Boundaries between two shade regions that do not run along their crease (more than
     ``occlusion_deg`` off) are occlusions: one surface passes in front of the other there, so the
-    mesh is cut open along them before the lift (each side keeps its own depth).
+    mesh is cut open along them before the lift (each side keeps its own depth).  So is a
+    boundary that runs along its crease but goes on straight from an occlusion of the same face
+    in front, past a T-junction's stem (:func:`.occlusion.crossbar_occlusions`).
 
     Parameters
     ----------
@@ -730,7 +742,7 @@ def mescher_from_picture(
         normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
     else:
         normals, misfit = seg.normals, float("nan")
-    occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
+    occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
     hidden = []
     if complete:
         hidden = hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
@@ -740,7 +752,7 @@ def mescher_from_picture(
         polys, preg, lines = region_polygons(seg.labels, tolerance_px, ext, straighten)
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
-        occl = crease_misalignment(normals, d, pairs) > math.sin(math.radians(occlusion_deg))
+        occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
         hidden_edges = [_edges_on_lines(xy, edges, [i_], 1e-3 * pixel) for i_ in ident]
     # visible occlusions stop short of the outline, hidden ones run on to it unless their cut
     # touches the boundary already; slits short of a hole run on to it
