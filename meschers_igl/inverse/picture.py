@@ -671,9 +671,8 @@ def mescher_from_picture(
 
     Boundaries between two shade regions that do not run along their crease (more than
     ``occlusion_deg`` off) are occlusions: one surface passes in front of the other there, so the
-    mesh is cut open along them before the lift (each side keeps its own depth).  So is a
-    boundary that runs along its crease but goes on straight from an occlusion of the same face
-    in front, past a T-junction's stem (:func:`.occlusion.crossbar_occlusions`).
+    mesh is cut open along them before the lift (each side keeps its own depth), and along the
+    crossbars of T-junctions past their stems (:func:`.occlusion.crossbar_occlusions`).
 
     Parameters
     ----------
@@ -698,9 +697,8 @@ def mescher_from_picture(
         all eight step edges (period within 5%); isometrically (2.5 px) two are wrong.
     small_px : float
         Pieces (faces of one region joined across edges) under this many square pixels weigh
-        ``1e-3`` in the lift (a sliver of an end face under a stair's wall).  It makes up for
-        steps lost where no rule finds them; where a flight's turn climbs its step
-        (:func:`.occlusion.hidden_steps`) it overshoots: Penrose stairs 2-5% over, 0-2% at 0.
+        ``1e-3`` in the lift (a sliver of an end face under a stair's wall): it makes up for lost
+        steps; where a turn climbs its step (:func:`.occlusion.hidden_steps`) it overshoots 0-5%.
     reach_px : float
         A slit of the cut this many pixels (along mesh edges) from a hole runs on to it
         (:func:`_to_holes`).
