@@ -31,33 +31,14 @@ shade) finds it at 128 only, and costs the box stairs two passes at 128.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import pytest
 
-import meschers_igl  # noqa: F401  (before the benchmark, which tests/ on sys.path could shadow)
-
-ROOT = Path(__file__).resolve().parents[2]
-REAL = ROOT.parent / "shared" / "real_models"
 NAME = "Impossible_Cube.3ds"
 
 
 @pytest.fixture(scope="module")
-def bench():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        return pytest.importorskip("bench_inverse_real")
-    finally:
-        sys.path.remove(str(ROOT / "benchmarks"))
-
-
-@pytest.fixture(scope="module")
-def file_cube(bench):
-    pytest.importorskip("pyvista")
-    if not (REAL / "views.json").is_file() or not (REAL / NAME).is_file():
-        pytest.skip("development set absent")
-    return bench.load_models(REAL, {NAME})[0][0]
+def file_cube(development_model):
+    return development_model(NAME)
 
 
 @pytest.fixture(scope="module")
@@ -68,32 +49,26 @@ def box_cube():
     return impossible_cube()
 
 
-def _climb_error(bench, model, k: int, res: int) -> float:
+def _climb_error(bench_start, model, k: int, res: int) -> float:
     """The start mescher's period over the true gap, less one, under the benchmark's light k."""
-    from meschers.inverse_cli import zbuffer_picture
     from meschers_igl.inverse.metrics import figure_period
-    from meschers_igl.inverse.picture import mescher_from_picture
 
-    light = bench.hemisphere_lights(6, 0)[k]
-    image, scale = zbuffer_picture(
-        model, res, light=light, ambient=bench.AMBIENT, background=bench.GROUND
-    )
-    m0, _, _ = mescher_from_picture(image, light, bench.AMBIENT, background=bench.GROUND)
-    return figure_period(m0) / (model.gap * scale) - 1.0
+    m0, _, gap = bench_start(model, k, res)
+    return figure_period(m0) / gap - 1.0
 
 
 @pytest.mark.render
 @pytest.mark.parametrize("k", range(6))
-def test_file_cube_climbs_its_gap_at_128(bench, file_cube, k):
-    err = _climb_error(bench, file_cube, k, 128)
+def test_file_cube_climbs_its_gap_at_128(bench_start, file_cube, k):
+    err = _climb_error(bench_start, file_cube, k, 128)
     assert abs(err) < 0.05, err
 
 
 @pytest.mark.render
 @pytest.mark.xfail(strict=True, reason="8-31% short at 256 px")
 @pytest.mark.parametrize("k", range(6))
-def test_file_cube_climbs_its_gap_at_256(bench, file_cube, k):
-    err = _climb_error(bench, file_cube, k, 256)
+def test_file_cube_climbs_its_gap_at_256(bench_start, file_cube, k):
+    err = _climb_error(bench_start, file_cube, k, 256)
     assert abs(err) < 0.05, err
 
 
@@ -102,6 +77,6 @@ def test_file_cube_climbs_its_gap_at_256(bench, file_cube, k):
     ("k", "res"),
     [(k, res) for res in (128, 256) for k in range(6)],
 )
-def test_box_cube_climbs_its_gap(bench, box_cube, k, res):
-    err = _climb_error(bench, box_cube, k, res)
+def test_box_cube_climbs_its_gap(bench_start, box_cube, k, res):
+    err = _climb_error(bench_start, box_cube, k, res)
     assert abs(err) < 0.05, err

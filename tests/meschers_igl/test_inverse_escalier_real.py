@@ -41,48 +41,15 @@ marker must go).  It skips without the development set.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-import meschers_igl  # noqa: F401  (before the benchmark, which tests/ on sys.path could shadow)
-
-ROOT = Path(__file__).resolve().parents[2]
-REAL = ROOT.parent / "shared" / "real_models"
 NAME = "IllusionEscalier.obj"
 
 
 @pytest.fixture(scope="module")
-def bench():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    try:
-        return pytest.importorskip("bench_inverse_real")
-    finally:
-        sys.path.remove(str(ROOT / "benchmarks"))
-
-
-@pytest.fixture(scope="module")
-def escalier(bench):
-    pytest.importorskip("pyvista")
-    if not (REAL / "views.json").is_file() or not (REAL / NAME).is_file():
-        pytest.skip("development set absent")
-    return bench.load_models(REAL, {NAME})[0][0]
-
-
-def _start(bench, model, k: int):
-    """The start mescher read from the benchmark's picture under light ``k``, and the climb in
-    screen units."""
-    from meschers.inverse_cli import zbuffer_picture
-    from meschers_igl.inverse.picture import mescher_from_picture
-
-    light = bench.hemisphere_lights(6, 0)[k]
-    image, scale = zbuffer_picture(
-        model, 128, light=light, ambient=bench.AMBIENT, background=bench.GROUND
-    )
-    m0, _, info = mescher_from_picture(image, light, bench.AMBIENT, background=bench.GROUND)
-    return m0, info, model.gap * scale
+def escalier(development_model):
+    return development_model(NAME)
 
 
 @pytest.mark.render
@@ -97,11 +64,11 @@ def test_escalier_climb_is_the_top_riser_over_the_well_wall(escalier):
     reason="step edges seen only as teeth on both sides of the flights are not paired",
 )
 @pytest.mark.parametrize("k", [0, 1, 2, 4])
-def test_escalier_start_climbs_the_stairs(bench, escalier, k):
+def test_escalier_start_climbs_the_stairs(bench_start, escalier, k):
     """Three shades: the start's period (around the outline, the loop the fit keeps) within
     the benchmark's 5% of the climb."""
     from meschers_igl.inverse.metrics import figure_period
 
-    m0, _, gap = _start(bench, escalier, k)
+    m0, _, gap = bench_start(escalier, k)
     err = figure_period(m0) / gap - 1.0
     assert abs(err) < 0.05, err
