@@ -28,22 +28,33 @@ and ``g`` does not, :func:`seam_hidden`).  Two such lines stay out: those among 
 seen from behind (its underside, beyond the contour that stands for it, on screen slivers of
 the surface), and polylines of seams alone shorter than the drawing's ``min_length`` (where a
 face between reaches under an edge by a corner; :func:`lines_of_only`).
+
+A strip of faces seen edge-on (a cut in a plane through the view, a riser seen exactly from
+its side) covers nothing: a face on one side of it and a face on the other that continue each
+other on screen are one sheet, and the strip's edges are no line (:func:`seam_partners`), but
+only along the stretch where both sides meet it; beyond, the edge is a line like any other.
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
 
 from .face_grid import ranges as _ranges
 
 __all__ = [
     "NEAR_BASE",
+    "complement_intervals",
     "crossed",
     "fold_ranks",
     "is_near",
     "lines_of_only",
     "order_seams",
     "seam_hidden",
+    "seam_partners",
     "triangles_overlap",
 ]
 
@@ -229,3 +240,111 @@ def lines_of_only(
     piece = np.searchsorted(code, np.minimum(a, b) * base + np.maximum(a, b))
     line = np.repeat(np.arange(n_lines), np.diff(offsets) - 1)
     return np.bincount(line[~alone[piece]], minlength=n_lines) == 0
+
+
+def complement_intervals(n: int, seg: np.ndarray, t0: np.ndarray, t1: np.ndarray):
+    """``(seg, lo, hi)``: the parts of ``[0, 1]`` of each of ``n`` segments outside the union
+    of the intervals ``[t0, t1]`` given for it."""
+    o = np.lexsort((t0, seg))
+    seg, t0, t1 = seg[o], t0[o], t1[o]
+    # running maximum of the interval ends within each segment (keys of earlier segments are
+    # smaller, so one cumulative maximum over all serves every segment)
+    run = np.maximum.accumulate(seg * 4.0 + t1) - seg * 4.0
+    first = np.ones(len(seg), dtype=bool)
+    first[1:] = seg[1:] != seg[:-1]
+    prev = np.where(first, 0.0, np.concatenate([[0.0], run[:-1]]))
+    gap = t0 > prev
+    last = np.ones(len(seg), dtype=bool)
+    last[:-1] = seg[1:] != seg[:-1]
+    tail = last & (run < 1.0)
+    untouched = np.setdiff1d(np.arange(n), seg)
+    out_s = np.concatenate([seg[gap], seg[tail], untouched])
+    out_lo = np.concatenate([prev[gap], run[tail], np.zeros(len(untouched))])
+    out_hi = np.concatenate([t0[gap], np.ones(tail.sum()), np.ones(len(untouched))])
+    return out_s, out_lo, out_hi
+
+
+def seam_partners(
+    m: Any,
+    ef: np.ndarray,
+    area2: np.ndarray,
+    crease_angle: float,
+    uncovered: bool = False,
+    tol_abs: float = 0.0,
+) -> Any:
+    """(#E,) the face that continues the surface across faces seen edge-on, or -1.
+
+    A cut in a plane containing the view leaves a strip of faces of zero screen area between
+    two faces that continue each other on screen (the seam of an impossible figure).  For an
+    edge ``e`` between a face ``f`` and a face of such a strip, the partner is a face ``g``
+    attached to the same strip (faces seen edge-on joined through their edges) on the other
+    side of ``e``'s screen line, along an overlapping stretch of it, facing the same way as
+    ``f`` and within ``crease_angle`` of its normal: in the picture ``f`` and ``g`` are one
+    smooth sheet, and ``e`` is no line.
+
+    With ``uncovered`` also returns ``(edge, t0, t1)``: the stretches ``[t0, t1]`` (of
+    ``E[edge, 0] -> E[edge, 1]``, longer than ``2 tol_abs``) of the partnered edges along
+    which no partner's edge runs.
+    """
+    partner = np.full(len(ef), -1, dtype=np.int64)
+    flat = area2 == 0
+    none = (np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0))
+    if not flat.any():
+        return (partner, none) if uncovered else partner
+    nF = len(area2)
+    inner = ef[:, 1] >= 0
+    f0, f1 = ef[:, 0], np.maximum(ef[:, 1], 0)
+    both = inner & flat[f0] & flat[f1]
+    adj = sp.coo_matrix((np.ones(int(both.sum())), (f0[both], f1[both])), shape=(nF, nF))
+    _, comp = csgraph.connected_components(adj, directed=False)
+    one = inner & (flat[f0] != flat[f1])
+    e_att = np.flatnonzero(one)
+    h = np.where(flat[f0[e_att]], f0[e_att], f1[e_att])
+    f = np.where(flat[f0[e_att]], f1[e_att], f0[e_att])
+    c = comp[h]
+    o = np.argsort(c, kind="stable")
+    e_att, f, c = e_att[o], f[o], c[o]
+    # every ordered pair of attachments to one strip
+    start = np.searchsorted(c, c, "left")
+    k = np.searchsorted(c, c, "right") - start
+    i = np.repeat(np.arange(len(c)), k)
+    j = np.repeat(start, k) + _ranges(k)
+    keep = i != j
+    i, j = i[keep], j[keep]
+    xy = np.asarray(m.xy)
+    E = np.asarray(m.edges)
+    F = np.asarray(m.F)
+    N = np.asarray(m.face_normals())
+    a0, a1 = xy[E[e_att[i], 0]], xy[E[e_att[i], 1]]
+    d = a1 - a0
+    length = np.linalg.norm(d, axis=1)
+    ok = length > 0
+    u = d / np.where(ok, length, 1.0)[:, None]
+
+    def side(P):
+        q = P - a0
+        return u[:, 0] * q[:, 1] - u[:, 1] * q[:, 0]
+
+    fi, fj = f[i], f[j]
+    ok &= side(xy[F[fi]].mean(axis=1)) * side(xy[F[fj]].mean(axis=1)) < 0
+    ok &= (area2[fi] > 0) == (area2[fj] > 0)
+    ok &= np.einsum("ij,ij->i", N[fi], N[fj]) >= np.cos(np.radians(crease_angle))
+    # the partner's edge lies on the same screen line and overlaps this one along it
+    b0, b1 = xy[E[e_att[j], 0]], xy[E[e_att[j], 1]]
+    tol = 1e-9 * np.maximum(length, 1e-300)
+    ok &= (np.abs(side(b0)) <= tol) & (np.abs(side(b1)) <= tol)
+    tb0 = np.einsum("ij,ij->i", b0 - a0, u)
+    tb1 = np.einsum("ij,ij->i", b1 - a0, u)
+    ok &= (np.maximum(tb0, tb1) > tol) & (np.minimum(tb0, tb1) < length - tol)
+    partner[e_att[i[ok]]] = fj[ok]
+    if not uncovered:
+        return partner
+    # the stretches of each partnered edge no partner's edge runs along: there the surface
+    # does not go on across the strip, and the edge is a line (a stair's tread beyond the end
+    # of the riser seen edge-on under it meets the ground: the outline's jog)
+    e, lo, hi = e_att[i[ok]], np.minimum(tb0, tb1)[ok], np.maximum(tb0, tb1)[ok]
+    lo, hi = np.clip(lo / length[ok], 0.0, 1.0), np.clip(hi / length[ok], 0.0, 1.0)
+    ids, inv = np.unique(e, return_inverse=True)
+    k, g0, g1 = complement_intervals(len(ids), inv, lo, hi)
+    keep = (g1 - g0) * np.linalg.norm(xy[E[ids[k], 1]] - xy[E[ids[k], 0]], axis=1) > 2.0 * tol_abs
+    return partner, (ids[k[keep]], g0[keep], g1[keep])

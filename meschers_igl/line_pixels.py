@@ -14,7 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from .lines import LineDrawing, _dihedral, _double_area, _ranges, _seam_partners
+from .line_folds import seam_partners
+from .lines import LineDrawing, _dihedral, _double_area, _ranges
 from .topology import edge_faces
 from .validate import as_positive
 
@@ -69,7 +70,7 @@ def visible_face_edges(
     inner = ef[:, 1] >= 0
     smooth = inner & ~crease
     smooth[inner] &= front[ef[inner, 0]] == front[ef[inner, 1]]
-    partner = _seam_partners(m, ef, area2, crease_angle)
+    partner = seam_partners(m, ef, area2, crease_angle)
     smooth |= partner >= 0  # a seam across a face seen edge-on: the walk goes on to the partner
     H, W = faces.shape
     x0, x1, y0, y1 = (float(b) for b in bounds)

@@ -64,7 +64,15 @@ from .face_grid import ranges as _ranges
 from .geometry2d import default_tol, triangle_heights
 from .jit import kernel
 from .line_folds import NEAR_BASE as _NEAR_BASE
-from .line_folds import crossed, fold_ranks, lines_of_only, order_seams, seam_hidden
+from .line_folds import (
+    complement_intervals,
+    crossed,
+    fold_ranks,
+    lines_of_only,
+    order_seams,
+    seam_hidden,
+    seam_partners,
+)
 from .line_folds import is_near as _is_near
 from .painter import _draw_order
 from .topology import edge_faces
@@ -326,8 +334,8 @@ def _hidden_intervals(
         c_lo = np.concatenate([t0[cov], c0[cov_e], np.zeros(len(no_own))])
         c_hi = np.concatenate([t1[cov], c1[cov_e], np.ones(len(no_own))])
         covered.append((cs, c_lo, c_hi))
-        parts.append(_complement(n, cs, c_lo, c_hi))  # where this side shows its own face
-    hidden = _complement(n, *(np.concatenate([p[i] for p in parts]) for i in range(3)))
+        parts.append(complement_intervals(n, cs, c_lo, c_hi))  # where this side shows its own face
+    hidden = complement_intervals(n, *(np.concatenate([p[i] for p in parts]) for i in range(3)))
     if src.seam.any():
         hidden = seam_hidden(hidden, covered, parts, src.seam, src.thr)
     # where the segment enters or leaves any face: what lies beside it may change there
@@ -335,28 +343,6 @@ def _hidden_intervals(
     bt = np.concatenate([t0[strict], t1[strict], c0[on_edge], c1[on_edge]])
     inner = (bt > 0.0) & (bt < 1.0)
     return hidden, (bs[inner], bt[inner])
-
-
-def _complement(n: int, seg: np.ndarray, t0: np.ndarray, t1: np.ndarray):
-    """``(seg, lo, hi)``: the parts of ``[0, 1]`` of each of ``n`` segments outside the union
-    of the intervals ``[t0, t1]`` given for it."""
-    o = np.lexsort((t0, seg))
-    seg, t0, t1 = seg[o], t0[o], t1[o]
-    # running maximum of the interval ends within each segment (keys of earlier segments are
-    # smaller, so one cumulative maximum over all serves every segment)
-    run = np.maximum.accumulate(seg * 4.0 + t1) - seg * 4.0
-    first = np.ones(len(seg), dtype=bool)
-    first[1:] = seg[1:] != seg[:-1]
-    prev = np.where(first, 0.0, np.concatenate([[0.0], run[:-1]]))
-    gap = t0 > prev
-    last = np.ones(len(seg), dtype=bool)
-    last[:-1] = seg[1:] != seg[:-1]
-    tail = last & (run < 1.0)
-    untouched = np.setdiff1d(np.arange(n), seg)
-    out_s = np.concatenate([seg[gap], seg[tail], untouched])
-    out_lo = np.concatenate([prev[gap], run[tail], np.zeros(len(untouched))])
-    out_hi = np.concatenate([t0[gap], np.ones(tail.sum()), np.ones(len(untouched))])
-    return out_s, out_lo, out_hi
 
 
 def _top_faces(P, T, area2, rank, draw, anchor, near, scale, grid) -> np.ndarray:
@@ -554,70 +540,6 @@ def _join(P0, P1, group, scale, seam):
 
 
 # ------------------------------------------------------------------------------ front door
-def _seam_partners(m: Any, ef: np.ndarray, area2: np.ndarray, crease_angle: float) -> np.ndarray:
-    """(#E,) the face that continues the surface across faces seen edge-on, or -1.
-
-    A cut in a plane containing the view leaves a strip of faces of zero screen area between
-    two faces that continue each other on screen (the seam of an impossible figure).  For an
-    edge ``e`` between a face ``f`` and a face of such a strip, the partner is a face ``g``
-    attached to the same strip (faces seen edge-on joined through their edges) on the other
-    side of ``e``'s screen line, along an overlapping stretch of it, facing the same way as
-    ``f`` and within ``crease_angle`` of its normal: in the picture ``f`` and ``g`` are one
-    smooth sheet, and ``e`` is no line.
-    """
-    partner = np.full(len(ef), -1, dtype=np.int64)
-    flat = area2 == 0
-    if not flat.any():
-        return partner
-    nF = len(area2)
-    inner = ef[:, 1] >= 0
-    f0, f1 = ef[:, 0], np.maximum(ef[:, 1], 0)
-    both = inner & flat[f0] & flat[f1]
-    adj = sp.coo_matrix((np.ones(int(both.sum())), (f0[both], f1[both])), shape=(nF, nF))
-    _, comp = csgraph.connected_components(adj, directed=False)
-    one = inner & (flat[f0] != flat[f1])
-    e_att = np.flatnonzero(one)
-    h = np.where(flat[f0[e_att]], f0[e_att], f1[e_att])
-    f = np.where(flat[f0[e_att]], f1[e_att], f0[e_att])
-    c = comp[h]
-    o = np.argsort(c, kind="stable")
-    e_att, f, c = e_att[o], f[o], c[o]
-    # every ordered pair of attachments to one strip
-    start = np.searchsorted(c, c, "left")
-    k = np.searchsorted(c, c, "right") - start
-    i = np.repeat(np.arange(len(c)), k)
-    j = np.repeat(start, k) + _ranges(k)
-    keep = i != j
-    i, j = i[keep], j[keep]
-    xy = np.asarray(m.xy)
-    E = np.asarray(m.edges)
-    F = np.asarray(m.F)
-    N = np.asarray(m.face_normals())
-    a0, a1 = xy[E[e_att[i], 0]], xy[E[e_att[i], 1]]
-    d = a1 - a0
-    length = np.linalg.norm(d, axis=1)
-    ok = length > 0
-    u = d / np.where(ok, length, 1.0)[:, None]
-
-    def side(P):
-        q = P - a0
-        return u[:, 0] * q[:, 1] - u[:, 1] * q[:, 0]
-
-    fi, fj = f[i], f[j]
-    ok &= side(xy[F[fi]].mean(axis=1)) * side(xy[F[fj]].mean(axis=1)) < 0
-    ok &= (area2[fi] > 0) == (area2[fj] > 0)
-    ok &= np.einsum("ij,ij->i", N[fi], N[fj]) >= np.cos(np.radians(crease_angle))
-    # the partner's edge lies on the same screen line and overlaps this one along it
-    b0, b1 = xy[E[e_att[j], 0]], xy[E[e_att[j], 1]]
-    tol = 1e-9 * np.maximum(length, 1e-300)
-    ok &= (np.abs(side(b0)) <= tol) & (np.abs(side(b1)) <= tol)
-    tb0 = np.einsum("ij,ij->i", b0 - a0, u)
-    tb1 = np.einsum("ij,ij->i", b1 - a0, u)
-    ok &= (np.maximum(tb0, tb1) > tol) & (np.minimum(tb0, tb1) < length - tol)
-    partner[e_att[i[ok]]] = fj[ok]
-    return partner
-
-
 def line_drawing(
     m: Any,
     order: Any = None,
@@ -665,10 +587,10 @@ def line_drawing(
     src = _sources(m, sc, crease_angle, contours)
     (hs, h0, h1), breaks = _hidden_intervals(src, sc, default_tol(sc.xy))
     n_seg = len(src.A)
-    vs, v0, v1 = _complement(n_seg, hs, h0, h1)
+    vs, v0, v1 = complement_intervals(n_seg, hs, h0, h1)
     pieces = [(vs, v0, v1, np.ones(len(vs), dtype=bool))]
     if hidden:
-        ws, w0, w1 = _complement(n_seg, vs, v0, v1)
+        ws, w0, w1 = complement_intervals(n_seg, vs, v0, v1)
         ws, w0, w1 = (a[~src.seam[ws]] for a in (ws, w0, w1))  # a seam has no hidden part
         pieces.append((ws, w0, w1, np.zeros(len(ws), dtype=bool)))
     ps, p0, p1, vis = (np.concatenate([p[i] for p in pieces]) for i in range(4))
@@ -771,16 +693,25 @@ def _sources(m: Any, sc: _Scene, crease_angle: float, contours: str) -> _Sources
     seam = np.zeros(len(E), dtype=bool)
     seam[smooth] = order_seams(f1[smooth], f2[smooth], rank, sc.arcs)
     # an edge onto a face seen edge-on, across which the surface goes on smoothly, is a seam
-    src &= _seam_partners(m, ef, area2, crease_angle) < 0
+    # (a line only where no partner runs along it)
+    partner, (ge, g0, g1) = seam_partners(
+        m, ef, area2, crease_angle, uncovered=True, tol_abs=_MIN_PIECE * sc.scale
+    )
+    ge, g0, g1 = ge[src[ge]], g0[src[ge]], g1[src[ge]]
+    src &= partner < 0
     # an edge whose faces all cover nothing on screen (seen edge-on) is never drawn
     src &= (area2[f1] != 0) | (~boundary & (area2[f2p] != 0))
     src |= seam
     src &= np.linalg.norm(xy[E[:, 1]] - xy[E[:, 0]], axis=1) > _MIN_PIECE * sc.scale
     e = np.flatnonzero(src)
+    e = np.concatenate([e, ge])
+    t0 = np.concatenate([np.zeros(len(e) - len(ge)), g0])[:, None]
+    t1 = np.concatenate([np.ones(len(e) - len(ge)), g1])[:, None]
+    a, b = xy[E[e, 0]], xy[E[e, 1]]
     parts = [
         (
-            xy[E[e, 0]],
-            xy[E[e, 1]],
+            a + t0 * (b - a),
+            a + t1 * (b - a),
             _side_ranks(xy, F, E[e], f1[e], f2[e], rank, area2),
             np.full(len(e), -1, dtype=np.int64),
             np.stack([f1[e], f2[e]], axis=1),

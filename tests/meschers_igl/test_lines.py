@@ -428,3 +428,26 @@ def test_triangles_overlap_and_crossing_rule():
     assert NEAR_BASE > 4
     got = crossed(near, np.array([0, 0]), np.array([2, 3]), T, rank, np.ones(4))
     assert got.tolist() == [True, False]
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["penrose_triangle", "impossible_cube", "penrose_stairs", "reutersvard_triangle", "window"],
+)
+def test_gallery_outline_closes_round_the_figure(name):
+    """Every pixel of the figure next to the ground is within a pixel and a half of a visible
+    line: a stair's tread past the end of the riser seen edge-on under it meets the ground
+    there, and that stretch of its edge is drawn (the outline's jog; a gap lets a reader of
+    the drawing's paper into the figure)."""
+    from meschers_igl.gallery import get_model
+
+    g = get_model(name)
+    m, order = g.mescher, g.order
+    ld = line_drawing(m, order)
+    lo, hi = np.asarray(m.xy).min(0), np.asarray(m.xy).max(0)
+    c, half = 0.5 * (lo + hi), 0.55 * (hi - lo).max()
+    bounds = (c[0] - half, c[0] + half, c[1] - half, c[1] + half)
+    fig = visible_faces(m, order, size=1024, bounds=bounds) >= 0
+    rim = fig & ~ndimage.binary_erosion(fig, border_value=0)
+    far = ndimage.distance_transform_edt(~_drawn_mask(ld, bounds, fig.shape))[rim] > 1.5
+    assert far.sum() == 0, f"{far.sum()} of {rim.sum()} rim pixels far from every line"
