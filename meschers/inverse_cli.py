@@ -526,8 +526,13 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
                 f"--init picture: expected one white --light, found {len(lights)} lights"
                 + (" with colours" if colors is not None else "")
             )
+        # a drawing shows the steps between parallel faces its shaded reading cannot
         m0, region, info = mescher_from_picture(
-            target, lights[0] if given else None, args.ambient, background=bg
+            target,
+            lights[0] if given else None,
+            args.ambient,
+            background=bg,
+            steps=None if drawing is None else drawing.steps,
         )
         # the fit holds each face to its shade region's normal (fit_options' turn)
         face_normals = info["normals"][region]

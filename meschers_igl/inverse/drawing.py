@@ -55,6 +55,10 @@ class DrawingReading:
         Unit screen direction of the lines along axis ``k`` (the projection of ``normals[k]``).
     light : (3,) float64
         The light that paints ``picture``.
+    steps : list of (2, 2) float64
+        The lines drawn between two faces of one orientation (screen units, the drawing
+        spanning ``[-1, 1]^2``): one face passes in front of a parallel one there (a stair's
+        tread over the one below), which the shaded picture cannot show.
     """
 
     picture: np.ndarray
@@ -63,6 +67,7 @@ class DrawingReading:
     normals: np.ndarray
     directions: np.ndarray
     light: np.ndarray
+    steps: list
 
 
 def is_line_drawing(
@@ -275,6 +280,7 @@ def shade_drawing(
     # a face: its edges follow the two other directions, hardly its own
     face_like = (own < third_share) & (share.sum(axis=1) - own > 0.6)
     orient = np.where(face_like & ~_outlined(t, line, ground, reg, len(regions)), k_min, -1)
+    orient = _by_creases(lines, reg, orient, share, dirs, third_share)
     if np.unique(orient[orient >= 0]).size < 3:
         raise MescherError(
             "target: expected faces of three orientations between the lines, found "
@@ -296,4 +302,65 @@ def shade_drawing(
     on = face >= 0
     picture[on] = shade[face[on]][:, None]
     faces = np.where(on, reg, -1)
-    return DrawingReading(picture, faces, orient, normals, dirs, lvec)
+    steps = _steps(lines, faces, orient)
+    return DrawingReading(picture, faces, orient, normals, dirs, lvec, steps)
+
+
+def _sides(lines, labels: np.ndarray, side_px: float = 1.0):
+    """The pieces of the straightened ``lines`` (screen units) and the labels ``side_px`` pixels
+    to either side of their middles: ``a, b`` (S, 2), ``length`` (S,), ``f, g`` (S,)."""
+    pts = [np.asarray(g.coords) for g in lines]
+    if not pts:
+        z = np.zeros((0, 2))
+        return z, z, np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    N = labels.shape[0]
+    px = 2.0 / N
+    a = np.concatenate([c[:-1] for c in pts])
+    b = np.concatenate([c[1:] for c in pts])
+    d = b - a
+    length = np.linalg.norm(d, axis=1)
+    n = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(length, 1e-300)[:, None]
+    mid = 0.5 * (a + b)
+
+    def at(q):
+        j = np.clip(np.floor((q[:, 0] + 1.0) / px).astype(np.int64), 0, N - 1)
+        i = np.clip(np.floor((1.0 - q[:, 1]) / px).astype(np.int64), 0, N - 1)
+        return labels[i, j]
+
+    return a, b, length, at(mid + side_px * px * n), at(mid - side_px * px * n)
+
+
+def _steps(lines, faces: np.ndarray, orient: np.ndarray) -> list:
+    """The pieces of the straightened ``lines`` (screen units) with two different faces of one
+    orientation on their two sides, over two pixels long: (2, 2) arrays."""
+    a, b, length, f, g = _sides(lines, faces)
+    o_f = np.where(f >= 0, orient[np.maximum(f, 0)], -1)
+    o_g = np.where(g >= 0, orient[np.maximum(g, 0)], -2)
+    keep = (f != g) & (o_f == o_g) & (length > 4.0 / faces.shape[0])
+    return [np.stack([a[k], b[k]]) for k in np.flatnonzero(keep)]
+
+
+def _by_creases(lines, reg, orient, share, dirs, third_share: float) -> np.ndarray:
+    """Orientations of the faces whose edges allow two (both other directions' shares under
+    ``third_share``: a wall under a flight shows the treads' edges in front of it): the one
+    under which more of its boundary with faces of one reading is a crease, a line along the
+    third direction between faces of the two others."""
+    two = (orient >= 0) & (np.sort(share, axis=1)[:, 1] < third_share)
+    if not two.any():
+        return orient
+    a, b, length, f, g = _sides(lines, reg)
+    u = (b - a) / np.maximum(length, 1e-300)[:, None]
+    cos = np.abs(u @ dirs.T)
+    axis = np.where(cos.max(axis=1) > math.cos(math.radians(10.0)), np.argmax(cos, axis=1), -1)
+    score = np.zeros((len(orient), 3))
+    for r, q in ((f, g), (g, f)):  # each side of each piece
+        sel = (r >= 0) & (q >= 0) & (r != q) & (axis >= 0)
+        sel[sel] &= two[r[sel]] & ~two[q[sel]] & (orient[q[sel]] >= 0)
+        r_, kq, ax, ln = r[sel], orient[q[sel]], axis[sel], length[sel]
+        for k in range(3):
+            ok = (k != kq) & (ax != k) & (ax != kq)
+            np.add.at(score[:, k], r_[ok], ln[ok])
+    score[share >= third_share] = -1.0
+    best = np.argmax(score, axis=1)
+    decided = two & (score[np.arange(len(orient)), best] > 0)
+    return np.where(decided, best, orient)

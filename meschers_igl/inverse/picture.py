@@ -566,6 +566,16 @@ def _hidden_constraints(hidden: list, pixel: float, past_px: float = 1.5):
     return ext, ident
 
 
+def _segment(q, name: str) -> np.ndarray:
+    """``q`` as a (2, 2) float64 segment of two distinct finite points, or a MescherError."""
+    a = np.asarray(q, dtype=np.float64)
+    if a.shape != (2, 2) or not np.isfinite(a).all() or np.allclose(a[0], a[1]):
+        raise MescherError(
+            f"{name}: expected segments of two distinct finite points (2, 2), found {a.tolist()}"
+        )
+    return a
+
+
 def _ends_on(p: np.ndarray, seg: np.ndarray, tol: float) -> bool:
     """Whether the point ``p`` lies on the segment ``seg`` ((2, 2)), within ``tol``."""
     d = seg[1] - seg[0]
@@ -654,6 +664,18 @@ def lift(
     return m0.with_zeta(zeta)
 
 
+def _reading_light(light, shades, ambient: float, d, pairs, lens) -> np.ndarray:
+    """The unit light: the one given, or :func:`estimate_light` on the frame the creases give
+    (of the two Necker readings, which light the picture alike from ``(lx, ly, lz)`` and
+    ``(-lx, -ly, lz)``, the one lit from above, as a person reads it)."""
+    if light is None:
+        frames = frames_from_creases(crease_directions(d, pairs, lens))
+        lights = [estimate_light(shades, N, ambient) for N in frames]
+        light = lights[0] if lights[0][1] >= lights[1][1] else lights[1]
+    light = np.asarray(light, dtype=np.float64)
+    return light / np.linalg.norm(light)
+
+
 def mescher_from_picture(
     target: np.ndarray,
     light=None,
@@ -666,6 +688,7 @@ def mescher_from_picture(
     small_px: float = 8.0,
     reach_px: float = 3.0,
     straighten: str = "douglas-peucker",
+    steps=None,
 ) -> tuple[Mescher, np.ndarray, dict]:
     """The initialization from a picture: segment, triangulate with holes, lift from shading.
 
@@ -680,8 +703,7 @@ def mescher_from_picture(
         Spans the screen square ``[-1, 1]^2``.
     light : (3,) float, optional
         Direction toward the (one, white) light, camera frame.  None: estimated
-        (:func:`estimate_light` on the frame :func:`frames_from_creases` reads from the
-        creases; of the two Necker readings, the one lit from above, ``l_y >= 0``).
+        (:func:`_reading_light`).
     ambient : float
     background : (3,) float
     max_area_px, tolerance_px : float
@@ -693,8 +715,7 @@ def mescher_from_picture(
         (:func:`.occlusion.hidden_occlusions`; a stair's tread over the one below), on to the
         outline, a hole or another hidden line; no piece of the cut touches the boundary twice
         (:func:`_one_contact`), so the loop that carries the period stays whole.  Read from jogs
-        a few pixels long: the Penrose stairs at 128 px from (1, 1, 2) (rises of 3.5 px) show
-        all eight step edges (period within 5%); isometrically (2.5 px) two are wrong.
+        a few pixels long (the Penrose stairs at 128 px, rises of 3.5 px: all eight steps).
     small_px : float
         Pieces (faces of one region joined across edges) under this many square pixels weigh
         ``1e-3`` in the lift (a sliver of an end face under a stair's wall): it makes up for lost
@@ -704,6 +725,9 @@ def mescher_from_picture(
         (:func:`_to_holes`).
     straighten : {"douglas-peucker", "fit"}
         How region boundaries become straight (:func:`.regions.region_polygons`).
+    steps : sequence of (2, 2) float, optional
+        Known occlusion lines between faces of one shade (screen units; a drawing's lines
+        between parallel faces, ``DrawingReading.steps``): cut along these, not ``complete``'s.
 
     Returns
     -------
@@ -718,6 +742,8 @@ def mescher_from_picture(
         at the ambient shade: the picture does not show how their faces turn).
     """
 
+    if steps is not None:
+        steps = [_segment(q, "steps") for q in steps]
     seg = segment_picture(target, background, light=light, ambient=ambient)
     if len(seg.shades) != 3:
         raise MescherError(
@@ -728,21 +754,14 @@ def mescher_from_picture(
     pixel = 2.0 / seg.labels.shape[1]
     xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
     edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
-    if light is None:
-        frames = frames_from_creases(crease_directions(d, pairs, lens))
-        lights = [estimate_light(seg.shades, N, ambient) for N in frames]
-        # the two Necker readings light the picture alike from (lx, ly, lz) and (-lx, -ly, lz):
-        # a person reads it lit from above
-        light = lights[0] if lights[0][1] >= lights[1][1] else lights[1]
-    light = np.asarray(light, dtype=np.float64)
-    light = light / np.linalg.norm(light)
+    light = _reading_light(light, seg.shades, ambient, d, pairs, lens)
     if seg.normals is None:
         normals, misfit = normals_from_shading(seg.shades, light, ambient, d, pairs, lens)
     else:
         normals, misfit = seg.normals, float("nan")
     occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
-    hidden = []
-    if complete:
+    hidden = list(steps) if steps is not None else []
+    if steps is None and complete:
         hidden = hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
     hidden_edges = []
     if hidden:

@@ -1,4 +1,5 @@
-"""Fixtures of the picture reader's tests that read the acceptance benchmark's pictures."""
+"""Fixtures of the picture reader's tests: the acceptance benchmark's pictures and the project's
+own line art."""
 
 from __future__ import annotations
 
@@ -56,3 +57,33 @@ def bench_start(bench):
         return m0, info, model.gap * scale
 
     return start
+
+
+@pytest.fixture
+def line_art():
+    """``draw(spec, path, size=512)``: the project's own line art of ``spec`` as an antialiased
+    PNG (``meschers draw``), the true period of its mescher in picture units (the drawing spans
+    its default screen box; NaN without one) and the mescher, its order and that box."""
+
+    def draw(spec: str, path, size: int = 512):
+        import numpy as np
+
+        pytest.importorskip("cairosvg")
+        from PIL import Image
+
+        from meschers.cli import main
+        from meschers.inputs import load_mescher, resolve
+        from pyvista_views.lineart import default_bounds
+
+        assert main(["draw", spec, "-o", str(path), "--size", str(size)]) == 0
+        picture = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
+        m, order = load_mescher(resolve(spec))
+        xy = m.xy
+        box = default_bounds(
+            (xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()), (size, size)
+        )
+        p = np.abs(m.periods())
+        period = float(p.max()) * 2.0 / (box[1] - box[0]) if p.size else float("nan")
+        return picture, period, (m, order, box)
+
+    return draw

@@ -124,26 +124,6 @@ def test_cli_takes_a_drawing_and_saves_the_mescher_with_its_order(tmp_path, trib
     assert math.isclose(float(np.linalg.norm(light)), 1.0, rel_tol=1e-9)
 
 
-def _line_art(spec: str, path, size: int = 512):
-    """The project's own line art of ``spec`` as an antialiased PNG, and the true period of its
-    mescher in picture units (the drawing spans its default screen box)."""
-    pytest.importorskip("cairosvg")
-    from PIL import Image
-
-    from meschers.cli import main
-    from meschers.inputs import load_mescher, resolve
-    from pyvista_views.lineart import default_bounds
-
-    assert main(["draw", spec, "-o", str(path), "--size", str(size)]) == 0
-    picture = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
-    m, _ = load_mescher(resolve(spec))
-    xy = m.xy
-    x0, x1, _, _ = default_bounds(
-        (xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()), (size, size)
-    )
-    return picture, float(np.abs(m.periods()).max()) * 2.0 / (x1 - x0)
-
-
 @pytest.mark.render
 @pytest.mark.parametrize(
     "spec",
@@ -153,11 +133,11 @@ def _line_art(spec: str, path, size: int = 512):
         "paradox:impossible_arch__iso_exact",
     ],
 )
-def test_the_projects_own_line_art_reads_as_the_figure(tmp_path, spec):
+def test_the_projects_own_line_art_reads_as_the_figure(tmp_path, spec, line_art):
     """Line art as drawing programs write it: antialiased, so a line's flanks are grey and only
     its middle is black.  It is told from a picture and read back with the period of the
     mescher it was drawn from."""
-    picture, period = _line_art(spec, tmp_path / "drawing.png")
+    picture, period, _ = line_art(spec, tmp_path / "drawing.png")
     grey = picture.mean(axis=-1)
     assert np.mean(grey[grey < 0.98] < 0.1) < 0.6  # most ink is grey: antialiased
     assert drw.is_line_drawing(picture)
@@ -220,17 +200,14 @@ def test_a_heavier_outline_closes_the_holes_it_runs_round():
 
 
 @pytest.mark.render
-def test_the_arch_drawn_with_a_heavier_outline_reads_its_hole_at_128():
+def test_the_arch_drawn_with_a_heavier_outline_reads_its_hole_at_128(tmp_path, line_art):
     """The impossible arch's line art: the heavier outline round its opening makes it a hole, so
     the period still shows at the 128 pixels ``meschers inverse`` fits at (read as a face
     behind, the opening joined the arch's front and no period was left)."""
-    import tempfile
-
     from meschers.inverse_cli import _resize_flat
     from meschers_igl.inverse.picture import mescher_from_picture
 
-    with tempfile.TemporaryDirectory() as tmp:
-        picture, period = _line_art("paradox:impossible_arch__iso_exact", f"{tmp}/arch.png")
+    picture, period, _ = line_art("paradox:impossible_arch__iso_exact", tmp_path / "arch.png")
     r = drw.shade_drawing(picture)
     assert r.faces[256, 256] == -1  # the opening's middle
     m, _, _ = mescher_from_picture(_resize_flat(r.picture, 128), r.light, 0.2)
