@@ -38,6 +38,7 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 from .faces import _three_means, _two_groups, split_shared_shade
+from .flatten import flatten_picture, is_flat
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import node_constraints, region_polygons
 from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
@@ -744,6 +745,8 @@ def mescher_from_picture(
 
     if steps is not None:
         steps = [_segment(q, "steps") for q in steps]
+    if not is_flat(target):  # antialiased or JPEG: the flat picture it was made from
+        target = flatten_picture(target)
     seg = segment_picture(target, background, light=light, ambient=ambient)
     if len(seg.shades) != 3:
         raise MescherError(

@@ -1,0 +1,209 @@
+"""Pictures as people publish them, made flat again: antialiased edges and JPEG noise.
+
+The picture reader (:func:`.picture.segment_picture`) takes a flat-shaded picture: each face of a
+figure of boxes under one light one exact colour, a line wherever two neighbouring pixels
+differ.  A renderer that antialiases blends the colours of the faces meeting at each edge
+pixel (a pixel half on a dark face and half on a light one takes the middle shade, which may
+be a third face's), and JPEG adds a few levels of noise everywhere and ringing along the edges.
+:func:`flatten_picture` restores the flat picture:
+
+1. the picture's *modes*: colours held by many pixels, each gathering the colours within
+   ``radius`` of it (greedily from the most frequent), that are not thin (a blend along a
+   long straight edge is a run of one colour too, and so is JPEG's ringing along one: one
+   pixel wide, under a quarter of its pixels survive a 2 x 2 opening);
+2. each pixel takes the nearest mode if it is within ``radius``, and only where its mode's
+   pixels are at least two wide (a 2 x 2 opening of each mode's pixels: blends along an edge
+   that happen to match a third face's colour are one pixel wide);
+3. the others (edge blends, ringing) take, of the modes present within two pixels, the
+   nearest in colour: a pixel mostly on one face is nearest that face's colour;
+4. specks of a few pixels (noise past ``radius``) take the colour around them.
+
+:func:`is_flat` tells a flat picture (nearly every pixel's exact colour shared by many) from
+one to restore; a flat picture is left as it is, so faces a few grey levels apart, which
+noise would merge, stay apart there.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import MescherError
+
+__all__ = ["flatten_picture", "is_flat", "noise_radius"]
+
+
+def _colour_keys(target: np.ndarray) -> np.ndarray:
+    """(H, W) int64: each pixel's colour rounded to 8-bit levels, packed in one integer."""
+    q = np.clip(np.round(np.asarray(target, dtype=np.float64) * 255.0), 0, 255).astype(np.int64)
+    return (q[..., 0] << 16) | (q[..., 1] << 8) | q[..., 2]
+
+
+def is_flat(target: np.ndarray, min_run: int = 16, share: float = 0.995) -> bool:
+    """Whether ``share`` of the pixels have an 8-bit colour that ``min_run`` pixels share.
+
+    A z-buffered picture of boxes under one light (every pixel one of a few exact colours) is
+    flat; an antialiased one (a blend along every edge, 5-10% of a 128 px figure's pixels) or
+    a JPEG (noise everywhere) is not.
+    """
+    _, inv, cnt = np.unique(_colour_keys(target).ravel(), return_inverse=True, return_counts=True)
+    return bool(np.mean(cnt[inv] >= min_run) >= share)
+
+
+def noise_radius(target: np.ndarray) -> float:
+    """How far (per channel, in [0, 1] units) a pixel strays from its face's colour: one and
+    a half 8-bit levels (rounding) plus four times the 95th percentile of the grey's distance
+    to its 5 x 5 median, over pixels whose windows are mostly within a level of their median
+    (the faces' insides, a few edge pixels among them: hence not a higher percentile); at
+    most eight levels.  A render, antialiased or not: 1.5 levels, so faces a few levels apart
+    stay apart; JPEG at quality 75-95 (95th percentile 0.7-1.3 levels): 4-7 levels."""
+    from scipy import ndimage
+
+    g = np.asarray(target, dtype=np.float64).mean(axis=-1) * 255.0
+    dev = np.abs(g - ndimage.median_filter(g, size=5))
+    inside = ndimage.uniform_filter((dev <= 1.0).astype(np.float64), size=5) >= 0.6
+    noise = float(np.percentile(dev[inside], 95)) if inside.any() else 0.0
+    return min(1.5 + 4.0 * noise, 8.0) / 255.0
+
+
+def flatten_picture(
+    target: np.ndarray, radius: float | None = None, min_share: float = 0.002, min_speck: int = 3
+) -> np.ndarray:
+    """The flat-shaded picture an antialiased or JPEG-compressed picture was made from.
+
+    Parameters
+    ----------
+    target : (H, W, 3) float in [0, 1]
+    radius : float, optional
+        Largest per-channel difference of a pixel to its face's colour (noise); colours closer
+        than this are one.  Default: :func:`noise_radius`.
+    min_share : float
+        Smallest share of the picture a colour must hold to be a face's (or the ground's).
+    min_speck : int
+        Pieces of one colour smaller than this (pixels, 4-connected) take the colour of the
+        nearest pixel outside them.
+
+    Returns
+    -------
+    (H, W, 3) float64
+        Each pixel one of the modes' colours (their pixel-weighted mean colours).
+
+    Raises
+    ------
+    MescherError
+        ``target`` not an (H, W, 3) image, or no colour held by ``min_share`` of it.
+    """
+    from scipy import ndimage
+
+    t = np.asarray(target, dtype=np.float64)
+    if t.ndim != 3 or t.shape[2] != 3:
+        raise MescherError(f"target: expected an (H, W, 3) image, found shape {t.shape}")
+    H, W, _ = t.shape
+    rgb = np.clip(t.reshape(-1, 3), 0.0, 1.0) * 255.0
+    feat = _features(rgb)
+    rows, inv, cnt = np.unique(
+        np.round(feat).astype(np.int64), axis=0, return_inverse=True, return_counts=True
+    )
+    inv = inv.ravel()
+    cols = rows.astype(np.float64)
+    r = (noise_radius(t) if radius is None else float(radius)) * 255.0
+    need = max(8.0, min_share * H * W)
+    taken = np.zeros(len(rows), dtype=bool)
+    modes = []
+    for u in np.argsort(-cnt, kind="stable"):  # the few seeds of the modes, most frequent first
+        if cnt[u] < 0.25 * need:
+            break
+        if taken[u]:
+            continue
+        near = ~taken & (np.abs(cols - cols[u]).max(axis=1) <= r)
+        taken |= near
+        if cnt[near].sum() >= need:
+            modes.append(np.flatnonzero(near))
+    if not modes:
+        raise MescherError(
+            f"target: expected faces of flat colours (some colour on {min_share:.1%} of the "
+            "picture), found none"
+        )
+    # each mode's mean colour and mean feature, over its pixels
+    member = np.full(len(rows), -1, dtype=np.int64)
+    for k, idx in enumerate(modes):
+        member[idx] = k
+    of = member[inv]
+    on = of >= 0
+    n_k = np.bincount(of[on], minlength=len(modes)).astype(np.float64)
+    RGB = np.stack([np.bincount(of[on], rgb[on, c], len(modes)) for c in range(3)], 1)
+    RGB /= n_k[:, None]
+    M = _features(RGB)
+    dist = np.abs(feat[:, None, :] - M[None]).max(axis=-1).reshape(H, W, len(M))
+    label = np.argmin(dist, axis=-1)
+    sure = np.take_along_axis(dist, label[..., None], axis=-1)[..., 0] <= r
+    # a colour between two others (within ``radius`` of the segment joining them) is a blend
+    # where its pixels lie one wide between theirs: a whole mode so (a long straight edge), or
+    # single runs of a face's colour that a blend happens to match
+    between = _between(M, r)  # (K, K, K): k between i and j
+    keep = np.ones(len(M), dtype=bool)
+    two = np.ones((2, 2), dtype=bool)
+    near3 = [ndimage.binary_dilation(sure & (label == k)) for k in range(len(M))]
+    for k in range(len(M)):  # a handful of modes
+        mk = sure & (label == k)
+        wide = ndimage.binary_opening(mk, structure=two)
+        if wide.sum() < 0.25 * mk.sum():  # one wide: a blend, or JPEG's ringing along an edge
+            keep[k] = False
+            continue
+        thin = mk & ~wide
+        for i, j in zip(*np.nonzero(between[:, :, k])):
+            sure[thin & near3[i] & near3[j]] = False
+    sure &= keep[label]
+    # the rest: of the modes seen within two pixels, the nearest in colour
+    cost = np.where(keep[None, None], dist, np.inf)
+    for k in np.flatnonzero(keep):
+        near_k = ndimage.binary_dilation(sure & (label == k), iterations=2)
+        cost[..., k] = np.where(near_k, cost[..., k], np.inf)
+    fill = np.argmin(cost, axis=-1)
+    none = ~np.isfinite(np.min(cost, axis=-1)) & ~sure
+    if none.any():  # far from every face's sure pixels: the nearest sure pixel's mode
+        _, (ii, jj) = ndimage.distance_transform_edt(~sure, return_indices=True)
+        fill = np.where(none, label[ii, jj], fill)
+    out = np.where(sure, label, fill)
+    # specks (a few pixels of one mode inside another's face: noise past ``radius``) join the
+    # face around them
+    speck = np.zeros((H, W), dtype=bool)
+    for k in np.flatnonzero(keep):  # a handful of modes
+        comp, n = ndimage.label(out == k)
+        size = np.bincount(comp.ravel(), minlength=n + 1)
+        speck |= (comp > 0) & (size[comp] < min_speck)
+    if speck.any() and not speck.all():
+        _, (ii, jj) = ndimage.distance_transform_edt(speck, return_indices=True)
+        out = out[ii, jj]
+    if r > 2.0:  # noisy (JPEG): edges ragged by the noise, straightened by a 3 x 3 majority
+        votes = np.stack(
+            [ndimage.uniform_filter((out == k).astype(np.float64), size=3) for k in range(len(M))]
+        )
+        best = np.argmax(votes, axis=0)
+        out = np.where(votes.max(axis=0) > 0.5, best, out)
+    return RGB[out] / 255.0
+
+
+def _features(rgb: np.ndarray, chroma: float = 0.3) -> np.ndarray:
+    """(P, 4): the grey (channels' mean) and ``chroma`` times each channel's departure from it
+    (8-bit levels).  JPEG keeps the grey within a few levels but blurs and coarsens colour
+    (sampled at half resolution): its colour noise, weighed down, stays within the grey's
+    noise, while a coloured ground stays far from grey faces."""
+    g = rgb.mean(axis=-1, keepdims=True)
+    return np.concatenate([g, chroma * (rgb - g)], axis=-1)
+
+
+def _between(M: np.ndarray, r: float) -> np.ndarray:
+    """(K, K, K) bool: ``[i, j, k]`` where colour ``M[k]`` lies within ``r`` (per channel) of
+    the segment from ``M[i]`` to ``M[j]``, strictly inside it (``i != j``, both ``!= k``)."""
+    K = len(M)
+    a, b = M[:, None, None, :], M[None, :, None, :]
+    c = M[None, None, :, :]
+    d = b - a
+    t = ((c - a) * d).sum(-1) / np.maximum((d * d).sum(-1), 1e-300)
+    off = np.abs(a + np.clip(t, 0.0, 1.0)[..., None] * d - c).max(-1)
+    idx = np.arange(K)
+    distinct = (idx[:, None, None] != idx[None, :, None]) & (
+        idx[:, None, None] != idx[None, None, :]
+    )
+    distinct &= idx[None, :, None] != idx[None, None, :]
+    return distinct & (off <= r) & (t > 0.0) & (t < 1.0)
