@@ -407,6 +407,7 @@ def _save_fit(
 ) -> dict:
     """Write the fitted mescher (with its order), the pictures and the snapshots; the metrics."""
     from meschers_igl import save
+    from meschers_igl.inverse.flatten import figure_mask
     from meschers_igl.inverse.metrics import (
         figure_period,
         image_psnr,
@@ -414,7 +415,6 @@ def _save_fit(
         silhouette_iou,
     )
     from meschers_igl.inverse.optimize import extract_order
-    from meschers_igl.inverse.targets import target_mask
 
     m = result.mescher
     order = extract_order(m, result.offsets)
@@ -429,7 +429,7 @@ def _save_fit(
     panels, titles = figure_panels(target, *start, result, bg, shade, args.init)
     _figures(out, panels, titles, result.losses, result.psnr)
     metrics = {
-        "silhouette_iou": silhouette_iou(result.alpha > 0.5, target_mask(target, bg)),
+        "silhouette_iou": silhouette_iou(result.alpha > 0.5, figure_mask(target, bg)),
         "psnr_db": image_psnr(result.image, target),
         "psnr_init_db": image_psnr(before, target),
         "psnr_curve": [[int(s_), float(p)] for s_, p in result.psnr],

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import MescherError
 
-__all__ = ["flatten_picture", "is_flat", "noise_radius"]
+__all__ = ["figure_mask", "flatten_picture", "is_flat", "noise_radius"]
 
 
 def _colour_keys(target: np.ndarray) -> np.ndarray:
@@ -47,6 +47,19 @@ def is_flat(target: np.ndarray, min_run: int = 16, share: float = 0.995) -> bool
     """
     _, inv, cnt = np.unique(_colour_keys(target).ravel(), return_inverse=True, return_counts=True)
     return bool(np.mean(cnt[inv] >= min_run) >= share)
+
+
+def figure_mask(target: np.ndarray, background=(1.0, 1.0, 1.0), tol: float = 0.05) -> np.ndarray:
+    """(H, W) bool: the figure's pixels as a renderer that samples pixel centres sees them.
+
+    :func:`.targets.target_mask` of the flat picture (:func:`flatten_picture`) where the
+    picture is not flat: an antialiased edge pixel is the figure's where most of it is, not
+    wherever a little of the figure tints it (which puts the silhouette half a pixel out).
+    """
+    from .targets import target_mask
+
+    t = np.asarray(target, dtype=np.float64)
+    return target_mask(t if is_flat(t) else flatten_picture(t), background, tol)
 
 
 def noise_radius(target: np.ndarray) -> float:

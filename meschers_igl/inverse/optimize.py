@@ -30,10 +30,10 @@ from largesteps.optimize import AdamUniform  # noqa: E402
 from ..errors import MescherError  # noqa: E402
 from ..mescher import Mescher  # noqa: E402
 from ..validate import check_budget  # noqa: E402
+from .flatten import figure_mask  # noqa: E402
 from .metrics import image_psnr  # noqa: E402
 from .rasterizer import lambertian, soft_rasterize  # noqa: E402
 from .sobolev import MescherParametrization  # noqa: E402
-from .targets import target_mask  # noqa: E402
 from .turn import FaceTurn, turn_faces  # noqa: E402
 
 
@@ -326,7 +326,7 @@ def _fit(target, res, init, offsets, shading, opt, callback, device, turn=None):
     dev = par.device
     d12 = init.d12
     tgt = torch.as_tensor(target, dtype=f32, device=dev)
-    mask = torch.as_tensor(target_mask(target, background), dtype=f32, device=dev)
+    mask = torch.as_tensor(figure_mask(target, background), dtype=f32, device=dev)
     opt_xy = AdamUniform([par.xy_leaf.leaf], lr=opt.lr_xy)
     opt_z = AdamUniform([par.z_leaf.leaf], lr=opt.lr_z)
     opt_rest = torch.optim.Adam(
