@@ -7,6 +7,9 @@ screen; skipped when absent) and the project's own box models (``tribar``, ``cub
 (``meschers.inverse_cli.zbuffer_picture``, flat Lambertian, ambient 0.2) under ``--lights``
 directions drawn uniformly on the upper hemisphere (toward the viewer, seeded), on a pale blue
 ground: no grey face can take its colour, where on white a face turned to the light vanishes.
+``--picture antialiased`` renders 4x larger and averages 4 x 4 blocks (a renderer's
+supersampling; what ``meschers inverse`` makes of a larger picture), ``--picture jpeg`` saves
+each picture as a JPEG of quality 90 and reads it back (:func:`published_picture`).
 
 Per picture: :func:`meschers_igl.inverse.picture.mescher_from_picture` with the light given,
 then :func:`meschers_igl.inverse.optimize.fit_mescher` (``fit_options``) with the regions'
@@ -35,6 +38,7 @@ refused with a ``MescherError`` counts as failing every column.
 Run:  python benchmarks/bench_inverse_real.py [--models PATH] [--lights 6] [--iters 300]
       [--no-turn-faces] [--turn-every K] [--turn-weight W]
       [--resolution 128] [--only NAME,NAME] [--cases NAME:K,...] [--figures DIR] [--seed 0]
+      [--picture zbuffer|antialiased|jpeg]
 """
 
 from __future__ import annotations
@@ -324,9 +328,37 @@ def load_models(folder: Path | None, only: set | None):
     return out
 
 
-def run_case(model, axes, light, res: int, iters: int, turn_faces: bool = True, turn=TURN) -> dict:
+def published_picture(model, res: int, light, how: str = "zbuffer"):
+    """The model's z-buffer picture (:func:`meschers.inverse_cli.zbuffer_picture`) as it is
+    published: ``"zbuffer"`` as rendered; ``"antialiased"`` rendered 4x larger and averaged
+    over 4 x 4 blocks (a renderer's supersampling, or ``meschers inverse`` on a larger
+    picture); ``"jpeg"`` saved as a JPEG of quality 90 and read back.  Returns it and the
+    scale."""
+    import io
+
+    from PIL import Image
+
     from meschers.inverse_cli import zbuffer_picture
+
+    if how == "antialiased":
+        big, scale = zbuffer_picture(
+            model, 4 * res, light=light, ambient=AMBIENT, background=GROUND
+        )
+        return big.reshape(res, 4, res, 4, 3).mean(axis=(1, 3)), scale
+    image, scale = zbuffer_picture(model, res, light=light, ambient=AMBIENT, background=GROUND)
+    if how == "jpeg":
+        buf = io.BytesIO()
+        Image.fromarray((image * 255.0).round().astype(np.uint8)).save(buf, "JPEG", quality=90)
+        buf.seek(0)
+        image = np.asarray(Image.open(buf).convert("RGB"), dtype=np.float64) / 255.0
+    return image, scale
+
+
+def run_case(
+    model, axes, light, res: int, iters: int, turn_faces: bool = True, turn=TURN, how="zbuffer"
+) -> dict:
     from meschers_igl.errors import MescherError
+    from meschers_igl.inverse.flatten import figure_mask
     from meschers_igl.inverse.metrics import (
         axis_aligned_share,
         figure_period,
@@ -336,10 +368,9 @@ def run_case(model, axes, light, res: int, iters: int, turn_faces: bool = True, 
     from meschers_igl.inverse.optimize import extract_order, fit_mescher
     from meschers_igl.inverse.picture import fit_options, mescher_from_picture
     from meschers_igl.inverse.rasterizer import render_mescher
-    from meschers_igl.inverse.targets import target_mask
     from meschers_igl.painter import visible_faces
 
-    target, scale = zbuffer_picture(model, res, light=light, ambient=AMBIENT, background=GROUND)
+    target, scale = published_picture(model, res, light, how)
     R = model.camera_frame()
     out = {"model": model.name, "light": [float(v) for v in light], "target_img": target}
     t0 = time.perf_counter()
@@ -377,7 +408,7 @@ def run_case(model, axes, light, res: int, iters: int, turn_faces: bool = True, 
     out.update(
         psnr=image_psnr(r.image, target),
         psnr_init=image_psnr(init_img, target),
-        iou=silhouette_iou(r.alpha > 0.5, target_mask(target, GROUND)),
+        iou=silhouette_iou(r.alpha > 0.5, figure_mask(target, GROUND)),
         axis=axis_aligned_share(vis, m.face_normals(), axes @ R.T, 10.0),
         impossible=bool(m.is_impossible()),
         period=period,
@@ -462,6 +493,12 @@ def main(argv=None) -> int:
         metavar="NAME:K,...",
         help="only these (model, light index) pairs, e.g. tribar:3,cube:5 (rerun failures)",
     )
+    ap.add_argument(
+        "--picture",
+        choices=("zbuffer", "antialiased", "jpeg"),
+        default="zbuffer",
+        help="the pictures as rendered, antialiased (4x4 supersampled) or JPEG (quality 90)",
+    )
     ap.add_argument("--iters", type=int, default=300)
     ap.add_argument("--resolution", type=int, default=128)
     ap.add_argument(
@@ -503,7 +540,8 @@ def main(argv=None) -> int:
     folder = Path(args.models)
     lights = hemisphere_lights(args.lights, args.seed)
     print(
-        f"{args.resolution}^2, {args.iters} steps, {args.lights} lights (seed {args.seed}), "
+        f"{args.resolution}^2 ({args.picture}), {args.iters} steps, {args.lights} lights "
+        f"(seed {args.seed}), "
         f"ambient {AMBIENT}, torch 1 thread"
         + (
             f", region normals (turned back every {args.turn_every}, weight {args.turn_weight})"
@@ -526,6 +564,7 @@ def main(argv=None) -> int:
                     args.iters,
                     turn_faces=args.turn_faces,
                     turn=turn,
+                    how=args.picture,
                 )
             except Exception as exc:  # a crash is a result too: it fails every column
                 r = {
