@@ -14,7 +14,8 @@ install it (``pip install 'meschers[inverse]'``).
 - :mod:`~meschers_igl.inverse.picture`: the start from the picture itself (segment, triangulate
   the silhouette with its holes, lift from shading); :mod:`~meschers_igl.inverse.models`: real
   3D box models of impossible figures whose z-buffered pictures are the acceptance targets;
-  :mod:`~meschers_igl.inverse.drawing`: a black-on-white line drawing read as a shaded picture.
+  :mod:`~meschers_igl.inverse.drawing`: a black-on-white line drawing read as a shaded picture;
+  :mod:`~meschers_igl.inverse.flatten`: an antialiased or JPEG picture made flat again.
 - the command line ``meschers inverse`` lives in the application, :mod:`meschers.inverse_cli`.
 """
 
@@ -60,6 +61,9 @@ _LAZY = {
     "estimate_light": "shading",
     "is_line_drawing": "drawing",
     "shade_drawing": "drawing",
+    "flatten_picture": "flatten",
+    "figure_mask": "flatten",
+    "is_flat": "flatten",
     "penrose_tribar": "models",
     "impossible_cube": "models",
     "penrose_stairs": "models",
