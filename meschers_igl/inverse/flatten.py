@@ -5,18 +5,22 @@ figure of boxes under one light one exact colour, a line wherever two neighbouri
 differ.  A renderer that antialiases blends the colours of the faces meeting at each edge
 pixel (a pixel half on a dark face and half on a light one takes the middle shade, which may
 be a third face's), and JPEG adds a few levels of noise everywhere and ringing along the edges.
-:func:`flatten_picture` restores the flat picture:
+:func:`flatten_picture` restores the flat picture, comparing colours by their grey and a third
+of their departure from it (JPEG keeps the grey within a few levels but samples colour at half
+resolution) within a noise radius read from the faces' insides (:func:`noise_radius`: 1.5
+levels for any render, so faces three levels apart stay two):
 
-1. the picture's *modes*: colours held by many pixels, each gathering the colours within
-   ``radius`` of it (greedily from the most frequent), that are not thin (a blend along a
-   long straight edge is a run of one colour too, and so is JPEG's ringing along one: one
-   pixel wide, under a quarter of its pixels survive a 2 x 2 opening);
-2. each pixel takes the nearest mode if it is within ``radius``, and only where its mode's
-   pixels are at least two wide (a 2 x 2 opening of each mode's pixels: blends along an edge
-   that happen to match a third face's colour are one pixel wide);
+1. the picture's *modes*: colours held by many pixels, each gathering the colours within the
+   radius of it (greedily from the most frequent), that are not thin (a blend along a long
+   straight edge is a run of one colour too, and so is JPEG's ringing along one: one pixel
+   wide, under a quarter of its pixels survive a 2 x 2 opening);
+2. each pixel takes the nearest mode within the radius, except a run one pixel wide of a
+   mode's colour lying between two others' colours next to both (an edge's blend that
+   matches a third face's colour);
 3. the others (edge blends, ringing) take, of the modes present within two pixels, the
    nearest in colour: a pixel mostly on one face is nearest that face's colour;
-4. specks of a few pixels (noise past ``radius``) take the colour around them.
+4. specks of a few pixels (noise past the radius) take the colour around them, and where the
+   radius says JPEG, a 3 x 3 majority straightens the edges the noise left ragged.
 
 :func:`is_flat` tells a flat picture (nearly every pixel's exact colour shared by many) from
 one to restore; a flat picture is left as it is, so faces a few grey levels apart, which
@@ -42,8 +46,9 @@ def is_flat(target: np.ndarray, min_run: int = 16, share: float = 0.995) -> bool
     """Whether ``share`` of the pixels have an 8-bit colour that ``min_run`` pixels share.
 
     A z-buffered picture of boxes under one light (every pixel one of a few exact colours) is
-    flat; an antialiased one (a blend along every edge, 5-10% of a 128 px figure's pixels) or
-    a JPEG (noise everywhere) is not.
+    flat (the acceptance benchmark's: at most 0.4% of pixels in rarer colours, tiny faces); an
+    antialiased one (a blend along every edge: 1.6-5.6% at 128 px) or a JPEG (noise
+    everywhere) is not.
     """
     _, inv, cnt = np.unique(_colour_keys(target).ravel(), return_inverse=True, return_counts=True)
     return bool(np.mean(cnt[inv] >= min_run) >= share)
