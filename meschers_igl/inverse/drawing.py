@@ -33,6 +33,7 @@ import numpy as np
 
 from ..errors import MescherError
 from .faces import line_directions
+from .regions import labels_at
 from .targets import target_mask
 
 #: the frame's Lambertian terms n_k . l of the light painting a drawing: three distinct shades
@@ -316,21 +317,15 @@ def _sides(lines, labels: np.ndarray, side_px: float = 1.0):
     if not pts:
         z = np.zeros((0, 2))
         return z, z, np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    N = labels.shape[0]
-    px = 2.0 / N
+    px = 2.0 / labels.shape[0]
     a = np.concatenate([c[:-1] for c in pts])
     b = np.concatenate([c[1:] for c in pts])
     d = b - a
     length = np.linalg.norm(d, axis=1)
     n = np.stack([-d[:, 1], d[:, 0]], axis=1) / np.maximum(length, 1e-300)[:, None]
     mid = 0.5 * (a + b)
-
-    def at(q):
-        j = np.clip(np.floor((q[:, 0] + 1.0) / px).astype(np.int64), 0, N - 1)
-        i = np.clip(np.floor((1.0 - q[:, 1]) / px).astype(np.int64), 0, N - 1)
-        return labels[i, j]
-
-    return a, b, length, at(mid + side_px * px * n), at(mid - side_px * px * n)
+    f, g = labels_at(labels, mid + side_px * px * n), labels_at(labels, mid - side_px * px * n)
+    return a, b, length, f, g
 
 
 def _steps(lines, faces: np.ndarray, orient: np.ndarray) -> list:

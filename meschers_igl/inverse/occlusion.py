@@ -16,6 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .faces import _abs_sin
+from .regions import labels_at
 
 
 def _screen_axes(normals: np.ndarray) -> np.ndarray:
@@ -36,15 +37,12 @@ def _region_angles(xy: np.ndarray, F: np.ndarray, region: np.ndarray, K: int) ->
 def _labelled(labels: np.ndarray, E, X, lab: int, t0: float, t1: float, px: float) -> bool:
     """Whether the pixels under the segment ``E -> X`` from ``t0`` to ``t1`` (screen units along
     it) all hold region ``lab`` (an empty stretch does not)."""
-    N = labels.shape[0]
     L = float(np.linalg.norm(X - E))
     t = np.arange(t0, t1, 0.5 * px)
     if t.size == 0:
         return False
     Q = E[None] + t[:, None] * ((X - E) / L)[None]
-    j = np.clip(np.floor((Q[:, 0] + 1.0) / px).astype(np.int64), 0, N - 1)
-    i = np.clip(np.floor((1.0 - Q[:, 1]) / px).astype(np.int64), 0, N - 1)
-    return bool(np.all(labels[i, j] == lab))
+    return bool(np.all(labels_at(labels, Q) == lab))
 
 
 def _between(labels, E, X, lab: int, px: float, side_px: float = 1.0) -> bool:

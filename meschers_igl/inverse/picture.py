@@ -37,6 +37,7 @@ import scipy.sparse as sp
 
 from ..errors import MescherError
 from ..mescher import Mescher
+from ..validate import as_points
 from .faces import _three_means, _two_groups, split_shared_shade
 from .flatten import flatten_picture, is_flat
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
@@ -569,11 +570,9 @@ def _hidden_constraints(hidden: list, pixel: float, past_px: float = 1.5):
 
 def _segment(q, name: str) -> np.ndarray:
     """``q`` as a (2, 2) float64 segment of two distinct finite points, or a MescherError."""
-    a = np.asarray(q, dtype=np.float64)
-    if a.shape != (2, 2) or not np.isfinite(a).all() or np.allclose(a[0], a[1]):
-        raise MescherError(
-            f"{name}: expected segments of two distinct finite points (2, 2), found {a.tolist()}"
-        )
+    a = as_points(q, name, 2, 2)
+    if np.allclose(a[0], a[1]):
+        raise MescherError(f"{name}: expected segments of two distinct points, found {a.tolist()}")
     return a
 
 

@@ -20,6 +20,16 @@ def pixel_to_screen(res: int) -> float:
     return 2.0 / res
 
 
+def labels_at(labels: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """(P,) the labels of the pixels holding the screen points ``Q`` (P, 2) of a square label
+    image spanning ``[-1, 1]^2`` (row 0 at the top); points off the image take its edge's."""
+    N = labels.shape[0]
+    px = pixel_to_screen(N)
+    j = np.clip(np.floor((Q[:, 0] + 1.0) / px).astype(np.int64), 0, N - 1)
+    i = np.clip(np.floor((1.0 - Q[:, 1]) / px).astype(np.int64), 0, N - 1)
+    return labels[i, j]
+
+
 def _pixel_boxes(mask: np.ndarray):
     """The pixels of a mask as shapely boxes, one per run along a row (screen units)."""
     import shapely
