@@ -73,6 +73,11 @@ class InverseOptions:
         ``torch.set_num_threads`` during the fit (None: leave it).
     final_sigma : float, default: 1e-6
         Sharpness of the returned render (and of the PSNR checks).
+    supersample : int, default: 1
+        The returned render and the PSNR checks take the mean of ``supersample x
+        supersample`` samples spread evenly over each pixel: an antialiased picture (a pixel
+        the mean over its area) is compared with a render made the same way, not with one
+        sampled at pixel centres, which differs from it along every edge.
     eval_every : int, default: 0
         Every so many steps, render nearly hard and measure the PSNR; with ``keep_best`` the
         iterate with the best one is returned (0: never; the last iterate is returned).
@@ -106,6 +111,7 @@ class InverseOptions:
     silhouette_weight: float = 1.0
     threads: int | None = 1
     final_sigma: float = 1e-6
+    supersample: int = 1
     eval_every: int = 0
     keep_best: bool = True
     turn: tuple[int, float] = (0, 0.0)
@@ -221,6 +227,12 @@ def fit_mescher(
     if target.ndim != 3 or target.shape[2] != 3 or target.shape[0] != target.shape[1]:
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {target.shape}")
     res = target.shape[0]
+    if isinstance(opt.supersample, bool) or not isinstance(opt.supersample, (int, np.integer)):
+        raise MescherError(
+            f"options.supersample: expected an integer >= 1, found {opt.supersample!r}"
+        )
+    if not 1 <= opt.supersample <= 8:
+        raise MescherError(f"options.supersample: expected 1 to 8, found {opt.supersample}")
     # the soft rasterizer holds a few (face, pixel) pairs per pixel: ~2 kB per pixel
     check_budget(
         float(res) * res, bytes_per_face=2048.0, what=f"fit_mescher at {res}^2", force=force
@@ -343,9 +355,20 @@ def _fit(target, res, init, offsets, shading, opt, callback, device, turn=None):
         rest = (par.offsets.to(dtype), res, sigma, gamma, background)
         return soft_rasterize(par.F, xy.to(dtype), colors, *rest, return_alpha=True)
 
+    # supersampling: k x k samples spread evenly over each pixel, as k^2 renders of the figure
+    # shifted by the samples' offsets from the pixel centre (one render's memory, not k^2)
+    k = int(opt.supersample)
+    shifts = ((np.arange(k) + 0.5) / k - 0.5) * (2.0 / res)
+
     def hard():
+        img = alpha = 0.0
         with torch.no_grad():
-            img, alpha = render(par.xy(), par.zeta(), opt.final_sigma, 1e-3, torch.float64)
+            xy, zeta = par.xy().double(), par.zeta()
+            for dx in shifts:
+                for dy in shifts:
+                    d = torch.tensor([dx, dy], dtype=xy.dtype, device=xy.device)
+                    i, a = render(xy + d, zeta, opt.final_sigma, 1e-3, torch.float64)
+                    img, alpha = img + i / k**2, alpha + a / k**2
         return img.cpu().numpy(), alpha.cpu().numpy()
 
     leaves = (par.xy_leaf.leaf, par.z_leaf.leaf, par.c, par.offsets)

@@ -739,12 +739,14 @@ def mescher_from_picture(
         ``occlusion_length`` (screen units of cut boundary), ``labels`` (H, W),
         ``hidden_lines`` (list of (2, 2) segments, :func:`hidden_occlusions`), ``light``
         (3,) the unit light used (given or estimated), ``unseen_turn`` (two orientations both
-        at the ambient shade: the picture does not show how their faces turn).
+        at the ambient shade: the picture does not show how their faces turn), ``flattened``
+        (the picture was not flat and was read as :func:`.flatten.flatten_picture` made it).
     """
 
     if steps is not None:
         steps = [_segment(q, "steps") for q in steps]
-    if not is_flat(target):  # antialiased or JPEG: the flat picture it was made from
+    flattened = not is_flat(target)
+    if flattened:  # antialiased or JPEG: the flat picture it was made from
         target = flatten_picture(target)
     seg = segment_picture(target, background, light=light, ambient=ambient)
     if len(seg.shades) != 3:
@@ -793,6 +795,7 @@ def mescher_from_picture(
         "hidden_lines": hidden,
         "light": light,
         "unseen_turn": unseen,
+        "flattened": flattened,
     }
     return m, region, info
 
@@ -824,7 +827,9 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
     (``info["hidden_lines"]``): the steps no picture shows are then cut, not bent, and the
     image has nothing to say about their height (Penrose stairs seen from (1, 1, 2), light
     (0.19, -0.2, 0.96), before its turn climbed its step: 1.32 from the picture against the
-    true 1.39, 1.28 after 300 steps at ``1e-2``).
+    true 1.39, 1.28 after 300 steps at ``1e-2``).  A picture that was not flat
+    (``info["flattened"]``: antialiased, JPEG) is compared with a render that averages 4 x 4
+    samples per pixel (``supersample``), as its renderer made it.
     """
     from .optimize import InverseOptions
 
@@ -845,5 +850,7 @@ def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **ov
     )
     if info is not None and (info.get("unseen_turn") or len(info.get("hidden_lines", ())) > 0):
         kw["lr_periods"] = 0.0
+    if info is not None and info.get("flattened"):
+        kw["supersample"] = 4
     kw.update(overrides)
     return InverseOptions(**kw)
