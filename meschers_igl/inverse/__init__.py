@@ -64,6 +64,7 @@ _LAZY = {
     "flatten_picture": "flatten",
     "figure_mask": "flatten",
     "is_flat": "flatten",
+    "is_antialiased": "flatten",
     "penrose_tribar": "models",
     "impossible_cube": "models",
     "penrose_stairs": "models",

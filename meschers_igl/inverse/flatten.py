@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import MescherError
 
-__all__ = ["figure_mask", "flatten_picture", "is_flat", "noise_radius"]
+__all__ = ["figure_mask", "flatten_picture", "is_antialiased", "is_flat", "noise_radius"]
 
 
 def _colour_keys(target: np.ndarray) -> np.ndarray:
@@ -81,6 +81,14 @@ def noise_radius(target: np.ndarray) -> float:
     inside = ndimage.uniform_filter((dev <= 1.0).astype(np.float64), size=5) >= 0.6
     noise = float(np.percentile(dev[inside], 95)) if inside.any() else 0.0
     return min(1.5 + 4.0 * noise, 8.0) / 255.0
+
+
+def is_antialiased(target: np.ndarray) -> bool:
+    """Whether a picture that is not flat (:func:`is_flat`) is a render's antialiasing: its
+    faces flat inside (:func:`noise_radius` at most 2 levels), only its edges blended.  A
+    JPEG's faces are noisy inside (4-7 levels): its edges are a picture sampled at pixel
+    centres, blurred by the compression, not pixels averaged over their area."""
+    return not is_flat(target) and noise_radius(target) <= 2.0 / 255.0
 
 
 def flatten_picture(

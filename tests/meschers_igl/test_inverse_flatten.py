@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from meschers_igl import MescherError
-from meschers_igl.inverse.flatten import flatten_picture, is_flat, noise_radius
+from meschers_igl.inverse.flatten import flatten_picture, is_antialiased, is_flat, noise_radius
 
 GROUND = (140, 178, 230)
 
@@ -54,6 +54,16 @@ def test_a_flat_picture_is_flat_an_antialiased_or_jpeg_one_is_not():
     assert len(_colours(flat)) == 4 and is_flat(flat / 255.0)
     assert not is_flat(_cube_corner(128, ss=4) / 255.0)
     assert not is_flat(_jpeg(flat, 90) / 255.0)
+
+
+@pytest.mark.parametrize("quality", [75, 90, 95])
+def test_antialiasing_is_told_from_jpeg_noise(quality):
+    """Averaged samples blend only the edges; a JPEG is noisy inside its faces too, and so is
+    a JPEG of an antialiased picture.  A flat picture is neither."""
+    flat, blended = _cube_corner(128), _cube_corner(128, ss=4)
+    assert is_antialiased(blended / 255.0) and not is_antialiased(flat / 255.0)
+    assert not is_antialiased(_jpeg(flat, quality) / 255.0)
+    assert not is_antialiased(_jpeg(blended, quality) / 255.0)
 
 
 def test_an_antialiased_picture_is_made_flat():

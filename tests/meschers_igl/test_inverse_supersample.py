@@ -54,8 +54,10 @@ def test_a_supersample_that_is_not_a_small_count_is_refused(k):
 @pytest.mark.render
 def test_an_antialiased_picture_is_fitted_and_measured_against_an_antialiased_render():
     """The tribar rendered at 512 px and averaged to 128 (a renderer's supersampling): the
-    reading says it was flattened, ``fit_options`` then averages 4 x 4 samples per pixel,
-    and the fit's render is nearer the picture than one sampled at pixel centres."""
+    reading says it is antialiased, ``fit_options`` then averages 4 x 4 samples per pixel,
+    and the fit's render is nearer the picture than one sampled at pixel centres.  A flat
+    picture and a JPEG (a picture sampled at pixel centres, then compressed) are fitted with
+    one sample per pixel."""
     import os
 
     pytest.importorskip("pyvista")
@@ -73,7 +75,7 @@ def test_an_antialiased_picture_is_fitted_and_measured_against_an_antialiased_re
     big, _ = zbuffer_picture(model, 512, light=light, ambient=0.2, background=ground)
     picture = big.reshape(128, 4, 128, 4, 3).mean(axis=(1, 3))
     m0, region, info = mescher_from_picture(picture, light, 0.2, background=ground)
-    assert info["flattened"]
+    assert info["flattened"] and info["antialiased"]
     opt = fit_options(iters=60, info=info)
     assert opt.supersample == 4
     psnr = {}
@@ -92,5 +94,19 @@ def test_an_antialiased_picture_is_fitted_and_measured_against_an_antialiased_re
     assert psnr[4] > 30.0
     assert psnr[4] > psnr[1] + 3.0  # measured 39.1 and 33.7 dB
     flat = zbuffer_picture(model, 128, light=light, ambient=0.2, background=ground)[0]
-    assert not mescher_from_picture(flat, light, 0.2, background=ground)[2]["flattened"]
-    assert fit_options(iters=60, info={}).supersample == 1
+    info = mescher_from_picture(flat, light, 0.2, background=ground)[2]
+    assert not info["flattened"] and fit_options(iters=60, info=info).supersample == 1
+    info = mescher_from_picture(_jpeg(flat, 90), light, 0.2, background=ground)[2]
+    assert info["flattened"] and not info["antialiased"]
+    assert fit_options(iters=60, info=info).supersample == 1
+
+
+def _jpeg(a: np.ndarray, quality: int) -> np.ndarray:
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray((a * 255.0).round().astype(np.uint8)).save(buf, "JPEG", quality=quality)
+    buf.seek(0)
+    return np.asarray(Image.open(buf).convert("RGB"), dtype=np.float64) / 255.0
