@@ -269,7 +269,8 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
     from PIL import Image
 
     try:
-        img = Image.open(path).convert("RGB")
+        img = Image.open(path)
+        img.load()
     except (OSError, ValueError) as exc:
         raise MescherError(
             f"TARGET: expected a readable image file, found {path!r} ({exc})"
@@ -278,9 +279,41 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
         raise MescherError(
             f"TARGET: expected a square image (it spans [-1, 1]^2), found {img.width}x{img.height}"
         )
+    rgb = _as_rgb(img)
     if img.width != resolution and resolution > 0:
-        img = img.resize((resolution, resolution), Image.Resampling.BOX)
-    return np.asarray(img, dtype=np.float64) / 255.0
+        # the mean over each new pixel's area (box filter), channel by channel in floats
+        rgb = np.stack(
+            [
+                np.asarray(
+                    Image.fromarray(rgb[..., c].astype(np.float32), "F").resize(
+                        (resolution, resolution), Image.Resampling.BOX
+                    ),
+                    dtype=np.float64,
+                )
+                for c in range(3)
+            ],
+            axis=-1,
+        )
+    # 8-bit levels, as a picture file holds them (a flat picture stays exactly flat)
+    return np.clip(np.round(rgb * 255.0), 0.0, 255.0) / 255.0
+
+
+def _as_rgb(img) -> np.ndarray:
+    """(H, W, 3) float in [0, 1] of a PIL image of any mode: 16-bit and float grey scaled by
+    their range (``convert("RGB")`` clips them to white), transparent pixels laid over white
+    as on a page (their stored colour, often black, is not what anybody sees)."""
+    mode = img.mode
+    if mode.startswith("I") or mode == "F":
+        a = np.asarray(img, dtype=np.float64)
+        top = 65535.0 if (mode.startswith("I;16") or a.max() > 255.0) else 255.0
+        if mode == "F" and a.max() <= 1.0:
+            top = 1.0
+        return np.repeat(np.clip(a / top, 0.0, 1.0)[..., None], 3, axis=2)
+    if "A" in mode or "transparency" in img.info:
+        rgba = np.asarray(img.convert("RGBA"), dtype=np.float64) / 255.0
+        alpha = rgba[..., 3:]
+        return rgba[..., :3] * alpha + (1.0 - alpha)
+    return np.asarray(img.convert("RGB"), dtype=np.float64) / 255.0
 
 
 def _resize_flat(image: np.ndarray, resolution: int) -> np.ndarray:

@@ -227,3 +227,53 @@ def test_zbuffer_ground_is_read_in_zero_to_one_integers_included():
     np.testing.assert_array_equal(ints[0, 0], [1.0, 1.0, 1.0])
     with pytest.raises(MescherError, match="background"):
         zbuffer_picture(model, 32, background=(255, 255, 255))
+
+
+def _corner_picture(n: int = 64) -> np.ndarray:
+    """(n, n) uint8: a box's corner, three rhombi of greys 60, 140, 220, on white."""
+    from PIL import Image, ImageDraw
+
+    im = Image.new("L", (n, n), 255)
+    d = ImageDraw.Draw(im)
+    c = np.array([0.5, 0.5]) * n
+    r = 0.4 * n
+    pts = [c + r * np.array([np.cos(a), np.sin(a)]) for a in np.radians(np.arange(6) * 60 + 30)]
+    for k, g in enumerate((60, 140, 220)):
+        q = [tuple(c), tuple(pts[2 * k]), tuple(pts[2 * k + 1]), tuple(pts[(2 * k + 2) % 6])]
+        d.polygon(q, fill=g)
+    return np.asarray(im)
+
+
+def test_pictures_are_read_as_seen_whatever_their_mode(tmp_path):
+    """Grey, RGB, 16-bit grey (which ``convert("RGB")`` clips to white), and transparent
+    grounds, whatever colour the transparent pixels store, read as the same picture: the
+    figure laid over white, as on a page."""
+    from PIL import Image
+
+    from meschers.inverse_cli import _load_target
+
+    g = _corner_picture()
+    ground = g == 255
+    files = {
+        "grey": Image.fromarray(g),
+        "rgb": Image.fromarray(np.repeat(g[..., None], 3, axis=2)),
+        "grey16": Image.fromarray(g.astype(np.uint16) * 257),
+    }
+    for stored in (0, 255):  # transparent pixels storing black, or white
+        rgb = np.repeat(np.where(ground, stored, g)[..., None], 3, axis=2).astype(np.uint8)
+        alpha = np.where(ground, 0, 255).astype(np.uint8)
+        files[f"rgba{stored}"] = Image.fromarray(np.dstack([rgb, alpha]), "RGBA")
+        files[f"la{stored}"] = Image.fromarray(np.dstack([rgb[..., 0], alpha]), "LA")
+    expected = np.repeat(g[..., None], 3, axis=2) / 255.0
+    for name, im in files.items():
+        path = tmp_path / f"{name}.png"
+        im.save(path)
+        got = _load_target(str(path), 64)
+        np.testing.assert_allclose(got, expected, atol=1e-12, err_msg=name)
+    # half-transparent pixels blend with white; averaging down keeps 8-bit levels
+    rgba = np.dstack([np.zeros((64, 64, 3), np.uint8), np.full((64, 64), 128, np.uint8)])
+    Image.fromarray(rgba, "RGBA").save(tmp_path / "half.png")
+    np.testing.assert_allclose(_load_target(str(tmp_path / "half.png"), 64), 127 / 255.0)
+    small = _load_target(str(tmp_path / "rgb.png"), 32)
+    assert small.shape == (32, 32, 3)
+    np.testing.assert_allclose(small * 255.0, np.round(small * 255.0), atol=1e-9)
