@@ -366,7 +366,7 @@ def run_case(
         silhouette_iou,
     )
     from meschers_igl.inverse.optimize import extract_order, fit_mescher
-    from meschers_igl.inverse.picture import fit_options, mescher_from_picture
+    from meschers_igl.inverse.picture import fit_options, mescher_from_picture, picture_shading
     from meschers_igl.inverse.rasterizer import render_mescher
     from meschers_igl.painter import visible_faces
 
@@ -387,16 +387,14 @@ def run_case(
         out["light_err_mirror"] = math.degrees(math.acos(np.clip(le @ mir, -1, 1)))
     except MescherError as exc:
         out["light_error"] = str(exc)
-    init_img = render_mescher(
-        m0, None, lights=[light], ambient=AMBIENT, resolution=res, sigma=1e-6, background=GROUND
-    )
+    shade = picture_shading(info, AMBIENT)  # the light given; a grey figure's exposure
+    init_img = render_mescher(m0, None, resolution=res, sigma=1e-6, background=GROUND, **shade)
     r = fit_mescher(
         target,
         m0,
         None,
-        lights=[light],
-        ambient=AMBIENT,
         background=GROUND,
+        **shade,
         options=fit_options(iters=iters, info=info, turn=turn),
         face_normals=info["normals"][region] if turn_faces else None,
     )

@@ -503,7 +503,11 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         args = _parser().parse_args(_join_negative_values(argv))
     from meschers_igl.inverse.drawing import is_line_drawing, shade_drawing
     from meschers_igl.inverse.optimize import InverseOptions, fit_mescher
-    from meschers_igl.inverse.picture import fit_options, mescher_from_picture
+    from meschers_igl.inverse.picture import (
+        fit_options,
+        mescher_from_picture,
+        picture_shading,
+    )
     from meschers_igl.inverse.rasterizer import render_mescher
     from meschers_igl.inverse.targets import target_mask, torus_for_target
     from meschers_igl.validate import check_budget
@@ -567,10 +571,11 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
             background=bg,
             steps=None if drawing is None else drawing.steps,
         )
-        # the fit holds each face to its shade region's normal (fit_options' turn)
+        # the fit holds each face to its shade region's normal (fit_options' turn); a grey
+        # figure is rendered grey (picture_shading: the exposure the picture was read with)
         face_normals = info["normals"][region]
-        lights = [tuple(float(v) for v in info["light"])]
-        shade["lights"] = lights
+        shade = picture_shading(info, args.ambient)
+        lights = shade["lights"]
         off0 = None
         opts = fit_options(iters=iters, power=args.power, info=info, eval_every=every)
     else:
@@ -594,6 +599,8 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     metrics = _save_fit(
         out, args, target, bg, before, result, shade, drawing, model, iters, given, (m0, off0)
     )
+    if args.init == "picture":  # the figure's brightness the picture was read with, 1: white
+        metrics["exposure"] = float(info["exposure"])
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2))
     print(
         f"silhouette IoU {metrics['silhouette_iou']:.4f}  PSNR {metrics['psnr_init_db']:.2f} -> "

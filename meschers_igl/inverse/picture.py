@@ -42,7 +42,13 @@ from .faces import _three_means, _two_groups, split_shared_shade
 from .flatten import flatten_picture, is_antialiased, is_flat
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import node_constraints, region_polygons
-from .shading import crease_directions, estimate_light, frames_from_creases, normals_from_shading
+from .shading import (
+    crease_directions,
+    estimate_exposure,
+    estimate_light,
+    frames_from_creases,
+    normals_from_shading,
+)
 from .targets import target_mask
 from .turn import PICTURE_TURN, _slope_wishes, _weighted_least_squares
 
@@ -693,9 +699,11 @@ SHARED_MISFIT = 0.04
 
 def _faces_and_frame(target, background, light, ambient, tolerance_px, straighten, max_area_px):
     """Segmentation, triangulated regions and their frame: ``(seg, xy, F, region, (edges, ids,
-    d, pairs, lens), light, normals, misfit)``.  With the light given, three shades whose frame
-    misfits the lines by more than :data:`SHARED_MISFIT` are read again as two orientations of
-    one shade (``segment_picture(shared=True)``) where the picture allows it."""
+    d, pairs, lens), light, normals, misfit, exposure)``.  Three lit shades of a figure that
+    is not white (:func:`.shading.estimate_exposure`) are read as the white figure's, the
+    shades over ``exposure``.  With the light given, three shades whose frame misfits the
+    lines by more than :data:`SHARED_MISFIT` are read again as two orientations of one shade
+    (``segment_picture(shared=True)``) where the picture allows it."""
     given = light is not None
     seg = segment_picture(target, background, light=light, ambient=ambient)
     for attempt in (0, 1):
@@ -704,17 +712,19 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         bounds = region_boundaries(F, len(xy), xy, region)
         edges, ids, d, pairs, lens = bounds
-        light_used = _reading_light(light, seg.shades, ambient, d, pairs, lens)
+        exposure = 1.0 if seg.normals is not None else estimate_exposure(seg.shades, ambient)
+        shades = seg.shades / exposure
+        light_used = _reading_light(light, shades, ambient, d, pairs, lens)
         if seg.normals is not None:
-            return seg, xy, F, region, bounds, light_used, seg.normals, float("nan")
-        normals, misfit = normals_from_shading(seg.shades, light_used, ambient, d, pairs, lens)
+            return seg, xy, F, region, bounds, light_used, seg.normals, float("nan"), 1.0
+        normals, misfit = normals_from_shading(shades, light_used, ambient, d, pairs, lens)
         if attempt or not given or not misfit > SHARED_MISFIT:
             break
         try:
             seg = segment_picture(target, background, light=light, ambient=ambient, shared=True)
         except MescherError:
             break
-    return seg, xy, F, region, bounds, light_used, normals, misfit
+    return seg, xy, F, region, bounds, light_used, normals, misfit, exposure
 
 
 def mescher_from_picture(
@@ -783,7 +793,8 @@ def mescher_from_picture(
         at the ambient shade: the picture does not show how their faces turn), ``flattened``
         (the picture was not flat and was read as :func:`.flatten.flatten_picture` made it),
         ``antialiased`` (:func:`.flatten.is_antialiased`: the fit averages samples over each
-        pixel, :func:`fit_options`).
+        pixel, :func:`fit_options`), ``exposure`` (:func:`.shading.estimate_exposure`: the
+        figure's brightness, 1 for a white one; :func:`picture_shading` renders with it).
     """
 
     if steps is not None:
@@ -792,7 +803,7 @@ def mescher_from_picture(
     antialiased = is_antialiased(target)
     if flattened:  # antialiased or JPEG: the flat picture it was made from
         target = flatten_picture(target)
-    seg, xy, F, region, bounds, light, normals, misfit = _faces_and_frame(
+    seg, xy, F, region, bounds, light, normals, misfit, exposure = _faces_and_frame(
         target, background, light, ambient, tolerance_px, straighten, max_area_px
     )
     edges, ids, d, pairs, lens = bounds
@@ -831,8 +842,31 @@ def mescher_from_picture(
         "unseen_turn": unseen,
         "flattened": flattened,
         "antialiased": antialiased,
+        "exposure": exposure,
     }
     return m, region, info
+
+
+def picture_shading(info: dict, ambient: float = 0.2) -> dict:
+    """The shading to fit a picture-made mescher with: ``lights`` (the one the picture was read
+    under), ``light_colors`` and ``ambient`` scaled by the picture's ``exposure`` (a grey
+    figure renders ``exposure * (ambient + (1 - ambient) n . l)``), for
+    :func:`.optimize.fit_mescher` and :func:`.rasterizer.render_mescher`.
+
+    Parameters
+    ----------
+    info : dict
+        Of :func:`mescher_from_picture`.
+    ambient : float
+        The ambient share the picture was read with.
+    """
+    e = float(info.get("exposure", 1.0))
+    grey = e * (1.0 - float(ambient))
+    return {
+        "lights": [tuple(float(v) for v in info["light"])],
+        "light_colors": [(grey, grey, grey)],
+        "ambient": e * float(ambient),
+    }
 
 
 def fit_options(iters: int = 300, power: int = 1, info: dict | None = None, **overrides):

@@ -13,7 +13,13 @@ import numpy as np
 
 from ..errors import MescherError
 
-__all__ = ["crease_directions", "estimate_light", "frames_from_creases", "normals_from_shading"]
+__all__ = [
+    "crease_directions",
+    "estimate_exposure",
+    "estimate_light",
+    "frames_from_creases",
+    "normals_from_shading",
+]
 
 
 def normals_from_shading(
@@ -266,6 +272,47 @@ def estimate_light(shades: np.ndarray, normals: np.ndarray, ambient: float) -> n
     s = _shadowed_root(s)
     lvec = np.asarray(normals, dtype=np.float64).T @ s
     return lvec / np.linalg.norm(lvec)
+
+
+def estimate_exposure(shades, ambient: float, tol: float = 0.03, level: float = 2.0 / 255.0):
+    """The brightness ``alpha`` of a picture of three lit orientations (a grey material, a
+    renderer's exposure): their shades are ``alpha (ambient + (1 - ambient) c_k)``.
+
+    For orthonormal normals ``c_k = n_k . l`` has ``sum_k c_k^2 = |l|^2 = 1`` whatever the
+    light, so with ``u = 1 / alpha``: ``sum_k (u shade_k - ambient)^2 = (1 - ambient)^2``,
+    a quadratic in ``u`` whose larger root is taken (every ``c_k`` then at least as large as
+    with the smaller).  Where a shade is within ``level`` of the ambient shade or under it (a
+    face that may be turned away, its ``c_k`` not seen) nothing fixes ``alpha``: 1.  So is it
+    within ``tol`` of 1 (8-bit shades of a white figure: within 1%).
+
+    Parameters
+    ----------
+    shades : (3,) float
+        The three orientations' shades, in [0, 1].
+    ambient : float
+
+    Returns
+    -------
+    float
+        ``alpha``; the shades over ``alpha`` are those of a white figure.
+
+    Examples
+    --------
+    >>> round(estimate_exposure([0.749, 0.514, 0.267], 0.2), 3)  # a grey tribar
+    0.85
+    >>> estimate_exposure([0.84, 0.2, 0.2], 0.2)  # two faces turned away: nothing to say
+    1.0
+    """
+    sh = np.asarray(shades, dtype=np.float64)
+    a = float(ambient)
+    if sh.shape != (3,) or not 0.0 <= a < 1.0 or sh.min() <= a + level:
+        return 1.0
+    S1, S2 = float(sh.sum()), float((sh**2).sum())
+    disc = (a * S1) ** 2 - S2 * (3.0 * a * a - (1.0 - a) ** 2)
+    if disc < 0.0:
+        return 1.0
+    alpha = S2 / (a * S1 + math.sqrt(disc))
+    return 1.0 if abs(alpha - 1.0) <= tol else float(alpha)
 
 
 def _shadowed_root(s: np.ndarray, eps: float = 0.02) -> np.ndarray:

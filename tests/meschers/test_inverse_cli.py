@@ -101,6 +101,7 @@ def test_cli_from_a_zbuffered_tribar(tmp_path):
     assert metrics["init"] == "picture" and metrics["impossible"]
     assert metrics["psnr_init_db"] > 29.0 and metrics["silhouette_iou"] > 0.97
     assert abs(metrics["figure_period"] - metrics["true_gap"]) < 0.15 * metrics["true_gap"]
+    assert metrics["exposure"] == 1.0  # a white figure
     m, order = load(out / "mescher.ply", return_order=True)
     assert m.n_faces == metrics["faces"]
     assert np.isfinite(metrics["cpu_seconds"])
