@@ -96,11 +96,20 @@ def figure_mask(target: np.ndarray, background=(1.0, 1.0, 1.0), tol: float = 0.0
     :func:`.targets.target_mask` of the flat picture (:func:`flatten_picture`) where the
     picture is not flat: an antialiased edge pixel is the figure's where most of it is, not
     wherever a little of the figure tints it (which puts the silhouette half a pixel out).
+    Of the colours within ``tol`` of ``background``, only those the picture's border shows are
+    ground: a face lit almost as light as a white ground (a few levels under it) is inside
+    the figure, which fits the screen square.
     """
     from .targets import target_mask
 
     t = np.asarray(target, dtype=np.float64)
-    return target_mask(t if is_flat(t) else flatten_picture(t), background, tol)
+    t = t if is_flat(t) else flatten_picture(t)
+    near = ~target_mask(t, background, tol)
+    keys = _colour_keys(t)
+    rim = np.zeros(keys.shape, dtype=bool)
+    rim[[0, -1], :] = True
+    rim[:, [0, -1]] = True
+    return ~(near & np.isin(keys, keys[rim & near]))
 
 
 def noise_radius(target: np.ndarray) -> float:
@@ -205,11 +214,17 @@ def flatten_picture(
     keep = np.ones(len(M), dtype=bool)
     two = np.ones((2, 2), dtype=bool)
     near3 = [ndimage.binary_dilation(sure & (label == k)) for k in range(len(M))]
+    ground = _ground_mode(label) if r > 2.0 else None
+    five = np.ones((5, 5), dtype=bool)
+    near5 = None if ground is None else ndimage.binary_dilation(label == ground, five)
     for k in range(len(M)):  # a handful of modes
         mk = sure & (label == k)
         wide = ndimage.binary_opening(mk, structure=two)
         if wide.sum() < WIDE * mk.sum():  # one wide: a blend, or JPEG's ringing along an edge
             keep[k] = False
+            continue
+        if ground is not None and k != ground and _ground_band(mk, near5, between[ground, :, k]):
+            keep[k] = False  # JPEG's colour (subsampled 2 x 2) bled along the outline
             continue
         thin = mk & ~wide
         for i, j in zip(*np.nonzero(between[:, :, k])):
@@ -252,6 +267,26 @@ def _features(rgb: np.ndarray, chroma: float = 0.3) -> np.ndarray:
     noise, while a coloured ground stays far from grey faces."""
     g = rgb.mean(axis=-1, keepdims=True)
     return np.concatenate([g, chroma * (rgb - g)], axis=-1)
+
+
+def _ground_mode(label: np.ndarray) -> int | None:
+    """The mode most of the picture's border holds (the ground around a figure that fits the
+    screen square), where it holds more than half of it; None otherwise."""
+    border = np.concatenate([label[0], label[-1], label[1:-1, 0], label[1:-1, -1]])
+    counts = np.bincount(border)
+    k = int(np.argmax(counts))
+    return k if counts[k] > 0.5 * border.size else None
+
+
+def _ground_band(mk: np.ndarray, near_ground: np.ndarray, sides: np.ndarray) -> bool:
+    """Whether the sure pixels ``mk`` of a colour between the ground and a face's colour
+    (``sides``: the faces it lies between the ground and) are a band along the outline: 90%
+    of them within two pixels of the ground.  A JPEG keeps colour at half resolution, so
+    along the outline the ground's hue bleeds two pixels into the figure, a band wider than
+    the blends a 2 x 2 opening takes out; a face of the figure has an inside."""
+    if not sides.any() or not mk.any():
+        return False
+    return bool(np.count_nonzero(mk & near_ground) >= 0.9 * np.count_nonzero(mk))
 
 
 def _between(M: np.ndarray, r: float) -> np.ndarray:

@@ -39,7 +39,7 @@ from ..errors import MescherError
 from ..mescher import Mescher
 from ..validate import as_points
 from .faces import _three_means, _two_groups, split_shared_shade
-from .flatten import flatten_picture, is_antialiased, is_flat
+from .flatten import figure_mask, flatten_picture, is_antialiased, is_flat
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import node_constraints, region_polygons
 from .shading import (
@@ -90,7 +90,7 @@ def segment_picture(
     target: np.ndarray,
     background=(1.0, 1.0, 1.0),
     min_share: float = 0.04,
-    tol: float = 0.05,
+    tol: float | None = None,
     line_step: float = 1.5 / 255.0,
     light=None,
     ambient: float = 0.2,
@@ -113,8 +113,9 @@ def segment_picture(
     background : (3,) float
     min_share : float
         Smallest share of the figure a group must cover to be an orientation of its own.
-    tol : float
-        Largest per-channel difference to ``background`` still counted as background.
+    tol : float, optional
+        Largest per-channel difference to ``background`` still counted as background; None:
+        :func:`.flatten.figure_mask` (on a ground of one exact colour, any other colour).
     line_step : float
         Grey difference across a line.
     light : (3,) float, optional
@@ -143,7 +144,7 @@ def segment_picture(
     target = np.asarray(target, dtype=np.float64)
     if target.ndim != 3 or target.shape[2] != 3:
         raise MescherError(f"target: expected an (H, W, 3) image, found shape {target.shape}")
-    mask = target_mask(target, background, tol)
+    mask = figure_mask(target, background) if tol is None else target_mask(target, background, tol)
     if mask.sum() < 16:
         raise MescherError(
             "target: expected a figure (at least 16 pixels unlike the background "
