@@ -38,7 +38,7 @@ refused with a ``MescherError`` counts as failing every column.
 Run:  python benchmarks/bench_inverse_real.py [--models PATH] [--lights 6] [--iters 300]
       [--no-turn-faces] [--turn-every K] [--turn-weight W]
       [--resolution 128] [--only NAME,NAME] [--cases NAME:K,...] [--figures DIR] [--seed 0]
-      [--picture zbuffer|antialiased|jpeg]
+      [--picture zbuffer|antialiased|jpeg] [--ground R,G,B]
 """
 
 from __future__ import annotations
@@ -480,6 +480,7 @@ def table(rows: list[dict]) -> str:
 
 
 def main(argv=None) -> int:
+    global GROUND  # --ground: the ground of every picture and reading of this run
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--models", default=str(DEFAULT_MODELS), help="folder with views.json")
     ap.add_argument("--only", default=None, help="comma-separated model names")
@@ -520,11 +521,19 @@ def main(argv=None) -> int:
     ap.add_argument(
         "--turn-weight", type=float, default=TURN[1], help="the normal penalty's weight"
     )
+    ap.add_argument(
+        "--ground",
+        default=",".join(str(c) for c in GROUND),
+        metavar="R,G,B",
+        help="the pictures' ground colour in [0, 1] (default pale blue; 1,1,1: white, on which "
+        "a face lit toward the light comes within a few levels of the ground)",
+    )
     ap.add_argument("--log", default=None, help="append one JSON line per picture")
     ap.add_argument(
         "--table-from", default=None, metavar="LOG", help="only print the table of a --log file"
     )
     args = ap.parse_args(argv)
+    GROUND = tuple(float(c) for c in args.ground.split(","))
     if args.table_from:
         rows = [json.loads(t) for t in Path(args.table_from).read_text().splitlines() if t]
         print(table(rows))
@@ -540,7 +549,7 @@ def main(argv=None) -> int:
     print(
         f"{args.resolution}^2 ({args.picture}), {args.iters} steps, {args.lights} lights "
         f"(seed {args.seed}), "
-        f"ambient {AMBIENT}, torch 1 thread"
+        f"ambient {AMBIENT}, ground {GROUND}, torch 1 thread"
         + (
             f", region normals (turned back every {args.turn_every}, weight {args.turn_weight})"
             if args.turn_faces

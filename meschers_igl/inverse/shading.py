@@ -274,7 +274,7 @@ def estimate_light(shades: np.ndarray, normals: np.ndarray, ambient: float) -> n
     return lvec / np.linalg.norm(lvec)
 
 
-def estimate_exposure(shades, ambient: float, tol: float = 0.03, level: float = 2.0 / 255.0):
+def estimate_exposure(shades, ambient: float, tol: float = 0.03, level: float = 6.0 / 255.0):
     """The brightness ``alpha`` of a picture of three lit orientations (a grey material, a
     renderer's exposure): their shades are ``alpha (ambient + (1 - ambient) c_k)``.
 
@@ -282,8 +282,9 @@ def estimate_exposure(shades, ambient: float, tol: float = 0.03, level: float = 
     light, so with ``u = 1 / alpha``: ``sum_k (u shade_k - ambient)^2 = (1 - ambient)^2``,
     a quadratic in ``u`` whose larger root is taken (every ``c_k`` then at least as large as
     with the smaller).  Where a shade is within ``level`` of the ambient shade or under it (a
-    face that may be turned away, its ``c_k`` not seen) nothing fixes ``alpha``: 1.  So is it
-    within ``tol`` of 1 (8-bit shades of a white figure: within 1%).
+    face that may be turned away, its ``c_k`` not seen; a JPEG's faces at the ambient shade
+    read up to a few levels over it) nothing fixes ``alpha``: 1.  So is it within ``tol`` of
+    1 (8-bit shades of a white figure: within 1%).
 
     Parameters
     ----------
