@@ -281,10 +281,11 @@ def estimate_exposure(shades, ambient: float, tol: float = 0.03, level: float = 
     For orthonormal normals ``c_k = n_k . l`` has ``sum_k c_k^2 = |l|^2 = 1`` whatever the
     light, so with ``u = 1 / alpha``: ``sum_k (u shade_k - ambient)^2 = (1 - ambient)^2``,
     a quadratic in ``u`` whose larger root is taken (every ``c_k`` then at least as large as
-    with the smaller).  Where a shade is within ``level`` of the ambient shade or under it (a
-    face that may be turned away, its ``c_k`` not seen; a JPEG's faces at the ambient shade
-    read up to a few levels over it) nothing fixes ``alpha``: 1.  So is it within ``tol`` of
-    1 (8-bit shades of a white figure: within 1%).
+    with the smaller).  Where the darkest shade is within ``level`` of the ambient shade (a
+    white figure's face turned away, its ``c_k`` not seen; a JPEG's read a few levels off)
+    nothing fixes ``alpha``: 1.  So is it within ``tol`` of 1 (8-bit shades of a white
+    figure: within 1%).  A darker figure with a face turned away (its darkest shade
+    ``alpha * ambient``) is read as three lit faces: a brightness too high.
 
     Parameters
     ----------
@@ -306,7 +307,7 @@ def estimate_exposure(shades, ambient: float, tol: float = 0.03, level: float = 
     """
     sh = np.asarray(shades, dtype=np.float64)
     a = float(ambient)
-    if sh.shape != (3,) or not 0.0 <= a < 1.0 or sh.min() <= a + level:
+    if sh.shape != (3,) or not 0.0 <= a < 1.0 or abs(sh.min() - a) <= level:
         return 1.0
     S1, S2 = float(sh.sum()), float((sh**2).sum())
     disc = (a * S1) ** 2 - S2 * (3.0 * a * a - (1.0 - a) ** 2)

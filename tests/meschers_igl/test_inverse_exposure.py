@@ -24,10 +24,11 @@ def test_exposure_of_three_lit_orientations_is_exact(seed):
         light = rng.normal(size=3)
         light /= np.linalg.norm(light)
         c = N @ light
-        if c.min() > 0.05:
+        alpha = rng.uniform(0.5, 0.95) if seed % 2 else rng.uniform(1.05, 1.2)
+        shades = alpha * (AMBIENT + (1.0 - AMBIENT) * c)
+        # a darkest shade near the white figure's ambient one may be a face turned away: 1
+        if c.min() > 0.05 and abs(shades.min() - AMBIENT) > 6.0 / 255.0:
             break
-    alpha = rng.uniform(0.5, 0.95) if seed % 2 else rng.uniform(1.05, 1.2)
-    shades = alpha * (AMBIENT + (1.0 - AMBIENT) * c)
     assert estimate_exposure(shades, AMBIENT) == pytest.approx(alpha, rel=1e-12)
 
 
