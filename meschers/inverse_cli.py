@@ -503,11 +503,7 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         args = _parser().parse_args(_join_negative_values(argv))
     from meschers_igl.inverse.drawing import is_line_drawing, shade_drawing
     from meschers_igl.inverse.optimize import InverseOptions, fit_mescher
-    from meschers_igl.inverse.picture import (
-        fit_options,
-        mescher_from_picture,
-        picture_shading,
-    )
+    from meschers_igl.inverse.picture import fit_options, mescher_from_picture, picture_shading
     from meschers_igl.inverse.rasterizer import render_mescher
     from meschers_igl.inverse.targets import target_mask, torus_for_target
     from meschers_igl.validate import check_budget

@@ -15,7 +15,8 @@ install it (``pip install 'meschers[inverse]'``).
   the silhouette with its holes, lift from shading); :mod:`~meschers_igl.inverse.models`: real
   3D box models of impossible figures whose z-buffered pictures are the acceptance targets;
   :mod:`~meschers_igl.inverse.drawing`: a black-on-white line drawing read as a shaded picture;
-  :mod:`~meschers_igl.inverse.flatten`: an antialiased or JPEG picture made flat again.
+  :mod:`~meschers_igl.inverse.flatten`: an antialiased or JPEG picture made flat again;
+  :mod:`~meschers_igl.inverse.cuts`: the mesh cut open along occlusions before the lift.
 - the command line ``meschers inverse`` lives in the application, :mod:`meschers.inverse_cli`.
 """
 

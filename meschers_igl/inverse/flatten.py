@@ -207,28 +207,7 @@ def flatten_picture(
     dist = np.abs(feat[:, None, :] - M[None]).max(axis=-1).reshape(H, W, len(M))
     label = np.argmin(dist, axis=-1)
     sure = np.take_along_axis(dist, label[..., None], axis=-1)[..., 0] <= r
-    # a colour between two others (within ``radius`` of the segment joining them) is a blend
-    # where its pixels lie one wide between theirs: a whole mode so (a long straight edge), or
-    # single runs of a face's colour that a blend happens to match
-    between = _between(M, r)  # (K, K, K): k between i and j
-    keep = np.ones(len(M), dtype=bool)
-    two = np.ones((2, 2), dtype=bool)
-    near3 = [ndimage.binary_dilation(sure & (label == k)) for k in range(len(M))]
-    ground = _ground_mode(label) if r > 2.0 else None
-    five = np.ones((5, 5), dtype=bool)
-    near5 = None if ground is None else ndimage.binary_dilation(label == ground, five)
-    for k in range(len(M)):  # a handful of modes
-        mk = sure & (label == k)
-        wide = ndimage.binary_opening(mk, structure=two)
-        if wide.sum() < WIDE * mk.sum():  # one wide: a blend, or JPEG's ringing along an edge
-            keep[k] = False
-            continue
-        if ground is not None and k != ground and _ground_band(mk, near5, between[ground, :, k]):
-            keep[k] = False  # JPEG's colour (subsampled 2 x 2) bled along the outline
-            continue
-        thin = mk & ~wide
-        for i, j in zip(*np.nonzero(between[:, :, k])):
-            sure[thin & near3[i] & near3[j]] = False
+    keep = _faces_not_blends(M, r, label, sure)
     sure &= keep[label]
     # the rest: of the modes seen within two pixels, the nearest in colour
     cost = np.where(keep[None, None], dist, np.inf)
@@ -267,6 +246,39 @@ def _features(rgb: np.ndarray, chroma: float = 0.3) -> np.ndarray:
     noise, while a coloured ground stays far from grey faces."""
     g = rgb.mean(axis=-1, keepdims=True)
     return np.concatenate([g, chroma * (rgb - g)], axis=-1)
+
+
+def _faces_not_blends(M: np.ndarray, r: float, label: np.ndarray, sure: np.ndarray) -> np.ndarray:
+    """(K,) bool: which modes are faces' colours; ``sure`` loses the pixels a blend matched.
+
+    A colour between two others (within ``r`` of the segment joining them) is a blend where
+    its pixels lie one wide between theirs: a whole mode so (a long straight edge), or single
+    runs of a face's colour that a blend happens to match.  Where the picture is noisy
+    (``r`` over two levels: JPEG) a colour between the ground and a face along the outline is
+    one too (:func:`_ground_band`).
+    """
+    from scipy import ndimage
+
+    between = _between(M, r)  # (K, K, K): k between i and j
+    keep = np.ones(len(M), dtype=bool)
+    two = np.ones((2, 2), dtype=bool)
+    near3 = [ndimage.binary_dilation(sure & (label == k)) for k in range(len(M))]
+    ground = _ground_mode(label) if r > 2.0 else None
+    five = np.ones((5, 5), dtype=bool)
+    near5 = None if ground is None else ndimage.binary_dilation(label == ground, five)
+    for k in range(len(M)):  # a handful of modes
+        mk = sure & (label == k)
+        wide = ndimage.binary_opening(mk, structure=two)
+        if wide.sum() < WIDE * mk.sum():  # one wide: a blend, or JPEG's ringing along an edge
+            keep[k] = False
+            continue
+        if ground is not None and k != ground and _ground_band(mk, near5, between[ground, :, k]):
+            keep[k] = False  # JPEG's colour (subsampled 2 x 2) bled along the outline
+            continue
+        thin = mk & ~wide
+        for i, j in zip(*np.nonzero(between[:, :, k])):
+            sure[thin & near3[i] & near3[j]] = False
+    return keep
 
 
 def _ground_mode(label: np.ndarray) -> int | None:

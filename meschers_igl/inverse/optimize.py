@@ -17,6 +17,7 @@ import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -325,6 +326,19 @@ def _with_progress(progress: bool, total: int, callback):
     return bar, tick
 
 
+def _supersampled(draw, xy, zeta, k: int, res: int):
+    """``draw(xy, zeta) -> (image, alpha)`` averaged over ``k x k`` samples spread evenly over
+    each pixel, as ``k^2`` draws of the figure shifted by the samples' offsets from the pixel
+    centre (one draw's memory, not ``k^2``); numpy ``(H, W, 3)``, ``(H, W)``."""
+    shifts = ((np.arange(k) + 0.5) / k - 0.5) * (2.0 / res)
+    img = alpha = 0.0
+    for dx in shifts:
+        for dy in shifts:
+            i, a = draw(xy + torch.tensor([dx, dy], dtype=xy.dtype, device=xy.device), zeta)
+            img, alpha = img + i / k**2, alpha + a / k**2
+    return img.cpu().numpy(), alpha.cpu().numpy()
+
+
 def _fit(target, res, init, offsets, shading, opt, callback, device, turn=None):
     """The fit of :func:`fit_mescher`; ``shading`` is ``(lights, light_colors, ambient,
     background)``; ``turn`` (a :class:`.turn.FaceTurn` or None) adds its penalty to the loss
@@ -355,21 +369,10 @@ def _fit(target, res, init, offsets, shading, opt, callback, device, turn=None):
         rest = (par.offsets.to(dtype), res, sigma, gamma, background)
         return soft_rasterize(par.F, xy.to(dtype), colors, *rest, return_alpha=True)
 
-    # supersampling: k x k samples spread evenly over each pixel, as k^2 renders of the figure
-    # shifted by the samples' offsets from the pixel centre (one render's memory, not k^2)
-    k = int(opt.supersample)
-    shifts = ((np.arange(k) + 0.5) / k - 0.5) * (2.0 / res)
-
     def hard():
-        img = alpha = 0.0
         with torch.no_grad():
-            xy, zeta = par.xy().double(), par.zeta()
-            for dx in shifts:
-                for dy in shifts:
-                    d = torch.tensor([dx, dy], dtype=xy.dtype, device=xy.device)
-                    i, a = render(xy + d, zeta, opt.final_sigma, 1e-3, torch.float64)
-                    img, alpha = img + i / k**2, alpha + a / k**2
-        return img.cpu().numpy(), alpha.cpu().numpy()
+            draw = partial(render, sigma=opt.final_sigma, gamma=1e-3, dtype=torch.float64)
+            return _supersampled(draw, par.xy().double(), par.zeta(), int(opt.supersample), res)
 
     leaves = (par.xy_leaf.leaf, par.z_leaf.leaf, par.c, par.offsets)
 

@@ -12,7 +12,7 @@ import pytest
 from meschers_igl.inverse import metrics as met
 from meschers_igl.inverse import models as mdl
 from meschers_igl.inverse import picture as pic
-from meschers_igl.inverse.picture import _to_holes
+from meschers_igl.inverse.cuts import _one_contact, _to_holes, cut_along
 from meschers_igl.topology import boundary_loops, edge_topology
 
 
@@ -43,11 +43,11 @@ def test_a_slit_short_of_a_hole_runs_on_to_it():
     paths = _to_holes(F, xy, edges, slit, allowed, 0.3)
     assert len(paths) == 1
     assert sorted(edges[paths[0][0]].tolist()) == [0, n]
-    cut = pic._one_contact(F, edges, slit, paths)
-    xy2, F2 = pic.cut_along(xy, F, edges, cut)
+    cut = _one_contact(F, edges, slit, paths)
+    xy2, F2 = cut_along(xy, F, edges, cut)
     loops = boundary_loops(F2)
     assert len(loops) == 2  # the slit opened onto the hole: outline and hole, no third loop
-    xy3, F3 = pic.cut_along(xy, F, edges, slit)
+    xy3, F3 = cut_along(xy, F, edges, slit)
     assert len(boundary_loops(F3)) == 3  # left short, it is a loop of its own
     # out of reach, nothing
     assert _to_holes(F, xy, edges, slit, allowed, 0.2) == []

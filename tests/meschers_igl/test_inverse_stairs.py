@@ -14,7 +14,7 @@ import pytest
 from meschers_igl.inverse import metrics as met
 from meschers_igl.inverse import models as mdl
 from meschers_igl.inverse import picture as pic
-from meschers_igl.inverse.picture import _one_contact
+from meschers_igl.inverse.cuts import _one_contact, cut_along
 from meschers_igl.topology import boundary_loops, edge_topology
 
 LIGHT = (0.6, -0.1, 1.0)
@@ -122,7 +122,7 @@ def test_a_cut_touches_the_boundary_once():
 
     # both together would cut the annulus open from the hole to the outline: a disk, the loop
     # that carries the period gone
-    xy2, F2 = pic.cut_along(xy, F, edges, np.concatenate([seen, hidden]))
+    xy2, F2 = cut_along(xy, F, edges, np.concatenate([seen, hidden]))
     assert len(boundary_loops(F2)) == 1
     # the hidden line that would touch the boundary a second time stops one edge short
     cut = _one_contact(F, edges, seen, [hidden])
@@ -132,7 +132,7 @@ def test_a_cut_touches_the_boundary_once():
     cut = _one_contact(F, edges, seen, [apart])
     assert sorted(cut.tolist()) == sorted(np.concatenate([seen, apart]).tolist())
     # cut there, the annulus stays an annulus (its outline and hole, slits opening onto them)
-    xy3, F3 = pic.cut_along(xy, F, edges, cut)
+    xy3, F3 = cut_along(xy, F, edges, cut)
     loops = boundary_loops(F3)
     assert len(loops) == 2
     assert len(xy3) == len(xy) + 2  # each slit splits its vertex on the boundary in two
