@@ -109,6 +109,8 @@ def figure_mask(target: np.ndarray, background=(1.0, 1.0, 1.0), tol: float = 0.0
     rim = np.zeros(keys.shape, dtype=bool)
     rim[[0, -1], :] = True
     rim[:, [0, -1]] = True
+    if not np.any(rim & near):  # no ground on the border (a figure filling it): by colour
+        return ~near
     return ~(near & np.isin(keys, keys[rim & near]))
 
 

@@ -47,3 +47,13 @@ def test_a_ground_of_close_colours_on_the_border_is_all_ground():
     expected = np.zeros((64, 64), dtype=bool)
     expected[20:44, 20:44] = True
     assert np.array_equal(fig, expected)
+
+
+def test_a_figure_over_the_whole_border_leaves_the_ground_to_colour():
+    """No ground on the picture's border (a figure that fills it): the ground is every colour
+    near the background's, as the colour test alone says."""
+    t = np.full((32, 32, 3), 0.4)
+    t[8:24, 8:24] = 1.0  # a white hole in a grey figure
+    t[12:20, 12:20] = 252 / 255.0
+    fig = figure_mask(t)
+    assert not fig[8:24, 8:24].any() and fig[:8].all()
