@@ -279,9 +279,15 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
         raise MescherError(
             f"TARGET: expected a square image (it spans [-1, 1]^2), found {img.width}x{img.height}"
         )
-    rgb = _as_rgb(img)
-    if img.width != resolution and resolution > 0:
-        # the mean over each new pixel's area (box filter), channel by channel in floats
+    return _box_resize(_as_rgb(img), resolution)
+
+
+def _box_resize(rgb: np.ndarray, resolution: int) -> np.ndarray:
+    """``rgb`` (N, N, 3) averaged over each new pixel's area (box filter) to ``resolution``
+    (0: as it is), in 8-bit levels as a picture file holds them (a flat picture stays flat)."""
+    from PIL import Image
+
+    if rgb.shape[0] != resolution and resolution > 0:
         rgb = np.stack(
             [
                 np.asarray(
@@ -294,7 +300,6 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
             ],
             axis=-1,
         )
-    # 8-bit levels, as a picture file holds them (a flat picture stays exactly flat)
     return np.clip(np.round(rgb * 255.0), 0.0, 255.0) / 255.0
 
 
@@ -314,6 +319,18 @@ def _as_rgb(img) -> np.ndarray:
         alpha = rgba[..., 3:]
         return rgba[..., :3] * alpha + (1.0 - alpha)
     return np.asarray(img.convert("RGB"), dtype=np.float64) / 255.0
+
+
+def _no_outlines(target: np.ndarray, bg: np.ndarray) -> np.ndarray:
+    """The picture the fit compares with: dark lines an illustrator drew along the edges
+    (:func:`meschers_igl.inverse.flatten.drop_outlines`) are no shading a mescher renders, so
+    a picture with them is fitted flat and without them; any other picture as it is."""
+    from meschers_igl.inverse.flatten import drop_outlines, flatten_picture, is_flat
+
+    clean, lines = drop_outlines(target, bg)  # lines one pixel wide look like blends
+    if not lines.any():
+        clean, lines = drop_outlines(target if is_flat(target) else flatten_picture(target), bg)
+    return clean if lines.any() else target
 
 
 def _resize_flat(image: np.ndarray, resolution: int) -> np.ndarray:
@@ -542,8 +559,8 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         )
         target = _resize_flat(drawing.picture, res)
         lights, given = [tuple(float(v) for v in drawing.light)], True
-    elif model is None and target.shape[0] != res:
-        target = _load_target(args.target, res)
+    elif model is None:  # edge lines dropped at the file's own size, then averaged down
+        target = _box_resize(_no_outlines(target, bg), res)
     if int(target_mask(target, bg).sum()) < 16:
         raise MescherError(
             f"TARGET: expected a figure on a plain background, found {args.target!r} with no "

@@ -40,7 +40,7 @@ from ..mescher import Mescher
 from ..validate import as_points
 from .cuts import _off_outline, _one_contact, _to_holes, cut_along
 from .faces import _three_means, _two_groups, split_shared_shade
-from .flatten import figure_mask, flatten_picture, is_antialiased, is_flat
+from .flatten import drop_outlines, figure_mask, flatten_picture, is_antialiased, is_flat
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import node_constraints, region_polygons
 from .shading import (
@@ -561,6 +561,21 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
     return seg, xy, F, region, bounds, light_used, normals, misfit, exposure
 
 
+def _as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
+    """The flat picture read and how it was made: an antialiased or JPEG picture made flat
+    (:func:`.flatten.flatten_picture`), an illustrator's dark edge lines taken for the faces
+    beside them (:func:`.flatten.drop_outlines`); ``info``'s ``flattened``, ``antialiased``
+    and ``outlines``."""
+    target, outlines = drop_outlines(target, background)  # lines one pixel wide look like blends
+    flattened = not is_flat(target)
+    antialiased = is_antialiased(target)
+    if flattened:
+        target = flatten_picture(target)
+    if not outlines.any():  # a line's colour made exact by the flattening
+        target, outlines = drop_outlines(target, background)
+    return target, {"flattened": flattened, "antialiased": antialiased, "outlines": outlines}
+
+
 def mescher_from_picture(
     target: np.ndarray,
     light=None,
@@ -628,15 +643,14 @@ def mescher_from_picture(
         (the picture was not flat and was read as :func:`.flatten.flatten_picture` made it),
         ``antialiased`` (:func:`.flatten.is_antialiased`: the fit averages samples over each
         pixel, :func:`fit_options`), ``exposure`` (:func:`.shading.estimate_exposure`: the
-        figure's brightness, 1 for a white one; :func:`picture_shading` renders with it).
+        figure's brightness, 1 for a white one; :func:`picture_shading` renders with it),
+        ``outlines`` (H, W) bool: dark lines drawn along the edges, read as the faces beside
+        them (:func:`.flatten.drop_outlines`).
     """
 
     if steps is not None:
         steps = [_segment(q, "steps") for q in steps]
-    flattened = not is_flat(target)
-    antialiased = is_antialiased(target)
-    if flattened:  # antialiased or JPEG: the flat picture it was made from
-        target = flatten_picture(target)
+    target, kind = _as_read(target, background)
     seg, xy, F, region, bounds, light, normals, misfit, exposure = _faces_and_frame(
         target, background, light, ambient, tolerance_px, straighten, max_area_px
     )
@@ -674,9 +688,8 @@ def mescher_from_picture(
         "hidden_lines": hidden,
         "light": light,
         "unseen_turn": unseen,
-        "flattened": flattened,
-        "antialiased": antialiased,
         "exposure": exposure,
+        **kind,
     }
     return m, region, info
 
