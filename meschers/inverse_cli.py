@@ -324,13 +324,16 @@ def _as_rgb(img) -> np.ndarray:
 def _no_outlines(target: np.ndarray, bg: np.ndarray) -> np.ndarray:
     """The picture the fit compares with: dark lines an illustrator drew along the edges
     (:func:`meschers_igl.inverse.flatten.drop_outlines`) are no shading a mescher renders, so
-    a picture with them is fitted flat and without them; any other picture as it is."""
-    from meschers_igl.inverse.flatten import drop_outlines, flatten_picture, is_flat
+    a picture with them is fitted flat and without them; marks beside the figure (a caption:
+    :func:`~meschers_igl.inverse.flatten.drop_specks`) are ground; any other picture as it
+    is."""
+    from meschers_igl.inverse.flatten import drop_outlines, drop_specks, flatten_picture, is_flat
 
     clean, lines = drop_outlines(target, bg)  # lines one pixel wide look like blends
     if not lines.any():
         clean, lines = drop_outlines(target if is_flat(target) else flatten_picture(target), bg)
-    return clean if lines.any() else target
+    clean, specks = drop_specks(clean if lines.any() else target, bg)
+    return clean
 
 
 def _resize_flat(image: np.ndarray, resolution: int) -> np.ndarray:

@@ -35,6 +35,7 @@ from ..errors import MescherError
 
 __all__ = [
     "drop_outlines",
+    "drop_specks",
     "figure_mask",
     "flatten_picture",
     "is_antialiased",
@@ -345,6 +346,46 @@ def drop_outlines(
         return t, lines
     _, (ii, jj) = ndimage.distance_transform_edt(lines, return_indices=True)
     return t[ii, jj], lines
+
+
+def drop_specks(
+    target: np.ndarray, background=(1.0, 1.0, 1.0), share: float = 0.02
+) -> tuple[np.ndarray, np.ndarray]:
+    """A picture without the marks beside its figure: a caption, a signature, a speck of dirt.
+
+    Pieces of the figure (:func:`figure_mask`, 8-connected) under ``share`` of the largest
+    piece's pixels become ground: a figure of boxes is one piece or a few large ones, and a
+    label read as faces gave the mesh shards of its own.
+
+    Parameters
+    ----------
+    target : (H, W, 3) float in [0, 1]
+    background : (3,) float
+    share : float
+
+    Returns
+    -------
+    picture : (H, W, 3) float64
+        ``target`` with the specks' pixels in the ``background`` colour.
+    specks : (H, W) bool
+    """
+    from scipy import ndimage
+
+    t = np.asarray(target, dtype=np.float64)
+    comp, n = ndimage.label(figure_mask(t, background), structure=np.ones((3, 3), dtype=bool))
+    if n < 2:
+        return t, np.zeros(t.shape[:2], dtype=bool)
+    size = np.bincount(comp.ravel(), minlength=n + 1)
+    size[0] = 0
+    specks = (comp > 0) & (size[comp] < share * size.max())
+    if not specks.any():
+        return t, specks
+    # with their antialiased fringe, which the figure's mask leaves to the ground's side
+    keep = (comp > 0) & ~specks
+    specks = ndimage.binary_dilation(specks, structure=np.ones((3, 3), dtype=bool)) & ~keep
+    t = t.copy()
+    t[specks] = np.asarray(background, dtype=np.float64)
+    return t, specks
 
 
 def _ground_mode(label: np.ndarray) -> int | None:

@@ -40,7 +40,14 @@ from ..mescher import Mescher
 from ..validate import as_points
 from .cuts import _off_outline, _one_contact, _to_holes, cut_along
 from .faces import _three_means, _two_groups, split_shared_shade
-from .flatten import drop_outlines, figure_mask, flatten_picture, is_antialiased, is_flat
+from .flatten import (
+    drop_outlines,
+    drop_specks,
+    figure_mask,
+    flatten_picture,
+    is_antialiased,
+    is_flat,
+)
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import node_constraints, region_polygons
 from .shading import (
@@ -564,8 +571,9 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
 def _as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
     """The flat picture read and how it was made: an antialiased or JPEG picture made flat
     (:func:`.flatten.flatten_picture`), an illustrator's dark edge lines taken for the faces
-    beside them (:func:`.flatten.drop_outlines`); ``info``'s ``flattened``, ``antialiased``
-    and ``outlines``."""
+    beside them (:func:`.flatten.drop_outlines`), marks beside the figure taken for ground
+    (:func:`.flatten.drop_specks`); ``info``'s ``flattened``, ``antialiased``, ``outlines``
+    and ``specks``."""
     target, outlines = drop_outlines(target, background)  # lines one pixel wide look like blends
     flattened = not is_flat(target)
     antialiased = is_antialiased(target)
@@ -573,7 +581,9 @@ def _as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
         target = flatten_picture(target)
     if not outlines.any():  # a line's colour made exact by the flattening
         target, outlines = drop_outlines(target, background)
-    return target, {"flattened": flattened, "antialiased": antialiased, "outlines": outlines}
+    target, specks = drop_specks(target, background)  # a caption beside the figure
+    kind = {"flattened": flattened, "antialiased": antialiased, "outlines": outlines}
+    return target, {**kind, "specks": specks}
 
 
 def mescher_from_picture(
@@ -695,10 +705,12 @@ def mescher_from_picture(
 
 
 def picture_shading(info: dict, ambient: float = 0.2) -> dict:
-    """The shading to fit a picture-made mescher with: ``lights`` (the one the picture was read
-    under), ``light_colors`` and ``ambient`` scaled by the picture's ``exposure`` (a grey
-    figure renders ``exposure * (ambient + (1 - ambient) n . l)``), for
-    :func:`.optimize.fit_mescher` and :func:`.rasterizer.render_mescher`.
+    """The shading a picture-made mescher is fitted and rendered with.
+
+    ``lights`` (the one the picture was read under), ``light_colors`` and ``ambient`` scaled
+    by the picture's ``exposure``: a grey figure renders ``exposure * (ambient + (1 -
+    ambient) max(0, n dot l))``; for :func:`.optimize.fit_mescher` and
+    :func:`.rasterizer.render_mescher`.
 
     Parameters
     ----------
