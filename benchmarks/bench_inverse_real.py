@@ -9,7 +9,9 @@ directions drawn uniformly on the upper hemisphere (toward the viewer, seeded), 
 ground: no grey face can take its colour, where on white a face turned to the light vanishes.
 ``--picture antialiased`` renders 4x larger and averages 4 x 4 blocks (a renderer's
 supersampling; what ``meschers inverse`` makes of a larger picture), ``--picture jpeg`` saves
-each picture as a JPEG of quality 90 and reads it back (:func:`published_picture`).
+each picture as a JPEG of quality 90 and reads it back, ``--picture outlined`` draws black lines
+3 pixels wide over every edge of the 4x larger picture, drops them as ``meschers inverse``
+does (``inverse.flatten.drop_outlines``) and averages it down (:func:`published_picture`).
 
 Per picture: :func:`meschers_igl.inverse.picture.mescher_from_picture` with the light given,
 then :func:`meschers_igl.inverse.optimize.fit_mescher` (``fit_options``) with the regions'
@@ -38,7 +40,7 @@ refused with a ``MescherError`` counts as failing every column.
 Run:  python benchmarks/bench_inverse_real.py [--models PATH] [--lights 6] [--iters 300]
       [--no-turn-faces] [--turn-every K] [--turn-weight W]
       [--resolution 128] [--only NAME,NAME] [--cases NAME:K,...] [--figures DIR] [--seed 0]
-      [--picture zbuffer|antialiased|jpeg] [--ground R,G,B]
+      [--picture zbuffer|antialiased|jpeg|outlined] [--ground R,G,B]
 """
 
 from __future__ import annotations
@@ -340,10 +342,14 @@ def published_picture(model, res: int, light, how: str = "zbuffer"):
 
     from meschers.inverse_cli import zbuffer_picture
 
-    if how == "antialiased":
+    if how in ("antialiased", "outlined"):
         big, scale = zbuffer_picture(
             model, 4 * res, light=light, ambient=AMBIENT, background=GROUND
         )
+        if how == "outlined":  # black lines 3 px wide over every edge, dropped as the CLI does
+            from meschers_igl.inverse.flatten import drop_outlines
+
+            big = drop_outlines(_with_outlines(big, 3), GROUND)[0]
         return big.reshape(res, 4, res, 4, 3).mean(axis=(1, 3)), scale
     image, scale = zbuffer_picture(model, res, light=light, ambient=AMBIENT, background=GROUND)
     if how == "jpeg":
@@ -352,6 +358,23 @@ def published_picture(model, res: int, light, how: str = "zbuffer"):
         buf.seek(0)
         image = np.asarray(Image.open(buf).convert("RGB"), dtype=np.float64) / 255.0
     return image, scale
+
+
+def _with_outlines(image: np.ndarray, width: int) -> np.ndarray:
+    """``image`` with black lines ``width`` (odd) pixels wide over its colour edges: a shaded
+    picture as a technical illustration draws it."""
+    from scipy import ndimage
+
+    q = np.round(image * 255.0).astype(np.int64)
+    key = (q[..., 0] << 16) | (q[..., 1] << 8) | q[..., 2]
+    edge = np.zeros(key.shape, dtype=bool)
+    edge[:, 1:] |= key[:, 1:] != key[:, :-1]
+    edge[1:] |= key[1:] != key[:-1]
+    if width > 1:
+        edge = ndimage.binary_dilation(edge, iterations=(width - 1) // 2)
+    out = image.copy()
+    out[edge] = 0.0
+    return out
 
 
 def run_case(
@@ -494,9 +517,11 @@ def main(argv=None) -> int:
     )
     ap.add_argument(
         "--picture",
-        choices=("zbuffer", "antialiased", "jpeg"),
+        choices=("zbuffer", "antialiased", "jpeg", "outlined"),
         default="zbuffer",
-        help="the pictures as rendered, antialiased (4x4 supersampled) or JPEG (quality 90)",
+        help="the pictures as rendered, antialiased (4x4 supersampled), JPEG (quality 90) or "
+        "outlined (4x larger with 3 px black lines on every edge, the lines dropped as "
+        "meschers inverse drops them, averaged down)",
     )
     ap.add_argument("--iters", type=int, default=300)
     ap.add_argument("--resolution", type=int, default=128)
