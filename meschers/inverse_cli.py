@@ -327,13 +327,17 @@ def _no_outlines(target: np.ndarray, bg: np.ndarray) -> np.ndarray:
     a picture with them is fitted flat and without them; marks beside the figure (a caption:
     :func:`~meschers_igl.inverse.flatten.drop_specks`) are ground; any other picture as it
     is."""
-    from meschers_igl.inverse.flatten import drop_outlines, drop_specks, flatten_picture, is_flat
+    from meschers_igl.inverse import flatten as fl
 
-    clean, lines = drop_outlines(target, bg)  # lines one pixel wide look like blends
+    # flattened once: the figure's mask of the picture and of its flat version are one
+    flat = target if fl.is_flat(target) else fl.flatten_picture(target)
+    fig = fl.figure_mask(flat, bg)
+    clean, lines = fl.drop_outlines(target, bg, figure=fig)  # 1 px lines look like blends
     if not lines.any():
-        clean, lines = drop_outlines(target if is_flat(target) else flatten_picture(target), bg)
-    clean, specks = drop_specks(clean if lines.any() else target, bg)
-    return clean
+        clean, lines = fl.drop_outlines(flat, bg, figure=fig)
+    if lines.any():
+        return fl.drop_specks(clean, bg)[0]
+    return fl.drop_specks(target, bg, figure=fig)[0]
 
 
 def _resize_flat(image: np.ndarray, resolution: int) -> np.ndarray:

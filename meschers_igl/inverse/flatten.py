@@ -297,6 +297,7 @@ def drop_outlines(
     thin: float = 0.25,
     darker: float = 10 / 255,
     black: float = 0.1,
+    figure: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """A flat picture without the dark lines an illustrator draws along its edges.
 
@@ -315,6 +316,9 @@ def drop_outlines(
         A flat picture (:func:`is_flat`, or :func:`flatten_picture`'s result).
     background : (3,) float
     thin, darker, black : float
+    figure : (H, W) bool, optional
+        ``figure_mask(target, background)`` where the caller has it (it flattens a picture
+        that is not flat: seconds at 1024 px).
 
     Returns
     -------
@@ -330,7 +334,7 @@ def drop_outlines(
     u, inv, cnt = np.unique(keys.ravel(), return_inverse=True, return_counts=True)
     inv = inv.reshape(keys.shape)
     grey = np.bincount(inv.ravel(), weights=t.mean(axis=-1).ravel()) / cnt
-    figure = figure_mask(t, background)
+    figure = figure_mask(t, background) if figure is None else figure
     big = np.bincount(inv[figure], minlength=len(u)) >= 0.01 * max(int(figure.sum()), 1)
     lines = np.zeros(keys.shape, dtype=bool)
     five = np.ones((5, 5), dtype=bool)
@@ -349,7 +353,10 @@ def drop_outlines(
 
 
 def drop_specks(
-    target: np.ndarray, background=(1.0, 1.0, 1.0), share: float = 0.02
+    target: np.ndarray,
+    background=(1.0, 1.0, 1.0),
+    share: float = 0.02,
+    figure: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """A picture without the marks beside its figure: a caption, a signature, a speck of dirt.
 
@@ -362,6 +369,8 @@ def drop_specks(
     target : (H, W, 3) float in [0, 1]
     background : (3,) float
     share : float
+    figure : (H, W) bool, optional
+        ``figure_mask(target, background)`` where the caller has it.
 
     Returns
     -------
@@ -372,7 +381,8 @@ def drop_specks(
     from scipy import ndimage
 
     t = np.asarray(target, dtype=np.float64)
-    comp, n = ndimage.label(figure_mask(t, background), structure=np.ones((3, 3), dtype=bool))
+    figure = figure_mask(t, background) if figure is None else figure
+    comp, n = ndimage.label(figure, structure=np.ones((3, 3), dtype=bool))
     if n < 2:
         return t, np.zeros(t.shape[:2], dtype=bool)
     size = np.bincount(comp.ravel(), minlength=n + 1)
