@@ -348,8 +348,9 @@ def published_picture(model, res: int, light, how: str = "zbuffer"):
         )
         if how == "outlined":  # black lines 3 px wide over every edge, dropped as the CLI does
             from meschers_igl.inverse.flatten import drop_outlines
+            from meschers_igl.inverse.targets import outlined
 
-            big = drop_outlines(_with_outlines(big, 3), GROUND)[0]
+            big = drop_outlines(outlined(big, 3), GROUND)[0]
         return big.reshape(res, 4, res, 4, 3).mean(axis=(1, 3)), scale
     image, scale = zbuffer_picture(model, res, light=light, ambient=AMBIENT, background=GROUND)
     if how == "jpeg":
@@ -358,23 +359,6 @@ def published_picture(model, res: int, light, how: str = "zbuffer"):
         buf.seek(0)
         image = np.asarray(Image.open(buf).convert("RGB"), dtype=np.float64) / 255.0
     return image, scale
-
-
-def _with_outlines(image: np.ndarray, width: int) -> np.ndarray:
-    """``image`` with black lines ``width`` (odd) pixels wide over its colour edges: a shaded
-    picture as a technical illustration draws it."""
-    from scipy import ndimage
-
-    q = np.round(image * 255.0).astype(np.int64)
-    key = (q[..., 0] << 16) | (q[..., 1] << 8) | q[..., 2]
-    edge = np.zeros(key.shape, dtype=bool)
-    edge[:, 1:] |= key[:, 1:] != key[:, :-1]
-    edge[1:] |= key[1:] != key[:-1]
-    if width > 1:
-        edge = ndimage.binary_dilation(edge, iterations=(width - 1) // 2)
-    out = image.copy()
-    out[edge] = 0.0
-    return out
 
 
 def run_case(

@@ -2,7 +2,8 @@
 
 - :func:`torus_mescher`, :func:`torus_for_target`: the paper's initialization (Section 4.5), a
   possible torus matched to a silhouette;
-- :func:`target_mask`: the figure's pixels in a picture;
+- :func:`target_mask`: the figure's pixels in a picture; :func:`outlined`: a picture with
+  black lines over its edges, as a technical illustration draws it;
 - :func:`penrose_soup`, :func:`penrose_target`: the Penrose triangle as flat ordered triangles,
   rendered by this package's own rasterizer (a self-consistency target only: acceptance runs on
   z-buffered pictures of real 3D models, :mod:`meschers_igl.inverse.models`).
@@ -75,6 +76,34 @@ def target_mask(target: np.ndarray, background=(1.0, 1.0, 1.0), tol: float = 0.0
     (H, W) bool
     """
     return np.abs(target - np.asarray(background, dtype=np.float64)).max(axis=-1) > tol
+
+
+def outlined(image: np.ndarray, width: int = 3) -> np.ndarray:
+    """``image`` with black lines ``width`` (odd) pixels wide over its colour edges.
+
+    Parameters
+    ----------
+    image : (H, W, 3) float in [0, 1]
+        A flat picture (its edges are where two neighbouring pixels' 8-bit colours differ).
+    width : int
+
+    Returns
+    -------
+    (H, W, 3) float64
+        A copy, the lines' pixels black.
+    """
+    from scipy import ndimage
+
+    q = np.round(np.asarray(image, dtype=np.float64) * 255.0).astype(np.int64)
+    key = (q[..., 0] << 16) | (q[..., 1] << 8) | q[..., 2]
+    edge = np.zeros(key.shape, dtype=bool)
+    edge[:, 1:] |= key[:, 1:] != key[:, :-1]
+    edge[1:] |= key[1:] != key[:-1]
+    if width > 1:
+        edge = ndimage.binary_dilation(edge, iterations=(width - 1) // 2)
+    out = np.array(image, dtype=np.float64)
+    out[edge] = 0.0
+    return out
 
 
 def torus_for_target(

@@ -4,23 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy import ndimage
 
 from meschers_igl.inverse.flatten import drop_outlines
-
-
-def _with_outlines(img: np.ndarray, width: int) -> np.ndarray:
-    """``img`` with black lines ``width`` pixels wide (1 or 3) over its colour edges."""
-    k = np.round(img * 255).astype(np.int64)
-    key = (k[..., 0] << 16) | (k[..., 1] << 8) | k[..., 2]
-    edge = np.zeros(key.shape, dtype=bool)
-    edge[:, 1:] |= key[:, 1:] != key[:, :-1]
-    edge[1:] |= key[1:] != key[:-1]
-    if width > 1:
-        edge = ndimage.binary_dilation(edge, iterations=(width - 1) // 2)
-    out = img.copy()
-    out[edge] = 0.0
-    return out
+from meschers_igl.inverse.targets import outlined
 
 
 def test_dark_thin_lines_are_dropped_faces_are_not():
@@ -30,7 +16,7 @@ def test_dark_thin_lines_are_dropped_faces_are_not():
     t = np.ones((40, 40, 3))
     t[8:32, 8:20] = 0.5
     t[8:32, 20:32] = 0.8
-    drawn = _with_outlines(t, 3)
+    drawn = outlined(t, 3)
     clean, lines = drop_outlines(drawn)
     assert lines.sum() == np.count_nonzero(drawn.max(axis=-1) == 0.0)
     assert set(np.unique(clean)) <= {0.5, 0.8, 1.0}
@@ -61,7 +47,7 @@ def test_an_outlined_tribar_reads_its_period(res, width):
     model = models.penrose_tribar()
     light = np.array([0.3, 0.5, 1.0]) / np.linalg.norm([0.3, 0.5, 1.0])
     img, scale = zbuffer_picture(model, res, light=light, ambient=0.2, background=(1, 1, 1))
-    drawn = _with_outlines(img, width)
+    drawn = outlined(img, width)
     m, _, info = pic.mescher_from_picture(drawn, light, 0.2, background=(1, 1, 1))
     assert info["outlines"].any()
     assert figure_period(m) == pytest.approx(model.gap * scale, rel=0.05)
@@ -92,7 +78,7 @@ def test_the_cli_fits_an_outlined_picture_without_its_lines(tmp_path):
     model = models.penrose_tribar()
     img, scale = zbuffer_picture(model, 256, light=(0.3, 0.5, 1.0), ambient=0.2)
     path = tmp_path / "outlined.png"
-    Image.fromarray((_with_outlines(img, 3) * 255).round().astype(np.uint8)).save(path)
+    Image.fromarray((outlined(img, 3) * 255).round().astype(np.uint8)).save(path)
     out = tmp_path / "fit"
     assert inverse_main([str(path), "--out", str(out), "--iters", "60", "--no-progress"]) == 0
     metrics = json.loads((out / "metrics.json").read_text())
