@@ -28,16 +28,29 @@ __all__ = ["OUTLINE_RATIO", "line_directions", "split_shared_shade"]
 #: 2557 with the outline always first; on the cube 275 -> 189 of 5355).
 OUTLINE_RATIO = 8.0
 
+#: Grey levels (of 255) over the ambient shade under which a shade is the ambient one: faces
+#: turned away from the light (``n . l <= 0``), not lit at a grazing angle.
+AMBIENT_LEVELS = 2.0
 
-def _three_means(v: np.ndarray, w: np.ndarray) -> np.ndarray:
+
+def _three_means(
+    v: np.ndarray,
+    w: np.ndarray,
+    rank: int | None = None,
+    min_weight: float = 0.0,
+    min_gap: float = 0.0,
+) -> np.ndarray | None:
     """Group index (0, 1, 2) of sorted values ``v`` (weights ``w``): least weighted variance.
 
     The optimal 1D k-means groups are contiguous in sorted order; with prefix sums every pair
     of split points is tried at once (``O(n^2)``, ``n`` the number of distinct faces).
+    ``rank`` given: the grouping of that rank (0 the best) by variance among those splitting
+    only where ``v`` jumps by more than ``min_gap``, each group weighing at least
+    ``min_weight`` (None where there are not so many).
     """
     n = len(v)
     if n < 3:
-        return np.minimum(np.arange(n), 2)
+        return np.minimum(np.arange(n), 2) if rank is None else None
     W1 = np.r_[0.0, np.cumsum(w)]
     S1 = np.r_[0.0, np.cumsum(w * v)]
     S2 = np.r_[0.0, np.cumsum(w * v * v)]
@@ -50,8 +63,18 @@ def _three_means(v: np.ndarray, w: np.ndarray) -> np.ndarray:
     a, b = np.meshgrid(np.arange(1, n), np.arange(1, n), indexing="ij")
     ok = a < b
     total = cost(0, a) + cost(a, b) + cost(b, n)
+    if rank is not None:
+        jump = np.r_[np.inf, np.diff(v)] > min_gap  # jump[k]: v[k] - v[k - 1]
+        ok &= jump[a] & jump[b]
+        ok &= (W1[a] >= min_weight) & (W1[b] - W1[a] >= min_weight) & (W1[n] - W1[b] >= min_weight)
     total = np.where(ok, total, np.inf)
-    i, j = np.unravel_index(int(np.argmin(total)), total.shape)
+    if rank is not None:
+        ranked = np.argsort(total, axis=None)
+        if rank >= ok.sum():
+            return None
+        i, j = np.unravel_index(int(ranked[rank]), total.shape)
+    else:
+        i, j = np.unravel_index(int(np.argmin(total)), total.shape)
     g = np.zeros(n, dtype=np.int64)
     g[a[i, j] :] = 1
     g[b[i, j] :] = 2
@@ -291,13 +314,14 @@ def _refine_frame(R, d, owner, order, light, shade_a: float, shade_b: float, amb
     wt = np.sqrt(ln / ln.sum())
     u = d / np.maximum(ln, 1e-300)[:, None]
     s = (np.array([shade_a, shade_b, shade_b]) - ambient) / (1.0 - ambient)
+    turned = s < AMBIENT_LEVELS / 255.0 / (1.0 - ambient)  # at the ambient shade: n . l <= 0
 
     def res(w):
         N = R @ Rotation.from_rotvec(w).as_matrix().T
         p = N[row, :2] / np.maximum(np.linalg.norm(N[row, :2], axis=1, keepdims=True), 1e-12)
         line = wt * (u[:, 0] * p[:, 1] - u[:, 1] * p[:, 0])
         c = N @ light
-        shade = np.where(s > 1e-3, c - s, np.maximum(c, 0.0))
+        shade = np.where(turned, np.maximum(c, 0.0), c - s)
         return np.r_[line, shade]
 
     w = least_squares(res, np.zeros(3), method="lm" if len(d) >= 3 else "trf").x
@@ -398,7 +422,9 @@ def split_shared_shade(
     d = b - a
     px = 2.0 / N
     owner = np.argmin(_abs_sin(d, dirs), axis=1)
-    shade = np.array([grey[comp_group == g].mean() for g in (0, 1)])
+    # the shade most of a group's pixels hold: a few pixels of a fourth shade (a bevel, a face
+    # seen nearly edge-on) joined to the shared group must not lift it off the ambient shade
+    shade = np.array([np.median(grey[comp_group == g]) for g in (0, 1)])
     best = (math.inf, None, None, None)
     for kA in range(3):
         order = [kA] + [k for k in range(3) if k != kA]

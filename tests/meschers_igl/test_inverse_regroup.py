@@ -1,0 +1,94 @@
+"""Shades grouped again where the frame of the best grouping misfits its lines.
+
+Two orientations a few levels apart beside a small face of a fourth shade (a sheared end
+seen nearly edge-on): by variance alone the two close shades are one orientation and the
+small face another; the frame of that reading misfits the figure's lines, the next grouping's
+fits them (``picture.REGROUP_MISFIT``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from meschers_igl.inverse import picture as pic
+
+AMBIENT = 0.2
+GROUND = (0.55, 0.7, 0.9)
+#: the three orientations' shades and the small face's, in grey levels (a development
+#: model's sheared tribar under a light from the right)
+LEVELS = np.array([107.0, 123.0, 233.0])
+FOURTH = 158.0
+
+
+def _angles_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    c = np.abs(a @ b.T).max(axis=1)
+    return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def _frame(seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    while True:
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        n = q.T * np.sign(q.T[:, 2:3])
+        if n[:, 2].min() > 0.3:
+            return n
+
+
+def _cube(N: np.ndarray, res: int = 128):
+    """A unit cube's three faces seen along camera z, under the light giving them
+    :data:`LEVELS` exactly, and a bevel of :data:`FOURTH` along the crease of the faces of
+    the two lighter shades covering 5% of the figure (regrouped, it joins the middle shade's
+    orientation); the image, the light and the face per pixel (3: the bevel)."""
+    s = (LEVELS / 255.0 - AMBIENT) / (1.0 - AMBIENT)
+    light = N.T @ s
+    light /= np.linalg.norm(light)
+    corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], float) @ N
+    lo, hi = corners[:, :2].min(axis=0), corners[:, :2].max(axis=0)
+    scale = 1.5 / (hi - lo).max()
+    c = -1.0 + (2.0 * np.arange(res) + 1.0) / res
+    X, Y = np.meshgrid(c, -c)
+    q = np.stack([X, Y], axis=-1) / scale + 0.5 * (lo + hi)
+    face = np.full((res, res), -1)
+    for k in range(3):
+        i, j = [a for a in range(3) if a != k]
+        A = np.stack([N[i, :2], N[j, :2]], axis=1)
+        st = np.linalg.solve(A, (q - N[k, :2]).reshape(-1, 2).T).T.reshape(res, res, 2)
+        face[np.all((st >= 0) & (st <= 1), axis=-1)] = k
+    grey = AMBIENT + (1.0 - AMBIENT) * np.maximum(N @ light, 0.0)
+    # a bevel: the strip of the middle shade's face along its crease with the lightest face
+    from scipy.ndimage import distance_transform_edt
+
+    mid, top = np.argsort(grey)[1:]
+    d = distance_transform_edt(face != top)
+    ds = np.sort(d[face == mid])
+    face[(face == mid) & (d <= ds[int(0.05 * (face >= 0).sum())])] = 3
+    g = np.r_[grey, FOURTH / 255.0][np.maximum(face, 0)]
+    img = np.where(face[..., None] >= 0, g[..., None].repeat(3, axis=2), np.asarray(GROUND))
+    return img, light, face
+
+
+@pytest.mark.parametrize("given", [True, False])
+@pytest.mark.parametrize("seed", range(3))
+def test_close_shades_beside_a_small_fourth_are_grouped_by_the_lines(seed, given):
+    """With the light given the variance's reading misfits its lines (0.025-0.033, frame 8-45
+    degrees off); without it no frame fits them and the reading failed.  The next grouping
+    fits them within 0.01 and gives the frame (and light) within 1.5 degrees."""
+    N = _frame(seed)
+    img, light, face = _cube(N)
+    share = np.mean(face[face >= 0] == 3)
+    assert 0.04 < share < 0.06  # an orientation's share by size alone
+    # by variance the two close shades are one orientation and the bevel another
+    plain = pic.segment_picture(img, GROUND)
+    assert plain.shades[1:] * 255 == pytest.approx([FOURTH, LEVELS[2]], abs=1.0)
+    assert np.abs(plain.shades[0] * 255 - LEVELS[:2]).min() < 1.0  # the larger face's shade
+    m, _, info = pic.mescher_from_picture(img, light if given else None, AMBIENT, GROUND)
+    assert info["misfit"] < 0.01
+    assert np.sort(info["shades"][:2]) * 255 == pytest.approx(LEVELS[:2], abs=1.0)
+    if given:
+        assert _angles_deg(info["normals"], N).max() < 1.5
+    else:  # as the same cube without the bevel is read (the light from three shades)
+        clean = img.copy()
+        clean[face == 3] = LEVELS[1] / 255.0
+        _, _, ref = pic.mescher_from_picture(clean, None, AMBIENT, GROUND)
+        assert np.degrees(np.arccos(min(info["light"] @ ref["light"], 1.0))) < 0.5
+        assert _angles_deg(info["normals"], ref["normals"]).max() < 0.5
