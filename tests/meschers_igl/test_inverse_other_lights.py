@@ -11,7 +11,7 @@ Two readings went wrong there and were mended as rules, not for these files:
 - ``PenroseTriangle2.obj`` under a light from the right: two face directions 16 levels apart
   and a sheared end (4% of the figure) of a fourth shade; by variance the two were one
   orientation and the end another, a frame 8 degrees off with 39% of the pixels near the axes
-  after the fit.  The next grouping's frame fits the lines (``picture.REGROUP_MISFIT``).
+  after the fit.  The next grouping's frame fits the lines (``picture.RETRY_MISFIT``).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 Two orientations a few levels apart beside a small face of a fourth shade (a sheared end
 seen nearly edge-on): by variance alone the two close shades are one orientation and the
 small face another; the frame of that reading misfits the figure's lines, the next grouping's
-fits them (``picture.REGROUP_MISFIT``)."""
+fits them (``picture.RETRY_MISFIT``)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Three shades whose frame does not fit the lines: read again as two orientations of one
-shade (picture.SHARED_MISFIT), where the light is given."""
+shade (picture.RETRY_MISFIT), where the light is given."""
 
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ def _uneven_tribar():
 def test_a_misfitting_frame_of_three_shades_is_read_with_a_shared_shade():
     from meschers_igl.inverse.metrics import figure_period
     from meschers_igl.inverse.picture import (
-        SHARED_MISFIT,
+        RETRY_MISFIT,
         mescher_from_picture,
         segment_picture,
     )
@@ -49,13 +49,12 @@ def test_a_misfitting_frame_of_three_shades_is_read_with_a_shared_shade():
     plain = segment_picture(img, GROUND, light=light, ambient=AMBIENT)
     assert plain.normals is None and np.ptp(plain.shades[plain.shades > 0.5]) > 5 / 255
     m, region, info = mescher_from_picture(img, light, AMBIENT, background=GROUND)
-    assert np.isnan(info["misfit"])  # the shared-shade reading: normals from the lines
+    assert info["misfit"] < RETRY_MISFIT  # the shared-shade reading fits its lines
     # each orientation read is one of the model's face normals (camera frame), within 5 deg
     n = unit_normals(np.asarray(model.V, float), np.asarray(model.F)) @ model.camera_frame().T
     cos = info["normals"] @ n.T
     assert np.all(np.degrees(np.arccos(np.clip(cos.max(axis=1), -1, 1))) < 5.0)
     assert figure_period(m) == pytest.approx(model.gap * scale, rel=0.05)
-    assert SHARED_MISFIT < 0.05
 
 
 def test_a_fitting_frame_of_three_shades_is_kept():
@@ -67,10 +66,10 @@ def test_a_fitting_frame_of_three_shades_is_kept():
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     from meschers.inverse_cli import zbuffer_picture
     from meschers_igl.inverse import models
-    from meschers_igl.inverse.picture import SHARED_MISFIT, mescher_from_picture
+    from meschers_igl.inverse.picture import RETRY_MISFIT, mescher_from_picture
 
     model = models.penrose_tribar()
     light = np.array([0.3, 0.5, 1.0]) / np.linalg.norm([0.3, 0.5, 1.0])
     img, _ = zbuffer_picture(model, 128, light=light, ambient=AMBIENT, background=GROUND)
     _, _, info = mescher_from_picture(img, light, AMBIENT, background=GROUND)
-    assert info["misfit"] < SHARED_MISFIT
+    assert info["misfit"] < RETRY_MISFIT
