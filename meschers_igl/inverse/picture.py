@@ -206,6 +206,12 @@ def segment_picture(
             cg = np.full(H * W, -1, dtype=np.int64)
             cg[mask.ravel()] = two[cinv]
             lab, sh, nr = split_shared_shade(mask, grey, cg.reshape(H, W), light, ambient)
+            lo, hi = np.percentile(grey[lab >= 1], [10.0, 90.0]) * 255.0
+            if shared and hi - lo > SHARED_LEVELS:  # three distinct shades: not one shared
+                raise MescherError(
+                    f"shared: expected two orientations of one shade (within {SHARED_LEVELS} "
+                    f"levels), found shades {lo:.0f} to {hi:.0f} read as one"
+                )
             return Segmentation(mask, lab, sh, nr)
         if shared:
             raise MescherError("target: no two shades to read one of them as two orientations")
@@ -226,6 +232,31 @@ def segment_picture(
     return Segmentation(mask, labels, shades)
 
 
+#: Grey levels over which the shades read as one by ``segment_picture(shared=True)`` may
+#: spread (10th to 90th percentile of their pixels): a lit orientation whose faces are not
+#: quite parallel spans 10 (208-218); a JPEG's three orientations 73 levels apart, two of
+#: them read as one, fit their noisy lines better than the right reading.
+SHARED_LEVELS = 16.0
+
+
+#: How much wider (weighted sum of squares about the groups' means) the shades' next
+#: grouping may spread than the best for :func:`segment_picture`'s ``alternative`` to read
+#: it: only a near tie is for the lines to settle (a sheared tribar's two orientations 16
+#: levels apart beside a face of a fourth shade: 1.07; cubes with a bevel of a fourth shade
+#: 1.14-1.81).
+REGROUP_SPREAD = 2.0
+
+
+def _spread(v: np.ndarray, w: np.ndarray, g: np.ndarray) -> float:
+    """Weighted sum of squares of ``v`` about the weighted mean of each group of ``g``."""
+    return float(
+        sum(
+            np.sum(w[g == j] * (v[g == j] - np.average(v[g == j], weights=w[g == j])) ** 2)
+            for j in np.unique(g)
+        )
+    )
+
+
 def _other_grouping(cshade, size, big, centre, k: int, min_share: float, line_step: float):
     """The ``k``-th grouping of the ``big`` faces' shades (by variance) unlike the one of
     ``centre`` (:func:`segment_picture`'s ``alternative``): (3,) the groups' mean shades
@@ -242,6 +273,12 @@ def _other_grouping(cshade, size, big, centre, k: int, min_share: float, line_st
         if not np.array_equal(g, plain):
             found += 1
             if found == k:
+                ratio = _spread(v, w, g) / max(_spread(v, w, plain), 1e-300)
+                if not ratio <= REGROUP_SPREAD:
+                    raise MescherError(
+                        f"alternative: expected a grouping of the shades nearly as tight as the "
+                        f"best (spread within {REGROUP_SPREAD} times), found {ratio:.3g} times"
+                    )
                 return (
                     np.array([np.average(v[g == j], weights=w[g == j]) for j in range(3)]),
                     order,
