@@ -98,15 +98,22 @@ def test_line_directions_refuse_too_few_directions():
         fc.line_directions(a, b, 3)
 
 
-@pytest.mark.parametrize("seed", range(4))
-def test_cube_with_two_faces_turned_away_splits_along_its_crease(seed):
-    # two faces at the ambient shade, no line between them in the picture
+def _shared_cube(seed: int):
+    """A random cube lit on one face (``seed % 3``), the other two turned away: its frame,
+    the lit face, the light, the picture, the face per pixel and the shared faces' pixels."""
     rng = np.random.default_rng(seed + 10)
     N = _frame(seed)
     lit = seed % 3
     light = _shared_light(N, lit, rng)
     img, face = _cube_picture(N, light)
     shared = np.isin(face, [k for k in range(3) if k != lit])
+    return N, lit, light, img, face, shared
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_cube_with_two_faces_turned_away_splits_along_its_crease(seed):
+    # two faces at the ambient shade, no line between them in the picture
+    N, lit, light, img, face, shared = _shared_cube(seed)
     assert np.ptp(img[..., 0][shared]) == 0.0  # one shade, no line
     with pytest.raises(MescherError, match="found 2 distinct shade"):
         pic.segment_picture(img, GROUND)  # without the light nothing says which shade is shared
@@ -135,12 +142,7 @@ def test_a_few_pixels_of_a_fourth_shade_leave_the_shared_shade_turned_away(seed)
     nearly edge-on) joins the shared group; the faces of that group are still turned away from
     the light (``n . l <= 0``), not lit at a grazing angle: taking the group's mean shade for
     theirs asked ``n . l`` = 0.004 of both: the frame turned by 9 degrees or a face was lost."""
-    rng = np.random.default_rng(seed + 10)
-    N = _frame(seed)
-    lit = seed % 3
-    light = _shared_light(N, lit, rng)
-    img, face = _cube_picture(N, light)
-    shared = np.isin(face, [k for k in range(3) if k != lit])
+    N, lit, light, img, face, shared = _shared_cube(seed)
     # a disc inside one of the shared faces holding 4% of the shared pixels, 15 levels lighter
     k = [k for k in range(3) if k != lit][0]
     rows, cols = np.nonzero(face == k)

@@ -9,29 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_inverse_faces import AMBIENT, GROUND, _angles_deg, _cube_picture, _frame
 
 from meschers_igl.inverse import picture as pic
 
-AMBIENT = 0.2
-GROUND = (0.55, 0.7, 0.9)
 #: the three orientations' shades and the small face's, in grey levels (a development
 #: model's sheared tribar under a light from the right)
 LEVELS = np.array([107.0, 123.0, 233.0])
 FOURTH = 158.0
-
-
-def _angles_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    c = np.abs(a @ b.T).max(axis=1)
-    return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
-
-
-def _frame(seed: int) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    while True:
-        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-        n = q.T * np.sign(q.T[:, 2:3])
-        if n[:, 2].min() > 0.3:
-            return n
 
 
 def _cube(N: np.ndarray, res: int = 128):
@@ -42,18 +27,7 @@ def _cube(N: np.ndarray, res: int = 128):
     s = (LEVELS / 255.0 - AMBIENT) / (1.0 - AMBIENT)
     light = N.T @ s
     light /= np.linalg.norm(light)
-    corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], float) @ N
-    lo, hi = corners[:, :2].min(axis=0), corners[:, :2].max(axis=0)
-    scale = 1.5 / (hi - lo).max()
-    c = -1.0 + (2.0 * np.arange(res) + 1.0) / res
-    X, Y = np.meshgrid(c, -c)
-    q = np.stack([X, Y], axis=-1) / scale + 0.5 * (lo + hi)
-    face = np.full((res, res), -1)
-    for k in range(3):
-        i, j = [a for a in range(3) if a != k]
-        A = np.stack([N[i, :2], N[j, :2]], axis=1)
-        st = np.linalg.solve(A, (q - N[k, :2]).reshape(-1, 2).T).T.reshape(res, res, 2)
-        face[np.all((st >= 0) & (st <= 1), axis=-1)] = k
+    img, face = _cube_picture(N, light, res)
     grey = AMBIENT + (1.0 - AMBIENT) * np.maximum(N @ light, 0.0)
     # a bevel: the strip of the middle shade's face along its crease with the lightest face
     from scipy.ndimage import distance_transform_edt
@@ -61,9 +35,9 @@ def _cube(N: np.ndarray, res: int = 128):
     mid, top = np.argsort(grey)[1:]
     d = distance_transform_edt(face != top)
     ds = np.sort(d[face == mid])
-    face[(face == mid) & (d <= ds[int(0.05 * (face >= 0).sum())])] = 3
-    g = np.r_[grey, FOURTH / 255.0][np.maximum(face, 0)]
-    img = np.where(face[..., None] >= 0, g[..., None].repeat(3, axis=2), np.asarray(GROUND))
+    bevel = (face == mid) & (d <= ds[int(0.05 * (face >= 0).sum())])
+    face[bevel] = 3
+    img[bevel] = FOURTH / 255.0
     return img, light, face
 
 
@@ -100,15 +74,10 @@ def test_distinct_shades_are_not_read_again_as_one():
     a reading of them, however their lines fit."""
     from meschers_igl import MescherError
 
-    global LEVELS
     N = _frame(0)
-    saved = LEVELS
-    try:
-        LEVELS = np.array([51.0, 146.0, 219.0])
-        img, light, face = _cube(N)
-    finally:
-        LEVELS = saved
-    img[face == 3] = img[face == 2][0]  # no bevel
+    s = (np.array([51.0, 146.0, 219.0]) / 255.0 - AMBIENT) / (1.0 - AMBIENT)
+    light = N.T @ s / np.linalg.norm(s)
+    img, _ = _cube_picture(N, light, 128)
     with pytest.raises(MescherError, match="alternative: expected a grouping"):
         pic.segment_picture(img, GROUND, light=light, ambient=AMBIENT, alternative=1)
     with pytest.raises(MescherError, match="shared"):
