@@ -648,8 +648,10 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
         out, failed = read(seg), None
     except MescherError as e:  # no frame fits the lines: perhaps another reading's
         out, failed = None, e
-    if seg.normals is not None or (out is not None and not out[7] > RETRY_MISFIT):
+    if out is not None and (seg.normals is not None or not out[7] > RETRY_MISFIT):
         return out
+    if seg.normals is not None:  # two shades, read once: no other reading to try
+        raise failed
     for retry in ({"alternative": 1}, {"shared": True}):
         if "shared" in retry and not given:
             continue

@@ -101,3 +101,20 @@ def test_a_jpeg_keeps_its_three_shades(bench, development_model, name, k, monkey
     monkeypatch.setattr(pic, "SHARED_LEVELS", np.inf)  # the test can fail
     _, _, info = pic.mescher_from_picture(img, light, bench.AMBIENT, background=bench.GROUND)
     assert _angles_deg(info["normals"], T).max() > 5.0
+
+
+def test_a_two_shade_reading_that_fails_says_why(monkeypatch):
+    """A picture of two shades has one reading; where it fails the caller gets its error (not
+    the nothing a missing retry would return)."""
+    from test_inverse_faces import _shared_cube
+
+    from meschers_igl import MescherError
+
+    _, _, light, img, _, _ = _shared_cube(0)
+
+    def fails(*args, **kwargs):
+        raise MescherError("target: a reading that fails")
+
+    monkeypatch.setattr(pic, "crease_misfit", fails)
+    with pytest.raises(MescherError, match="a reading that fails"):
+        pic.mescher_from_picture(img, light, AMBIENT, GROUND)
