@@ -422,8 +422,7 @@ def split_shared_shade(
     d = b - a
     px = 2.0 / N
     owner = np.argmin(_abs_sin(d, dirs), axis=1)
-    # the shade most of a group's pixels hold: a few pixels of a fourth shade (a bevel, a face
-    # seen nearly edge-on) joined to the shared group must not lift it off the ambient shade
+    # the shade most of a group's pixels hold (a bevel's pixels must not lift it off ambient)
     shade = np.array([np.median(grey[comp_group == g]) for g in (0, 1)])
     best = (math.inf, None, None, None)
     for kA in range(3):

@@ -188,13 +188,9 @@ def segment_picture(
         v, w = v[keep], w[keep]
         groups = _three_means(v, w)
     centre = np.array([v[groups == k].mean() if np.any(groups == k) else np.nan for k in range(3)])
-    if alternative:
-        centre, faces, g = _other_grouping(
-            cshade, size, big, centre, alternative, min_share, line_step
-        )
     grp = np.argmin(np.abs(cshade[:, None] - np.nan_to_num(centre, nan=9.0)[None]), axis=1)
     if alternative:
-        grp[faces] = g
+        grp = _other_grouping(cshade, size, big, centre, alternative, min_share, line_step)
     share = np.bincount(grp, weights=size, minlength=3) / mask.sum()
     # groups are distinct where a jump of more than line_step parts them: shades running on
     # in small steps across a split are one orientation (a relief's faces)
@@ -203,16 +199,7 @@ def segment_picture(
     if shared or len(v) < 3 or not sep > line_step or share.min() < min_share:
         two = None if light is None else _two_groups(cshade, size, mask.sum(), line_step, min_share)
         if two is not None:  # two orientations of one shade: the lines tell them apart
-            cg = np.full(H * W, -1, dtype=np.int64)
-            cg[mask.ravel()] = two[cinv]
-            lab, sh, nr = split_shared_shade(mask, grey, cg.reshape(H, W), light, ambient)
-            lo, hi = np.percentile(grey[lab >= 1], [10.0, 90.0]) * 255.0
-            if shared and hi - lo > SHARED_LEVELS:  # three distinct shades: not one shared
-                raise MescherError(
-                    f"shared: expected two orientations of one shade (within {SHARED_LEVELS} "
-                    f"levels), found shades {lo:.0f} to {hi:.0f} read as one"
-                )
-            return Segmentation(mask, lab, sh, nr)
+            return _one_shade_shared(mask, grey, two[cinv], light, ambient, shared)
         if shared:
             raise MescherError("target: no two shades to read one of them as two orientations")
         found = 1 + int(np.sum(np.diff(v) > line_step))
@@ -257,10 +244,26 @@ def _spread(v: np.ndarray, w: np.ndarray, g: np.ndarray) -> float:
     )
 
 
+def _one_shade_shared(mask, grey, group, light, ambient: float, asked: bool) -> Segmentation:
+    """Two shade groups (``group`` per figure pixel), one shared by two orientations told
+    apart by the lines (:func:`.faces.split_shared_shade`); ``asked`` (a reading tried again
+    with a shared shade): refused where the shared pixels span over :data:`SHARED_LEVELS`."""
+    cg = np.full(mask.shape, -1, dtype=np.int64)
+    cg[mask] = group
+    lab, sh, nr = split_shared_shade(mask, grey, cg, light, ambient)
+    lo, hi = np.percentile(grey[lab >= 1], [10.0, 90.0]) * 255.0
+    if asked and hi - lo > SHARED_LEVELS:  # three distinct shades: not one shared
+        raise MescherError(
+            f"shared: expected two orientations of one shade (within {SHARED_LEVELS} "
+            f"levels), found shades {lo:.0f} to {hi:.0f} read as one"
+        )
+    return Segmentation(mask, lab, sh, nr)
+
+
 def _other_grouping(cshade, size, big, centre, k: int, min_share: float, line_step: float):
     """The ``k``-th grouping of the ``big`` faces' shades (by variance) unlike the one of
-    ``centre`` (:func:`segment_picture`'s ``alternative``): (3,) the groups' mean shades
-    weighted by size, the big faces and their groups."""
+    ``centre`` (:func:`segment_picture`'s ``alternative``): the group of every face, the
+    big faces' as grouped, the others' the nearest group's (mean shades weighted by size)."""
     order = big[np.argsort(cshade[big])]
     v, w = cshade[order], size[order].astype(np.float64)
     plain = np.argmin(np.abs(v[:, None] - np.nan_to_num(centre, nan=9.0)[None]), axis=1)
@@ -279,11 +282,10 @@ def _other_grouping(cshade, size, big, centre, k: int, min_share: float, line_st
                         f"alternative: expected a grouping of the shades nearly as tight as the "
                         f"best (spread within {REGROUP_SPREAD} times), found {ratio:.3g} times"
                     )
-                return (
-                    np.array([np.average(v[g == j], weights=w[g == j]) for j in range(3)]),
-                    order,
-                    g,
-                )
+                mean = np.array([np.average(v[g == j], weights=w[g == j]) for j in range(3)])
+                grp = np.argmin(np.abs(cshade[:, None] - mean[None]), axis=1)
+                grp[order] = g
+                return grp
     raise MescherError(f"alternative: expected a grouping of the shades, found {found} other(s)")
 
 
