@@ -33,24 +33,11 @@ OUTLINE_RATIO = 8.0
 AMBIENT_LEVELS = 2.0
 
 
-def _three_means(
-    v: np.ndarray,
-    w: np.ndarray,
-    rank: int | None = None,
-    min_weight: float = 0.0,
-    min_gap: float = 0.0,
-) -> np.ndarray | None:
-    """Group index (0, 1, 2) of sorted values ``v`` (weights ``w``): least weighted variance.
-
-    The optimal 1D k-means groups are contiguous in sorted order; with prefix sums every pair
-    of split points is tried at once (``O(n^2)``, ``n`` the number of distinct faces).
-    ``rank`` given: the grouping of that rank (0 the best) by variance among those splitting
-    only where ``v`` jumps by more than ``min_gap``, each group weighing at least
-    ``min_weight`` (None where there are not so many).
-    """
+def _split_costs(v: np.ndarray, w: np.ndarray):
+    """Every split of sorted ``v`` (weights ``w``) into three contiguous groups ``v[:a]``,
+    ``v[a:b]``, ``v[b:]``: ``a, b`` (n-1, n-1) grids, their weighted sums of squares about
+    the groups' means (``inf`` where ``a >= b``) and the prefix sums of ``w`` (n+1,)."""
     n = len(v)
-    if n < 3:
-        return np.minimum(np.arange(n), 2) if rank is None else None
     W1 = np.r_[0.0, np.cumsum(w)]
     S1 = np.r_[0.0, np.cumsum(w * v)]
     S2 = np.r_[0.0, np.cumsum(w * v * v)]
@@ -61,24 +48,48 @@ def _three_means(
             return S2[j] - S2[i] - (S1[j] - S1[i]) ** 2 / ww
 
     a, b = np.meshgrid(np.arange(1, n), np.arange(1, n), indexing="ij")
-    ok = a < b
-    total = cost(0, a) + cost(a, b) + cost(b, n)
-    if rank is not None:
-        jump = np.r_[np.inf, np.diff(v)] > min_gap  # jump[k]: v[k] - v[k - 1]
-        ok &= jump[a] & jump[b]
-        ok &= (W1[a] >= min_weight) & (W1[b] - W1[a] >= min_weight) & (W1[n] - W1[b] >= min_weight)
-    total = np.where(ok, total, np.inf)
-    if rank is not None:
-        ranked = np.argsort(total, axis=None)
-        if rank >= ok.sum():
-            return None
-        i, j = np.unravel_index(int(ranked[rank]), total.shape)
-    else:
-        i, j = np.unravel_index(int(np.argmin(total)), total.shape)
+    total = np.where(a < b, cost(0, a) + cost(a, b) + cost(b, n), np.inf)
+    return a, b, total, W1
+
+
+def _groups(n: int, a: int, b: int) -> np.ndarray:
+    """(n,) group index 0, 1, 2 of the split at ``a, b``."""
     g = np.zeros(n, dtype=np.int64)
-    g[a[i, j] :] = 1
-    g[b[i, j] :] = 2
+    g[a:] = 1
+    g[b:] = 2
     return g
+
+
+def _three_means(v: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Group index (0, 1, 2) of sorted values ``v`` (weights ``w``): least weighted variance.
+
+    The optimal 1D k-means groups are contiguous in sorted order; with prefix sums every pair
+    of split points is tried at once (``O(n^2)``, ``n`` the number of distinct faces).
+    """
+    n = len(v)
+    if n < 3:
+        return np.minimum(np.arange(n), 2)
+    a, b, total, _ = _split_costs(v, w)
+    i, j = np.unravel_index(int(np.argmin(total)), total.shape)
+    return _groups(n, a[i, j], b[i, j])
+
+
+def _three_means_ranked(
+    v: np.ndarray, w: np.ndarray, min_weight: float, min_gap: float
+) -> list[np.ndarray]:
+    """The groupings of sorted ``v`` (weights ``w``) into three contiguous groups that split
+    only where ``v`` jumps by more than ``min_gap``, each group weighing at least
+    ``min_weight``: group indices (n,), least weighted variance first."""
+    n = len(v)
+    if n < 3:
+        return []
+    a, b, total, W1 = _split_costs(v, w)
+    jump = np.r_[np.inf, np.diff(v)] > min_gap  # jump[k]: v[k] - v[k - 1]
+    ok = np.isfinite(total) & jump[a] & jump[b]
+    ok &= (W1[a] >= min_weight) & (W1[b] - W1[a] >= min_weight) & (W1[n] - W1[b] >= min_weight)
+    total = np.where(ok, total, np.inf)
+    ranked = np.argsort(total, axis=None)[: int(ok.sum())]
+    return [_groups(n, a.flat[r], b.flat[r]) for r in ranked]
 
 
 def _segments(lines, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:

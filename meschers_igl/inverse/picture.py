@@ -39,7 +39,13 @@ from ..errors import MescherError
 from ..mescher import Mescher
 from ..validate import as_points
 from .cuts import _off_outline, _one_contact, _to_holes, cut_along
-from .faces import AMBIENT_LEVELS, _three_means, _two_groups, split_shared_shade
+from .faces import (
+    AMBIENT_LEVELS,
+    _three_means,
+    _three_means_ranked,
+    _two_groups,
+    split_shared_shade,
+)
 from .flatten import (
     drop_outlines,
     drop_specks,
@@ -269,10 +275,7 @@ def _other_grouping(cshade, size, big, centre, k: int, min_share: float, line_st
     plain = np.argmin(np.abs(v[:, None] - np.nan_to_num(centre, nan=9.0)[None]), axis=1)
     min_w = min_share * size.sum()
     found = 0
-    for rank in range(len(v) ** 2):
-        g = _three_means(v, w, rank, min_w, line_step)
-        if g is None:
-            break
+    for g in _three_means_ranked(v, w, min_w, line_step):
         if not np.array_equal(g, plain):
             found += 1
             if found == k:
@@ -676,11 +679,17 @@ def _as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
     beside them (:func:`.flatten.drop_outlines`), marks beside the figure taken for ground
     (:func:`.flatten.drop_specks`); ``info``'s ``flattened``, ``antialiased``, ``outlines``
     and ``specks``."""
-    target, outlines = drop_outlines(target, background)  # lines one pixel wide look like blends
-    flattened = not is_flat(target)
+    # flattened once where no lines are found: the figure's mask drop_outlines needs is the
+    # flat picture's, and that flat picture is the one read
+    flat = target if is_flat(target) else flatten_picture(target)
+    fig = figure_mask(flat, background)
+    clean, outlines = drop_outlines(target, background, figure=fig)  # 1 px lines look like blends
+    if outlines.any():
+        target = clean
+        flat = target if is_flat(target) else flatten_picture(target)
+    flattened = flat is not target
     antialiased = is_antialiased(target)
-    if flattened:
-        target = flatten_picture(target)
+    target = flat
     if not outlines.any():  # a line's colour made exact by the flattening
         target, outlines = drop_outlines(target, background)
     target, specks = drop_specks(target, background)  # a caption beside the figure

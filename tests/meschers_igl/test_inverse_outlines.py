@@ -54,7 +54,7 @@ def test_an_outlined_tribar_reads_its_period(res, width):
     if (res, width) == (256, 3):
         original = pic.drop_outlines
         try:
-            pic.drop_outlines = lambda t, bg: (t, np.zeros(t.shape[:2], dtype=bool))
+            pic.drop_outlines = lambda t, bg, **kw: (t, np.zeros(t.shape[:2], dtype=bool))
             m, _, _ = pic.mescher_from_picture(drawn, light, 0.2, background=(1, 1, 1))
         finally:
             pic.drop_outlines = original
