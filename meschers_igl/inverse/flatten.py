@@ -20,7 +20,8 @@ levels for any render, so faces three levels apart stay two):
 3. the others (edge blends, ringing) take, of the modes present within two pixels, the
    nearest in colour: a pixel mostly on one face is nearest that face's colour;
 4. specks of a few pixels (noise past the radius) take the colour around them, and where the
-   radius says JPEG, a 3 x 3 majority straightens the edges the noise left ragged.
+   radius says JPEG, a Potts model (:func:`_potts_smooth`) smooths the edges the noise left
+   ragged and keeps the corners of a staircase's steps.
 
 :func:`is_flat` tells a flat picture (nearly every pixel's exact colour shared by many) from
 one to restore; a flat picture is left as it is, so faces a few grey levels apart, which
@@ -43,6 +44,11 @@ __all__ = [
     "noise_radius",
 ]
 
+
+#: Cost of a 4-neighbour of another label, in squared noise radii of colour distance
+#: (:func:`_potts_smooth`): over the benchmark's JPEG pictures (quality 90, 128 px) 2 left 3 to
+#: 8 times fewer pixels off their face's colour than a 3 x 3 majority; 1 left more, 4 as few.
+POTTS_WEIGHT = 2.0
 
 #: A colour is one pixel wide where under this share of its pixels lie in a 2 x 2 block of it.
 WIDE = 0.25
@@ -240,13 +246,45 @@ def flatten_picture(
     if speck.any() and not speck.all():
         _, (ii, jj) = ndimage.distance_transform_edt(speck, return_indices=True)
         out = out[ii, jj]
-    if r > 2.0:  # noisy (JPEG): edges ragged by the noise, straightened by a 3 x 3 majority
-        votes = np.stack(
-            [ndimage.uniform_filter((out == k).astype(np.float64), size=3) for k in range(len(M))]
-        )
-        best = np.argmax(votes, axis=0)
-        out = np.where(votes.max(axis=0) > 0.5, best, out)
+    if r > 2.0:  # noisy (JPEG): edges ragged by the noise, smoothed by a Potts model
+        out = _potts_smooth(out, np.where(keep[None, None], dist / r, np.inf))
     return RGB[out] / 255.0
+
+
+def _potts_smooth(labels: np.ndarray, dist: np.ndarray, sweeps: int = 10) -> np.ndarray:
+    r"""``labels`` (H, W) relabelled to a local minimum of a Potts energy.
+
+    .. math:: E = \sum_p d_p(\ell_p)^2 + \lambda \sum_{p \sim q} [\ell_p \neq \ell_q]
+
+    over 4-neighbour pairs, with ``dist`` (H, W, K) each pixel's colour distance to each
+    mode in noise radii (inf for modes that are no face's) and :data:`POTTS_WEIGHT` as
+    :math:`\lambda`.  Iterated conditional modes on the two colours of a checkerboard (each
+    half's pixels have no neighbour in it, so every sweep lowers ``E``) until no pixel
+    changes.  A pixel of JPEG's ragged edges (a bump of one pixel: three neighbours of the
+    other label) changes wherever its colour is within ``sqrt(2 lambda)`` radii of the
+    other's, a step's corner (two neighbours of each) only where its colour is nearer the
+    other's, where a 3 x 3 majority would round every corner off and cut the one-pixel
+    teeth of a staircase's outline, which are its steps.  Written here: a handful of labels
+    on a grid, where a few vectorized sweeps reach what a graph-cut library would add a
+    dependency for.
+    """
+    H, W, K = dist.shape
+    data = dist**2
+    white = (np.add.outer(np.arange(H), np.arange(W)) % 2).astype(bool)
+    out = labels.copy()
+    for _ in range(sweeps):
+        changed = False
+        for half in (white, ~white):
+            pad = np.pad(out, 1, constant_values=-1)  # outside the picture: no label
+            nb = (pad[1:-1, 2:], pad[1:-1, :-2], pad[2:, 1:-1], pad[:-2, 1:-1])
+            same = np.stack([sum(n == k for n in nb) for k in range(K)], axis=-1)
+            best = np.argmin(data + POTTS_WEIGHT * (4 - same), axis=-1)
+            move = half & (best != out)
+            changed |= bool(move.any())
+            out = np.where(move, best, out)
+        if not changed:
+            break
+    return out
 
 
 def _features(rgb: np.ndarray, chroma: float = 0.3) -> np.ndarray:

@@ -87,9 +87,12 @@ def test_distinct_shades_are_not_read_again_as_one():
 @pytest.mark.render
 @pytest.mark.parametrize(("name", "k"), [("PenroseTriangle2.obj", 1), ("PenroseStairs2.obj", 4)])
 def test_a_jpeg_keeps_its_three_shades(bench, development_model, name, k, monkeypatch):
-    """A JPEG's lines are noisy (right readings misfit them by 0.026-0.03): two of its three
-    shades read as one shared shade fitted them better (0.018-0.023) with a frame 20-50
-    degrees off.  Shades 50-70 levels apart are not one shade."""
+    """A JPEG's lines are noisier than a render's: two of its three shades read as one shared
+    shade are a frame 10-50 degrees off, which fitted the lines better than the right reading
+    until the noise's ragged edges were smoothed (:func:`.flatten._potts_smooth`); shades
+    50-70 levels apart are not one shade (``SHARED_LEVELS``) either.  The reading keeps the
+    three shades and the frame within 2 degrees, and the shared reading it turns down, even
+    allowed, is no reading of the picture."""
     model = development_model(name)
     light = bench.hemisphere_lights(6, 0)[k]
     img = bench.published_picture(model, 128, light, "jpeg")[0]
@@ -98,9 +101,13 @@ def test_a_jpeg_keeps_its_three_shades(bench, development_model, name, k, monkey
     T = bench.model_axes(model) @ C.T
     assert not info["unseen_turn"]
     assert _angles_deg(info["normals"], T).max() < 2.0
-    monkeypatch.setattr(pic, "SHARED_LEVELS", np.inf)  # the test can fail
+    monkeypatch.setattr(pic, "SHARED_LEVELS", np.inf)
+    flat, _ = pic._as_read(img, bench.GROUND)
+    seg = pic.segment_picture(flat, bench.GROUND, light=light, ambient=bench.AMBIENT, shared=True)
+    assert _angles_deg(seg.normals, T).max() > 5.0
+    monkeypatch.setattr(pic, "RETRY_MISFIT", 0.0)  # every reading tried: the right one fits best
     _, _, info = pic.mescher_from_picture(img, light, bench.AMBIENT, background=bench.GROUND)
-    assert _angles_deg(info["normals"], T).max() > 5.0
+    assert _angles_deg(info["normals"], T).max() < 2.0
 
 
 def test_a_two_shade_reading_that_fails_says_why(monkeypatch):
