@@ -11,9 +11,11 @@ resolution) within a noise radius read from the faces' insides (:func:`noise_rad
 levels for any render, so faces three levels apart stay two):
 
 1. the picture's *modes*: colours held by many pixels, each gathering the colours within the
-   radius of it (greedily from the most frequent), that are not thin (a blend along a long
-   straight edge is a run of one colour too, and so is JPEG's ringing along one: one pixel
-   wide, under a quarter of its pixels survive a 2 x 2 opening);
+   radius of it (greedily from the most frequent), that are not thin colours between two
+   others (a blend along a long straight edge is a run of one colour too, and so is JPEG's
+   ringing along one: one pixel wide, under a quarter of its pixels survive a 2 x 2 opening;
+   the darkest or lightest colour blends none, and the risers of a flight seen nearly
+   edge-on are thin faces);
 2. each pixel takes the nearest mode within the radius, except a run one pixel wide of a
    mode's colour lying between two others' colours next to both (an edge's blend that
    matches a third face's colour);
@@ -49,6 +51,10 @@ __all__ = [
 #: (:func:`_potts_smooth`): over the benchmark's JPEG pictures (quality 90, 128 px) 2 left 3 to
 #: 8 times fewer pixels off their face's colour than a 3 x 3 majority; 1 left more, 4 as few.
 POTTS_WEIGHT = 2.0
+
+#: JPEG's ringing overshoots a face's colour by up to this many noise radii: a thin colour
+#: that near another is ringing even where it lies between no two colours.
+RING = 3.0
 
 #: A colour is one pixel wide where under this share of its pixels lie in a 2 x 2 block of it.
 WIDE = 0.25
@@ -300,8 +306,8 @@ def _faces_not_blends(M: np.ndarray, r: float, label: np.ndarray, sure: np.ndarr
     """(K,) bool: which modes are faces' colours; ``sure`` loses the pixels a blend matched.
 
     A colour between two others (within ``r`` of the segment joining them) is a blend where
-    its pixels lie one wide between theirs: a whole mode so (a long straight edge), or single
-    runs of a face's colour that a blend happens to match.  Where the picture is noisy
+    its pixels lie one wide (a colour between no two is a face however thin it lies): a
+    whole mode so (a long straight edge), or single runs of a face's colour that a blend happens to match.  Where the picture is noisy
     (``r`` over two levels: JPEG) a colour between the ground and a face along the outline is
     one too (:func:`_ground_band`).
     """
@@ -314,10 +320,20 @@ def _faces_not_blends(M: np.ndarray, r: float, label: np.ndarray, sure: np.ndarr
     ground = _ground_mode(label) if r > 2.0 else None
     five = np.ones((5, 5), dtype=bool)
     near5 = None if ground is None else ndimage.binary_dilation(label == ground, five)
+    mks = [sure & (label == k) for k in range(len(M))]
+    wides = [ndimage.binary_opening(mk, structure=two) for mk in mks]
+    one_wide = np.array([w.sum() < WIDE * mk.sum() for w, mk in zip(wides, mks)])
+    # each colour's distance to the nearest colour of a face that is not one wide
+    gap = np.abs(M[:, None] - M[None]).max(axis=-1)
+    gap[:, one_wide] = np.inf
+    np.fill_diagonal(gap, np.inf)
+    near = gap.min(axis=1)
     for k in range(len(M)):  # a handful of modes
-        mk = sure & (label == k)
-        wide = ndimage.binary_opening(mk, structure=two)
-        if wide.sum() < WIDE * mk.sum():  # one wide: a blend, or JPEG's ringing along an edge
+        mk, wide = mks[k], wides[k]
+        # one wide: a blend, or JPEG's ringing along an edge (past a wide face's colour,
+        # within a few radii of it); a colour between no two others and far from each
+        # blends none, and a thin face (a flight's risers seen edge-on) is one wide too
+        if one_wide[k] and (between[:, :, k].any() or near[k] <= RING * r):
             keep[k] = False
             continue
         if ground is not None and k != ground and _ground_band(mk, near5, between[ground, :, k]):
