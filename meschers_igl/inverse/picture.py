@@ -633,7 +633,9 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
     given = light is not None
 
     def read(seg):
-        polys, preg, lines = region_polygons(seg.labels, tolerance_px, straighten=straighten)
+        polys, preg, lines = region_polygons(
+            seg.labels, tolerance_px, straighten=straighten, corners=True
+        )
         pixel = 2.0 / seg.labels.shape[1]
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         bounds = region_boundaries(F, len(xy), xy, region)
@@ -784,7 +786,9 @@ def mescher_from_picture(
     hidden_edges = []
     if hidden:
         ext, ident = _hidden_constraints(hidden, pixel, 0.0 if straighten == "fit" else 1.5)
-        polys, preg, lines = region_polygons(seg.labels, tolerance_px, ext, straighten)
+        polys, preg, lines = region_polygons(
+            seg.labels, tolerance_px, ext, straighten, corners=True
+        )
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
         occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
