@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import scipy.sparse as sp
@@ -67,6 +68,8 @@ from .shading import (
 )
 from .targets import target_mask
 from .turn import PICTURE_TURN, _slope_wishes, _weighted_least_squares
+
+_pieces = partial(region_polygons, corners=True)  # to lift: a thin tip through a corner whole
 
 #: The grid (in pixels) region boundaries are snap-rounded to before triangulating: far below
 #: anything a picture shows, far above rounding error.
@@ -633,13 +636,10 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
     given = light is not None
 
     def read(seg):
-        polys, preg, lines = region_polygons(
-            seg.labels, tolerance_px, straighten=straighten, corners=True
-        )
+        polys, preg, lines = _pieces(seg.labels, tolerance_px, straighten=straighten)
         pixel = 2.0 / seg.labels.shape[1]
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
-        bounds = region_boundaries(F, len(xy), xy, region)
-        _, _, d, pairs, lens = bounds
+        _, _, d, pairs, lens = bounds = region_boundaries(F, len(xy), xy, region)
         exposure = 1.0 if seg.normals is not None else estimate_exposure(seg.shades, ambient)
         shades = seg.shades / exposure
         light_used = _reading_light(light, shades, ambient, d, pairs, lens, seg.labels)
@@ -786,9 +786,7 @@ def mescher_from_picture(
     hidden_edges = []
     if hidden:
         ext, ident = _hidden_constraints(hidden, pixel, 0.0 if straighten == "fit" else 1.5)
-        polys, preg, lines = region_polygons(
-            seg.labels, tolerance_px, ext, straighten, corners=True
-        )
+        polys, preg, lines = _pieces(seg.labels, tolerance_px, ext, straighten)
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
         edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
         occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
