@@ -307,20 +307,20 @@ def _faces_not_blends(M: np.ndarray, r: float, label: np.ndarray, sure: np.ndarr
 
     A colour between two others (within ``r`` of the segment joining them) is a blend where
     its pixels lie one wide (a colour between no two is a face however thin it lies): a
-    whole mode so (a long straight edge), or single runs of a face's colour that a blend happens to match.  Where the picture is noisy
-    (``r`` over two levels: JPEG) a colour between the ground and a face along the outline is
-    one too (:func:`_ground_band`).
+    whole mode so (a long straight edge), or single runs of a face's colour that a blend
+    happens to match.  Where the picture is noisy (``r`` over two levels: JPEG) a colour
+    between the ground and a face along the outline is one too (:func:`_ground_band`).
     """
     from scipy import ndimage
 
     between = _between(M, r)  # (K, K, K): k between i and j
     keep = np.ones(len(M), dtype=bool)
     two = np.ones((2, 2), dtype=bool)
-    near3 = [ndimage.binary_dilation(sure & (label == k)) for k in range(len(M))]
+    mks = [sure & (label == k) for k in range(len(M))]
+    near3 = [ndimage.binary_dilation(mk) for mk in mks]
     ground = _ground_mode(label) if r > 2.0 else None
     five = np.ones((5, 5), dtype=bool)
     near5 = None if ground is None else ndimage.binary_dilation(label == ground, five)
-    mks = [sure & (label == k) for k in range(len(M))]
     wides = [ndimage.binary_opening(mk, structure=two) for mk in mks]
     one_wide = np.array([w.sum() < WIDE * mk.sum() for w, mk in zip(wides, mks)])
     # each colour's distance to the nearest colour of a face that is not one wide

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from test_inverse_faces import AMBIENT, GROUND, _angles_deg, _cube_picture, _frame
+from test_inverse_other_lights import _camera_axes
 
 from meschers_igl.inverse import picture as pic
 
@@ -97,8 +98,7 @@ def test_a_jpeg_keeps_its_three_shades(bench, development_model, name, k, monkey
     light = bench.hemisphere_lights(6, 0)[k]
     img = bench.published_picture(model, 128, light, "jpeg")[0]
     _, _, info = pic.mescher_from_picture(img, light, bench.AMBIENT, background=bench.GROUND)
-    C = np.stack([np.cross(model.up, model.view), model.up, model.view])
-    T = bench.model_axes(model) @ C.T
+    T = _camera_axes(bench, model)
     assert not info["unseen_turn"]
     assert _angles_deg(info["normals"], T).max() < 2.0
     monkeypatch.setattr(pic, "SHARED_LEVELS", np.inf)
