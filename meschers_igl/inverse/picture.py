@@ -39,7 +39,7 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 from ..validate import as_points
-from .cuts import _off_outline, _one_contact, _to_holes, cut_along
+from .cuts import _off_outline, _one_contact, _to_holes, cut_along, keep_junctions
 from .faces import (
     AMBIENT_LEVELS,
     _three_means,
@@ -770,7 +770,6 @@ def mescher_from_picture(
         ``outlines`` (H, W) bool: dark lines drawn along the edges, read as the faces beside
         them (:func:`.flatten.drop_outlines`).
     """
-
     if steps is not None:
         steps = [_segment(q, "steps") for q in steps]
     target, kind = _as_read(target, background)
@@ -792,10 +791,11 @@ def mescher_from_picture(
         occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
         hidden_edges = [_edges_on_lines(xy, edges, [i_], 1e-3 * pixel) for i_ in ident]
     # visible occlusions stop short of the outline, hidden ones run on to it unless their cut
-    # touches the boundary already; slits short of a hole run on to it
+    # touches the boundary already; slits short of a hole run on to it; junctions held whole
     seen = _off_outline(F, xy, edges, ids[occl])
     cut = _one_contact(F, edges, seen, hidden_edges)
     cut = _one_contact(F, edges, cut, _to_holes(F, xy, edges, cut, seen, reach_px * pixel))
+    xy, F, region, edges, cut = keep_junctions(xy, F, region, edges, cut, seen, ids, pairs, pixel)
     climbs = hidden_steps(xy, F, edges, cut, hidden, hidden_edges, normals, region)
     xy, F = cut_along(xy, F, edges, cut)
     # pieces of a few pixels (a sliver of an end face under a stair's wall) follow their
