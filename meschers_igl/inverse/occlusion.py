@@ -191,8 +191,8 @@ def hidden_occlusions(
 
 def _end_rays(labels, rays, notch_xy, px: float, cos_pivot: float, min_px: float, axes2):
     """Each ray ``(E, u, region, other axis or None)`` as a line to where it ends: behind
-    rays at their notch; onward rays at a line or another ray, with the corner lines
-    (:func:`_onward_lines`)."""
+    rays at their notch (none crossing another, :func:`_uncrossed`); onward rays at a line or
+    another ray, with the corner lines (:func:`_onward_lines`)."""
     out, onto = [], []
     for E, u, lab, other_axis in rays:
         X = _to_notch(labels, E, u, notch_xy, lab, px, cos_pivot, min_px) if len(notch_xy) else None
@@ -204,7 +204,33 @@ def _end_rays(labels, rays, notch_xy, px: float, cos_pivot: float, min_px: float
             X = None
         reach = float(np.linalg.norm(X - E)) if X is not None else _run(labels, E, u, lab, px)
         onto.append((E, u, lab, X, reach, other_axis))
+    out = _uncrossed(out, min_px * px)
     return out + _onward_lines(labels, onto, out, notch_xy, px, min_px, axes2)
+
+
+def _uncrossed(lines: list, margin: float) -> list:
+    """The lines less each that crosses a shorter one, both more than ``margin`` from their
+    ends.
+
+    A hidden line is an edge of a face in front; two such edges cannot cross, for where two
+    faces' edges meet one face hides the other's edge (a T, not an X).  Of two that cross the
+    longer goes: a behind ray from a figure's tip runs on across a flight's steps to a notch
+    far off (the box stairs at 256 pixels, IllusionEscalier at 512).
+    """
+    L = [float(np.linalg.norm(q[1] - q[0])) for q in lines]
+    drop = set()
+    for i, (E, X) in enumerate(lines):  # a handful
+        u = (X - E) / max(L[i], 1e-300)
+        for j, (P, Q) in enumerate(lines):
+            if j == i or L[j] >= L[i]:
+                continue
+            ts = _cross(E, u, P, Q)
+            if ts is None:
+                continue
+            s_m = margin / max(L[j], 1e-300)
+            if margin < ts[0] < L[i] - margin and s_m < ts[1] < 1.0 - s_m:
+                drop.add(i)
+    return [q for i, q in enumerate(lines) if i not in drop]
 
 
 def _run(labels: np.ndarray, E, u, lab: int, px: float) -> float:
