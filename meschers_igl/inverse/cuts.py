@@ -320,6 +320,8 @@ def keep_junctions(xy, F, region, edges, cut, seen, ids, pairs, length: float):
     at = _through_creases(F, xy, edges, cut, seen, ids[whole], pairs[whole])
     xy, F, region, edges = (np.asarray(a) for a in (xy, F, region, edges))
     for v, e in at:  # a handful of junctions
+        if v not in edges[e] or e not in cut:  # one cut edge between two junctions: split once
+            continue
         L = float(np.linalg.norm(np.diff(xy[edges[e]], axis=0)))
         cut = cut[cut != e]
         if L > 2.0 * length:

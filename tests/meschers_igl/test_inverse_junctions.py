@@ -99,3 +99,14 @@ def test_without_it_the_box_cube_at_512_loses_its_climb(bench_start, monkeypatch
     monkeypatch.setattr(cuts, "_through_creases", lambda *a, **k: [])
     m1, _, gap = bench_start(model, 0, 512)
     assert figure_period(m1) / gap < 0.1
+
+
+def test_a_cut_edge_between_two_junctions_is_split_once(monkeypatch):
+    xy, F, region, edges = _fan()
+    e = _spoke(90)  # vertex 0 to vertex 3
+    cut = np.array([e, _spoke(225)])
+    monkeypatch.setattr(cuts, "_through_creases", lambda *a, **k: [(0, e), (3, e)])
+    ids = np.array([_spoke(135), _spoke(315)])
+    xy2, F2, _, edges2, cut2 = cuts.keep_junctions(xy, F, region, edges, cut, cut, ids, PAIRS, 0.1)
+    assert len(xy2) == len(xy) + 1 and len(F2) == len(F) + 2
+    assert {tuple(sorted(q)) for q in edges2[cut2].tolist()} == {(0, 6), (3, len(xy))}
