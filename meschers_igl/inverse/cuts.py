@@ -40,6 +40,40 @@ def _off_outline(F: np.ndarray, xy: np.ndarray, edges: np.ndarray, cut: np.ndarr
     return cut[~outline[edges[cut]].any(axis=1)]
 
 
+def _split_near_outline(chains, outline, pixel: float, at_px: float = 1.5):
+    """Boundary chains with a vertex ``at_px`` pixels from each end on the figure's outline.
+
+    A cut along an occlusion stops one edge short of the outline (:func:`_off_outline`); the
+    triangulation keeps a long straight constraint as one edge, so without this vertex a cut
+    could stop tens of pixels short and the surface would stay whole across the hidden step.
+    Chains on the outline itself are left alone.
+    """
+    import shapely
+
+    out = []
+    d = at_px * pixel
+    for c in chains:  # a few dozen chains
+        if len(c) < 2 or shapely.LineString(c).hausdorff_distance(outline) < 1e-9:
+            out.append(c)
+            continue
+        if len(c) >= 2 and shapely.distance(shapely.LineString(c), outline) > 1e-9:
+            out.append(c)
+            continue
+        pts = [c]
+        for end, nxt in ((0, 1), (-1, -2)):
+            seg = c[nxt] - c[end]
+            L = float(np.linalg.norm(seg))
+            if L > 2.0 * d and shapely.distance(shapely.Point(c[end]), outline) < 1e-9:
+                q = c[end] + seg * (d / L)
+                pts = (
+                    [np.vstack([pts[0][:1], q, pts[0][1:]])]
+                    if end == 0
+                    else [np.vstack([pts[0][:-1], q, pts[0][-1:]])]
+                )
+        out.append(pts[0])
+    return out
+
+
 def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray):
     """Cut a triangle mesh open along some of its edges (``igl.cut_mesh``).
 

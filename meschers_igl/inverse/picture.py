@@ -30,7 +30,7 @@ The initialization, in four steps, none of which renders:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -39,7 +39,14 @@ import scipy.sparse as sp
 from ..errors import MescherError
 from ..mescher import Mescher
 from ..validate import as_points
-from .cuts import _off_outline, _one_contact, _to_holes, cut_along, keep_junctions
+from .cuts import (
+    _off_outline,
+    _one_contact,
+    _split_near_outline,
+    _to_holes,
+    cut_along,
+    keep_junctions,
+)
 from .faces import (
     AMBIENT_LEVELS,
     _three_means,
@@ -56,7 +63,7 @@ from .flatten import (
     is_flat,
 )
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
-from .regions import node_constraints, region_polygons
+from .regions import _tips_through_corners, node_constraints, region_polygons
 from .shading import (
     crease_directions,
     crease_misfit,
@@ -402,40 +409,6 @@ def triangulate_regions(
     return xy[used], remap[F], face_region
 
 
-def _split_near_outline(chains, outline, pixel: float, at_px: float = 1.5):
-    """Boundary chains with a vertex ``at_px`` pixels from each end on the figure's outline.
-
-    A cut along an occlusion stops one edge short of the outline (:func:`_off_outline`); the
-    triangulation keeps a long straight constraint as one edge, so without this vertex a cut
-    could stop tens of pixels short and the surface would stay whole across the hidden step.
-    Chains on the outline itself are left alone.
-    """
-    import shapely
-
-    out = []
-    d = at_px * pixel
-    for c in chains:  # a few dozen chains
-        if len(c) < 2 or shapely.LineString(c).hausdorff_distance(outline) < 1e-9:
-            out.append(c)
-            continue
-        if len(c) >= 2 and shapely.distance(shapely.LineString(c), outline) > 1e-9:
-            out.append(c)
-            continue
-        pts = [c]
-        for end, nxt in ((0, 1), (-1, -2)):
-            seg = c[nxt] - c[end]
-            L = float(np.linalg.norm(seg))
-            if L > 2.0 * d and shapely.distance(shapely.Point(c[end]), outline) < 1e-9:
-                q = c[end] + seg * (d / L)
-                pts = (
-                    [np.vstack([pts[0][:1], q, pts[0][1:]])]
-                    if end == 0
-                    else [np.vstack([pts[0][:-1], q, pts[0][-1:]])]
-                )
-        out.append(pts[0])
-    return out
-
-
 def region_boundaries(F: np.ndarray, n_vertices: int, xy: np.ndarray, region: np.ndarray):
     """Mesh edges with a different region on each side.
 
@@ -635,7 +608,18 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
     until one fits, and the one fitting its lines best is kept."""
     given = light is not None
 
-    def read(seg):
+    def read(seg):  # with 2 x 2 checkerboards made whole or not: the lines' better fit
+        out = read_once(seg)
+        every = _tips_through_corners(seg.labels, every=True)
+        if np.any(every != _tips_through_corners(seg.labels)):
+            try:
+                other = read_once(replace(seg, labels=every))
+            except MescherError:
+                return out
+            out = other if other[7] < out[7] else out
+        return out
+
+    def read_once(seg):
         polys, preg, lines = _pieces(seg.labels, tolerance_px, straighten=straighten)
         pixel = 2.0 / seg.labels.shape[1]
         xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)

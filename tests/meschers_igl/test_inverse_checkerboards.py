@@ -58,6 +58,18 @@ def test_two_regions_corners_meeting_are_left_apart():
     assert len(region_polygons(L, corners=True)[0]) == 4
 
 
+def test_every_block_is_made_whole_when_asked():
+    """``every=True``: the squares' corners are joined along the main diagonal (one pixel
+    changes: the top right of the block), and no checkerboard is left."""
+    L = np.zeros((16, 16), dtype=np.int64)
+    L[:8, :8] = 1
+    L[8:, 8:] = 1
+    out = _tips_through_corners(L, every=True)
+    assert np.argwhere(out != L).tolist() == [[7, 8]] and out[7, 8] == 1
+    a, b, c, d = out[:-1, :-1], out[:-1, 1:], out[1:, :-1], out[1:, 1:]
+    assert not np.any((a == d) & (b == c) & (a != b))
+
+
 def test_the_light_faces_become_one_piece_through_the_corner():
     """The wedge on the ground, as polygons: as the pixels are, two light and two dark
     pieces meet at the corner; made whole, the light faces are one piece through it and

@@ -5,8 +5,7 @@ Both cubes (the development set's ``Impossible_Cube.3ds`` and the box model
 :func:`meschers_igl.inverse.models.impossible_cube`) are z-buffered under the acceptance
 benchmark's six lights; the start mescher's period must be within its 5% of the true depth gap.
 At 128 x 128 all twelve are, and at 256 and 512 the box cube under all six lights (within 1%).
-The file's cube at 256 is 30-31% short under five lights (8% under the sixth): strict xfails,
-so a rule that reads them turns them into failures and the markers must go.
+The file's cube at 256 was 30-31% short under five lights (8% under the sixth); read below.
 
 The box cube at 256 was 39% short under lights 3 and 5, where two face orientations share the
 ambient shade: the front bar passes in front of the upright bar behind it, first of its face
@@ -36,12 +35,16 @@ the hidden line.  Starting lines from notches (an outline edge going on straight
 shade) finds it at 128 only, and costs the box stairs two passes at 128.  What reads it: its
 256 px pictures hold two 2 x 2 checkerboards (``a b / b a``) where a face's one-pixel spike
 meets a face of its shade at a pixel corner; made whole along the main diagonal (the region
-step :func:`meschers_igl.inverse.regions._tips_through_corners` takes only for four tips), the
-file cube's start comes within 2.5% under all six lights at 256 and at 512 px.  Taken for
-every block, it breaks the box cube at 512 px under lights 3 and 5 (within 0.3% -> 20% short):
-there the block is the top of the upright behind, a spike two pixels long on a bar two wide,
-touching the corner of the bar above; made whole either way it joins two faces.  No rule on
-the pixels around a block (tips, spikes, the label with fewer pixels nearby) tells the two.
+step :func:`meschers_igl.inverse.regions._tips_through_corners` takes for four tips only),
+the start comes within 2.5% under all six lights.  Taken for every block it breaks the box
+cube at 512 px under lights 3 and 5 (within 0.3% -> 20% short): there the block is the top of
+the upright behind, a spike two pixels long on a bar two wide touching the corner of the bar
+above, and made whole either way it joins two faces; no rule on the pixels around a block
+(tips, spikes, the label with fewer pixels nearby) tells the two.  The picture is therefore
+read both ways and the reading whose lines fit its frame better kept (the crease misfit:
+0.0177 -> 0.0174 for the file cube, 0.0125 -> 0.0126 for the box cube at 512): the file cube
+at 256 6/6 (within 2.5%).  At 512 its misfits tie (0.0183 / 0.0184) and the tips' reading,
+30% short under five lights, is kept: not asserted.
 """
 
 from __future__ import annotations
@@ -80,11 +83,25 @@ def test_file_cube_climbs_its_gap_at_128(bench_start, file_cube, k):
 
 
 @pytest.mark.render
-@pytest.mark.xfail(strict=True, reason="8-31% short at 256 px")
 @pytest.mark.parametrize("k", range(6))
 def test_file_cube_climbs_its_gap_at_256(bench_start, file_cube, k):
     err = _climb_error(bench_start, file_cube, k, 256)
     assert abs(err) < 0.05, err
+
+
+@pytest.mark.render
+def test_without_the_whole_blocks_reading_the_file_cube_at_256_falls_short(
+    bench_start, file_cube, monkeypatch
+):
+    """The counterfactual: with checkerboards made whole only where four tips meet, the file
+    cube at 256 comes 30% short (light 0)."""
+    from meschers_igl.inverse import picture
+
+    tips_only = picture._tips_through_corners
+    monkeypatch.setattr(
+        picture, "_tips_through_corners", lambda labels, every=False: tips_only(labels)
+    )
+    assert _climb_error(bench_start, file_cube, 0, 256) < -0.2
 
 
 @pytest.mark.render
