@@ -109,8 +109,11 @@ def hidden_occlusions(
 
     A behind line ends at a notch of the figure's outline or of a hole (a corner over ``180 +
     reflex_deg`` degrees: the face in front's edge ends where the face behind's edge
-    disappears), the nearest within ``pivot_deg`` of its direction and at least ``min_px``
-    pixels on.  An onward line needs more (a pixel step of the outline is a notch too): it
+    disappears), or at an onward junction of the region it crosses whose third axis it runs
+    along (a V of the treads' region on a flight's far side: the nearer tread's edge ends on
+    the lower tread's back edge, which it hides; no onward ray starts there), the nearest
+    within ``pivot_deg`` of its direction and at least ``min_px`` pixels on.  An onward line
+    needs more (a pixel step of the outline is a notch too): it
     ends where it meets a line drawn or another onward ray, before its notch (with ``A``'s
     pixels on both sides, not along a strip of them) or, with none, before it leaves ``A``'s
     pixels, and is left out where it meets neither.  Where a flight turns, the turning
@@ -170,7 +173,8 @@ def hidden_occlusions(
     total = around.sum(axis=1)
     notch = np.nonzero((total < 2.0 * np.pi - 1e-6) & (total > reflex))[0]
     cos_pivot = math.cos(math.radians(pivot_deg))
-    rays = []  # (E, direction, region crossed, A's other axis: None behind)
+    rays = []  # (E, direction, region crossed, A's other axis: None behind, axis)
+    ends_at = []  # (E, A, A's other axis) where A turns reflex: a behind line's end
     for v, a, b in sorted(junctions):  # a handful
         A = front.get((v, a, b))
         if A is None:
@@ -178,28 +182,46 @@ def hidden_occlusions(
         R = b if A == a else a
         E = xy[v]
         if around[v, R] > reflex and around[v, A] < convex:
-            rays += [(E, s * axes2[A], R, None) for s in (1.0, -1.0)]
+            rays += [(E, s * axes2[A], R, None, A) for s in (1.0, -1.0)]
         elif around[v, A] > reflex and around[v, R] < convex:
+            ends_at.append((E, A, 3 - A - R))
             # A's edge goes on straight: the chain seen is a piece of it, min_px long at least
             seen = E - xy[other[(v, a, b)]]
             L = float(np.linalg.norm(seen))
             if L >= min_px * px and abs(seen @ axes2[R]) > cos_pivot * L:
                 # the ray and the third axis (A's other edge direction)
-                rays.append((E, np.sign(seen @ axes2[R]) * axes2[R], A, 3 - A - R))
-    return _end_rays(labels, rays, xy[notch], px, cos_pivot, min_px, axes2)
+                rays.append((E, np.sign(seen @ axes2[R]) * axes2[R], A, 3 - A - R, R))
+    return _end_rays(labels, rays, xy[notch], px, cos_pivot, min_px, axes2, ends_at)
 
 
-def _end_rays(labels, rays, notch_xy, px: float, cos_pivot: float, min_px: float, axes2):
-    """Each ray ``(E, u, region, other axis or None)`` as a line to where it ends: behind
-    rays at their notch (none crossing another, :func:`_uncrossed`); onward rays at a line or
-    another ray, with the corner lines (:func:`_onward_lines`)."""
-    out, onto = [], []
-    for E, u, lab, other_axis in rays:
-        X = _to_notch(labels, E, u, notch_xy, lab, px, cos_pivot, min_px) if len(notch_xy) else None
-        if other_axis is None:  # behind
-            if X is not None:
-                out.append(np.stack([E, X]))
+def _end_rays(
+    labels, rays, notch_xy, px: float, cos_pivot: float, min_px: float, axes2, ends_at=()
+):
+    """Each ray ``(E, u, region, other axis or None, axis)`` as a line to where it ends.
+
+    Behind rays end at their notch or at a junction of ``ends_at`` (``(point, region,
+    axis)``: where ``region``, the one the ray crosses, is in front and turns reflex, for a
+    ray along ``axis``), none crossing another (:func:`_uncrossed`).  From a junction a behind
+    line ends at no onward ray starts (the face in front of its region ends there); the
+    others end at a line or another ray, with the corner lines (:func:`_onward_lines`).
+    """
+    key = lambda p: tuple(np.round(p, 9))  # noqa: E731
+    out, onward = [], []
+    for E, u, lab, other_axis, axis in rays:
+        if other_axis is not None:
+            onward.append((E, u, lab, other_axis))
             continue
+        at = [P for P, r, w in ends_at if r == lab and w == axis]
+        at = np.concatenate([notch_xy.reshape(-1, 2), np.reshape(at, (-1, 2))])
+        X = _to_notch(labels, E, u, at, lab, px, cos_pivot, min_px) if len(at) else None
+        if X is not None:
+            out.append(np.stack([E, X]))
+    reached = {key(q[1]) for q in out}
+    onto = []
+    for E, u, lab, other_axis in onward:
+        if key(E) in reached:
+            continue
+        X = _to_notch(labels, E, u, notch_xy, lab, px, cos_pivot, min_px) if len(notch_xy) else None
         if X is not None and not _between(labels, E, X, lab, px):
             X = None
         reach = float(np.linalg.norm(X - E)) if X is not None else _run(labels, E, u, lab, px)
@@ -316,9 +338,12 @@ def occlusion_chains(
     """Occlusion chains and the face in front of each.
 
     A chain is a path of connected occlusion edges between the same two regions.  The front
-    face holds its chain's direction in its plane (an occluding contour is an edge of the face
-    in front): of the two sides, the one whose in-plane axes (screen projections of the other
-    two normals) the chain's end-to-end direction follows better, by ``margin`` in ``|sin|``.
+    face holds its chain's pieces in its plane (an occluding contour runs along the edges of
+    the face in front, and may turn its corners): of the two sides, the one whose in-plane
+    axes (screen projections of the other two normals) the pieces follow better, by
+    ``margin`` in length-weighted ``|sin|`` to the nearest axis.  Weighed piece by piece, a
+    tooth whose pixel staircase hooks at both ends (end to end between the two sides' axes)
+    still tells its face.
 
     Parameters
     ----------
@@ -354,6 +379,8 @@ def occlusion_chains(
     G = sp.coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])), shape=(len(node),) * 2)
     n_ch, ch = csgraph.connected_components(G, directed=False)
     deg = np.bincount(inv.ravel(), minlength=len(node))
+    order = np.argsort(ch[inv[:, 0]], kind="stable")
+    in_c = np.split(order, np.cumsum(np.bincount(ch[inv[:, 0]], minlength=n_ch))[:-1])
     for c in range(n_ch):  # a handful of chains
         nodes = np.nonzero(ch == c)[0]
         tips = nodes[deg[nodes] == 1]
@@ -365,10 +392,14 @@ def occlusion_chains(
             continue
         dv = dv / np.linalg.norm(dv)
         a_, b_ = divmod(int(node[tips[0], 1]), K)
+        # each piece of the chain along one of the front face's edge directions: the pieces'
+        # |sin| to the side's nearest in-plane axis, weighted by length
+        d = xy[node[inv[in_c[c]][:, 1], 0]] - xy[node[inv[in_c[c]][:, 0], 0]]
         fit = []
-        for side in (a_, b_):  # |sin| to the side's nearest in-plane axis
+        for side in (a_, b_):
             others = [k for k in range(K) if k != side]
-            fit.append(min(abs(dv[0] * axes2[k, 1] - dv[1] * axes2[k, 0]) for k in others))
+            sin = np.min(np.abs(d[:, :1] * axes2[others, 1] - d[:, 1:] * axes2[others, 0]), 1)
+            fit.append(float(sin.sum() / max(np.linalg.norm(d, axis=1).sum(), 1e-300)))
         if abs(fit[0] - fit[1]) < margin:
             continue
         out.append((va, vb, a_, b_, a_ if fit[0] < fit[1] else b_))

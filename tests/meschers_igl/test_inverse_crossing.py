@@ -41,8 +41,8 @@ def test_escalier_at_512_without_a_ray_across_its_steps(
     development_model, bench_start, monkeypatch
 ):
     """A behind ray from the block's tip ran across the flights' step lines to a notch far off:
-    its cut joined the steps and the climb came 43% short; without it 13%, still over the
-    benchmark's 5% (the climb at 512 is what is left)."""
+    its cut joined the steps and the climb came 43% short; without it the steps read
+    (within 5%: ``test_inverse_step_ends.py``)."""
     from meschers_igl.inverse.metrics import figure_period
 
     model = development_model("IllusionEscalier.obj")
