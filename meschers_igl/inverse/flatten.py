@@ -487,3 +487,27 @@ def _between(M: np.ndarray, r: float) -> np.ndarray:
     )
     distinct &= idx[None, :, None] != idx[None, None, :]
     return distinct & (off <= r) & (t > 0.0) & (t < 1.0)
+
+
+def as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
+    """The flat picture read and how it was made: an antialiased or JPEG picture made flat
+    (:func:`flatten_picture`), an illustrator's dark edge lines taken for the faces
+    beside them (:func:`drop_outlines`), marks beside the figure taken for ground
+    (:func:`drop_specks`); ``info``'s ``flattened``, ``antialiased``, ``outlines``
+    and ``specks``."""
+    # flattened once where no lines are found: the figure's mask drop_outlines needs is the
+    # flat picture's, and that flat picture is the one read
+    flat = target if is_flat(target) else flatten_picture(target)
+    fig = figure_mask(flat, background)
+    clean, outlines = drop_outlines(target, background, figure=fig)  # 1 px lines look like blends
+    if outlines.any():
+        target = clean
+        flat = target if is_flat(target) else flatten_picture(target)
+    flattened = flat is not target
+    antialiased = is_antialiased(target)
+    target = flat
+    if not outlines.any():  # a line's colour made exact by the flattening
+        target, outlines = drop_outlines(target, background)
+    target, specks = drop_specks(target, background)  # a caption beside the figure
+    kind = {"flattened": flattened, "antialiased": antialiased, "outlines": outlines}
+    return target, {**kind, "specks": specks}

@@ -54,14 +54,8 @@ from .faces import (
     _two_groups,
     split_shared_shade,
 )
-from .flatten import (
-    drop_outlines,
-    drop_specks,
-    figure_mask,
-    flatten_picture,
-    is_antialiased,
-    is_flat,
-)
+from .flatten import as_read, figure_mask
+from .metrics import figure_period
 from .occlusion import crossbar_occlusions, hidden_occlusions, hidden_steps
 from .regions import _tips_through_corners, node_constraints, region_polygons
 from .shading import (
@@ -601,14 +595,16 @@ RETRY_MISFIT = 0.025
 
 def _faces_and_frame(target, background, light, ambient, tolerance_px, straighten, max_area_px):
     """Segmentation, triangulated regions and their frame: ``(seg, xy, F, region, (edges, ids,
-    d, pairs, lens), light, normals, misfit, exposure)``.  Three lit shades of a figure that
+    d, pairs, lens), light, normals, misfit, exposure, other)``, ``other`` the reading with the
+    picture's 2 x 2 checkerboards resolved the other way, where it has any (its lines misfit
+    the frame more, or its frame none, ``other[-1]`` None).  Three lit shades of a figure that
     is not white (:func:`.shading.estimate_exposure`) are read as the white figure's, the
     shades over ``exposure``.  A frame misfitting the lines by more than :data:`RETRY_MISFIT`
     (or no frame at all) is tried against the other readings the picture allows, in turn
     until one fits, and the one fitting its lines best is kept."""
     given = light is not None
 
-    def read(seg):  # with 2 x 2 checkerboards made whole or not: the lines' better fit
+    def read(seg):  # with 2 x 2 checkerboards made whole or not: the lines' better fit first
         out = read_once(seg)
         every = _tips_through_corners(seg.labels, every=True)
         if np.any(every != _tips_through_corners(seg.labels)):
@@ -616,7 +612,7 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
                 other = read_once(replace(seg, labels=every))
             except MescherError:
                 return out
-            out = other if other[7] < out[7] else out
+            return (*other[:-1], out) if other[7] < out[7] else (*out[:-1], other)
         return out
 
     def read_once(seg):
@@ -629,9 +625,9 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
         light_used = _reading_light(light, shades, ambient, d, pairs, lens, seg.labels)
         if seg.normals is not None:
             misfit = crease_misfit(seg.normals, d, pairs, lens)
-            return seg, xy, F, region, bounds, light_used, seg.normals, misfit, 1.0
+            return seg, xy, F, region, bounds, light_used, seg.normals, misfit, 1.0, None
         normals, misfit = normals_from_shading(shades, light_used, ambient, d, pairs, lens)
-        return seg, xy, F, region, bounds, light_used, normals, misfit, exposure
+        return seg, xy, F, region, bounds, light_used, normals, misfit, exposure, None
 
     kw = {"light": light, "ambient": ambient}
     seg = segment_picture(target, background, **kw)
@@ -657,30 +653,6 @@ def _faces_and_frame(target, background, light, ambient, tolerance_px, straighte
     if out is None:
         raise failed
     return out
-
-
-def _as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
-    """The flat picture read and how it was made: an antialiased or JPEG picture made flat
-    (:func:`.flatten.flatten_picture`), an illustrator's dark edge lines taken for the faces
-    beside them (:func:`.flatten.drop_outlines`), marks beside the figure taken for ground
-    (:func:`.flatten.drop_specks`); ``info``'s ``flattened``, ``antialiased``, ``outlines``
-    and ``specks``."""
-    # flattened once where no lines are found: the figure's mask drop_outlines needs is the
-    # flat picture's, and that flat picture is the one read
-    flat = target if is_flat(target) else flatten_picture(target)
-    fig = figure_mask(flat, background)
-    clean, outlines = drop_outlines(target, background, figure=fig)  # 1 px lines look like blends
-    if outlines.any():
-        target = clean
-        flat = target if is_flat(target) else flatten_picture(target)
-    flattened = flat is not target
-    antialiased = is_antialiased(target)
-    target = flat
-    if not outlines.any():  # a line's colour made exact by the flattening
-        target, outlines = drop_outlines(target, background)
-    target, specks = drop_specks(target, background)  # a caption beside the figure
-    kind = {"flattened": flattened, "antialiased": antialiased, "outlines": outlines}
-    return target, {**kind, "specks": specks}
 
 
 def mescher_from_picture(
@@ -756,13 +728,52 @@ def mescher_from_picture(
     """
     if steps is not None:
         steps = [_segment(q, "steps") for q in steps]
-    target, kind = _as_read(target, background)
-    seg, xy, F, region, bounds, light, normals, misfit, exposure = _faces_and_frame(
+    target, kind = as_read(target, background)
+    reading = _faces_and_frame(
         target, background, light, ambient, tolerance_px, straighten, max_area_px
     )
+    opts = (steps, complete, tolerance_px, straighten, max_area_px, occlusion_deg, reach_px)
+    m, region, hidden, occl_len = _cut_and_lift(reading, *opts, small_px)
+    if reading[-1] is not None:
+        # a checkerboard made whole where two surfaces part pins them together, and the lift
+        # bends part of the climb away: of the two readings, the one that climbs more
+        m2, region2, hidden2, occl_len2 = _cut_and_lift(reading[-1], *opts, small_px)
+        if figure_period(m2) > (1.0 + CLIMB_MARGIN) * figure_period(m):
+            reading, m, region, hidden, occl_len = reading[-1], m2, region2, hidden2, occl_len2
+    seg, _, _, _, _, light, normals, misfit, exposure, _ = reading
+    unseen = (
+        seg.normals is not None and int(np.sum(seg.shades - ambient < AMBIENT_LEVELS / 255)) >= 2
+    )
+    info = {
+        "normals": normals,
+        "shades": seg.shades,
+        "misfit": misfit,
+        "occlusion_length": occl_len,
+        "labels": seg.labels,
+        "hidden_lines": hidden,
+        "light": light,
+        "unseen_turn": unseen,
+        "exposure": exposure,
+        **kind,
+    }
+    return m, region, info
+
+
+#: The checkerboards' other reading is kept where it climbs more than this share over the
+#: first (the two differ by a fifth or more where one pins the loop; 0-2% otherwise).
+CLIMB_MARGIN = 0.05
+
+
+def _cut_and_lift(
+    reading, steps, complete, tolerance_px, straighten, max_area, occl_deg, reach_px, small_px
+):
+    """A reading of :func:`_faces_and_frame` cut open along its occlusions and lifted
+    (:func:`mescher_from_picture`): the mescher, its faces' regions, the hidden lines and the
+    length of the occluding boundary."""
+    seg, xy, F, region, bounds, _, normals, _, _, _ = reading
     edges, ids, d, pairs, lens = bounds
     pixel = 2.0 / seg.labels.shape[1]
-    occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
+    occl = _occlusions(xy, edges[ids], d, pairs, normals, occl_deg, pixel)
     hidden = list(steps) if steps is not None else []
     if steps is None and complete:
         hidden = hidden_occlusions(seg.labels, xy, F, region, edges, ids, pairs, occl, normals)
@@ -770,9 +781,9 @@ def mescher_from_picture(
     if hidden:
         ext, ident = _hidden_constraints(hidden, pixel, 0.0 if straighten == "fit" else 1.5)
         polys, preg, lines = _pieces(seg.labels, tolerance_px, ext, straighten)
-        xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area_px)
+        xy, F, region = triangulate_regions(polys, preg, lines, pixel, max_area)
         edges, ids, d, pairs, lens = region_boundaries(F, len(xy), xy, region)
-        occl = _occlusions(xy, edges[ids], d, pairs, normals, occlusion_deg, pixel)
+        occl = _occlusions(xy, edges[ids], d, pairs, normals, occl_deg, pixel)
         hidden_edges = [_edges_on_lines(xy, edges, [i_], 1e-3 * pixel) for i_ in ident]
     # visible occlusions stop short of the outline, hidden ones run on to it unless their cut
     # touches the boundary already; slits short of a hole run on to it; junctions held whole
@@ -785,22 +796,7 @@ def mescher_from_picture(
     # pieces of a few pixels (a sliver of an end face under a stair's wall) follow their
     # neighbours instead of voting (:func:`_piece_weights`)
     m = lift(xy, F, normals[region], _piece_weights(xy, F, region, small_px * pixel**2), climbs)
-    unseen = (
-        seg.normals is not None and int(np.sum(seg.shades - ambient < AMBIENT_LEVELS / 255)) >= 2
-    )
-    info = {
-        "normals": normals,
-        "shades": seg.shades,
-        "misfit": misfit,
-        "occlusion_length": float(lens[occl].sum()),
-        "labels": seg.labels,
-        "hidden_lines": hidden,
-        "light": light,
-        "unseen_turn": unseen,
-        "exposure": exposure,
-        **kind,
-    }
-    return m, region, info
+    return m, region, hidden, float(lens[occl].sum())
 
 
 def picture_shading(info: dict, ambient: float = 0.2) -> dict:

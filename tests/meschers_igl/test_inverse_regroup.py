@@ -12,6 +12,7 @@ import pytest
 from test_inverse_faces import AMBIENT, GROUND, _angles_deg, _cube_picture, _frame
 from test_inverse_other_lights import _camera_axes
 
+from meschers_igl.inverse import flatten
 from meschers_igl.inverse import picture as pic
 
 #: the three orientations' shades and the small face's, in grey levels (a development
@@ -102,7 +103,7 @@ def test_a_jpeg_keeps_its_three_shades(bench, development_model, name, k, monkey
     assert not info["unseen_turn"]
     assert _angles_deg(info["normals"], T).max() < 2.0
     monkeypatch.setattr(pic, "SHARED_LEVELS", np.inf)
-    flat, _ = pic._as_read(img, bench.GROUND)
+    flat, _ = flatten.as_read(img, bench.GROUND)
     seg = pic.segment_picture(flat, bench.GROUND, light=light, ambient=bench.AMBIENT, shared=True)
     assert _angles_deg(seg.normals, T).max() > 5.0
     monkeypatch.setattr(pic, "RETRY_MISFIT", 0.0)  # every reading tried: the right one fits best
