@@ -490,11 +490,26 @@ def _between(M: np.ndarray, r: float) -> np.ndarray:
 
 
 def as_read(target: np.ndarray, background) -> tuple[np.ndarray, dict]:
-    """The flat picture read and how it was made: an antialiased or JPEG picture made flat
-    (:func:`flatten_picture`), an illustrator's dark edge lines taken for the faces
-    beside them (:func:`drop_outlines`), marks beside the figure taken for ground
-    (:func:`drop_specks`); ``info``'s ``flattened``, ``antialiased``, ``outlines``
-    and ``specks``."""
+    """The flat picture a reader reads, and how it was made from ``target``.
+
+    An antialiased or JPEG picture is made flat (:func:`flatten_picture`), an illustrator's
+    dark edge lines are taken for the faces beside them (:func:`drop_outlines`), and marks
+    beside the figure for ground (:func:`drop_specks`).
+
+    Parameters
+    ----------
+    target : (N, N, 3) float in [0, 1]
+    background : (3,) float
+        The ground's colour.
+
+    Returns
+    -------
+    flat : (N, N, 3) float64
+    info : dict
+        ``flattened`` (bool: the picture was not flat), ``antialiased`` (bool,
+        :func:`is_antialiased`), ``outlines`` ((N, N) bool: the line pixels dropped) and
+        ``specks`` ((N, N) bool: the pixels :func:`drop_specks` took for ground).
+    """
     # flattened once where no lines are found: the figure's mask drop_outlines needs is the
     # flat picture's, and that flat picture is the one read
     flat = target if is_flat(target) else flatten_picture(target)
