@@ -56,22 +56,31 @@ def _split_near_outline(chains, outline, pixel: float, at_px: float = 1.5):
         if len(c) < 2 or shapely.LineString(c).hausdorff_distance(outline) < 1e-9:
             out.append(c)
             continue
-        if len(c) >= 2 and shapely.distance(shapely.LineString(c), outline) > 1e-9:
+        if shapely.distance(shapely.LineString(c), outline) > 1e-9:
             out.append(c)
             continue
-        pts = [c]
+        split = c
         for end, nxt in ((0, 1), (-1, -2)):
             seg = c[nxt] - c[end]
             L = float(np.linalg.norm(seg))
             if L > 2.0 * d and shapely.distance(shapely.Point(c[end]), outline) < 1e-9:
                 q = c[end] + seg * (d / L)
-                pts = (
-                    [np.vstack([pts[0][:1], q, pts[0][1:]])]
-                    if end == 0
-                    else [np.vstack([pts[0][:-1], q, pts[0][-1:]])]
-                )
-        out.append(pts[0])
+                if end == 0:
+                    split = np.vstack([split[:1], q, split[1:]])
+                else:
+                    split = np.vstack([split[:-1], q, split[-1:]])
+        out.append(split)
     return out
+
+
+def _on_boundary(F: np.ndarray, n: int) -> np.ndarray:
+    """(n,) bool: the vertices on the mesh's boundary loops (outline and holes)."""
+    from ..topology import boundary_loops
+
+    on = np.zeros(n, dtype=bool)
+    for lp in boundary_loops(F):
+        on[lp] = True
+    return on
 
 
 def cut_along(xy: np.ndarray, F: np.ndarray, edges: np.ndarray, cut: np.ndarray):
@@ -123,11 +132,7 @@ def _one_contact(F: np.ndarray, edges: np.ndarray, cut: np.ndarray, lines: list)
     """
     import scipy.sparse.csgraph as csgraph
 
-    from ..topology import boundary_loops
-
-    on = np.zeros(len(edges) and int(edges.max()) + 1, dtype=bool)
-    for lp in boundary_loops(F):
-        on[lp] = True
+    on = _on_boundary(F, len(edges) and int(edges.max()) + 1)
     cut = np.asarray(cut, dtype=np.int64)
 
     def contacts(ln):  # boundary vertices on the cut's pieces that ln joins
@@ -258,15 +263,12 @@ def _through_creases(
     -------
     list of (vertex, edge)
     """
-    from ..topology import boundary_loops
 
     cut, creases, pairs = (np.asarray(a, dtype=np.int64) for a in (cut, creases, pairs))
     n = len(xy)
     if cut.size < 2 or creases.size < 2:
         return []
-    on = np.zeros(n, dtype=bool)
-    for lp in boundary_loops(F):
-        on[lp] = True
+    on = _on_boundary(F, n)
     deg = np.bincount(edges[cut].ravel(), minlength=n)
     cdeg = np.bincount(edges[creases].ravel(), minlength=n)
     cos_straight = -np.cos(np.radians(straight_deg))

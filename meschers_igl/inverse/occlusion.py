@@ -205,7 +205,6 @@ def _end_rays(
     line ends at no onward ray starts (the face in front of its region ends there); the
     others end at a line or another ray, with the corner lines (:func:`_onward_lines`).
     """
-    key = lambda p: tuple(np.round(p, 9))  # noqa: E731
     out, onward = [], []
     for E, u, lab, other_axis, axis in rays:
         if other_axis is not None:
@@ -216,10 +215,10 @@ def _end_rays(
         X = _to_notch(labels, E, u, at, lab, px, cos_pivot, min_px) if len(at) else None
         if X is not None:
             out.append(np.stack([E, X]))
-    reached = {key(q[1]) for q in out}
+    reached = {_point_key(q[1]) for q in out}
     onto = []
     for E, u, lab, other_axis in onward:
-        if key(E) in reached:
+        if _point_key(E) in reached:
             continue
         X = _to_notch(labels, E, u, notch_xy, lab, px, cos_pivot, min_px) if len(notch_xy) else None
         if X is not None and not _between(labels, E, X, lab, px):
@@ -228,6 +227,11 @@ def _end_rays(
         onto.append((E, u, lab, X, reach, other_axis))
     out = _uncrossed(out, min_px * px)
     return out + _onward_lines(labels, onto, out, notch_xy, px, min_px, axes2)
+
+
+def _point_key(p) -> tuple:
+    """A screen point as a set key: the same junction or notch reached by two lines."""
+    return tuple(np.round(p, 9))
 
 
 def _uncrossed(lines: list, margin: float) -> list:
@@ -304,8 +308,8 @@ def _onward_lines(labels, onto, drawn, notch_xy, px: float, min_px: float, axes2
         if end is not None and _labelled(labels, E, end, lab, px, best - 0.5 * px, px):
             out.append((np.stack([E, end]), lab, k, end is not X))
     lines = [ln for ln, *_ in out]
-    used = [tuple(np.round(ln[1], 9)) for ln in lines]
-    free = [q for q in notch_xy if tuple(np.round(q, 9)) not in used]
+    used = [_point_key(ln[1]) for ln in lines]
+    free = [q for q in notch_xy if _point_key(q) not in used]
     corners = []
     for ln, lab, k, met in out:
         if not met:
@@ -387,10 +391,8 @@ def occlusion_chains(
         if tips.size != 2:
             continue
         va, vb = int(node[tips[0], 0]), int(node[tips[1], 0])
-        dv = xy[vb] - xy[va]
-        if np.linalg.norm(dv) < 1e-12:
+        if np.linalg.norm(xy[vb] - xy[va]) < 1e-12:
             continue
-        dv = dv / np.linalg.norm(dv)
         a_, b_ = divmod(int(node[tips[0], 1]), K)
         # each piece of the chain along one of the front face's edge directions: the pieces'
         # |sin| to the side's nearest in-plane axis, weighted by length

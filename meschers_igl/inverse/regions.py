@@ -68,7 +68,7 @@ def _tips_through_corners(labels: np.ndarray, passes: int = 8, every: bool = Fal
     every : bool
         Every block, tips or not: a face's spike a pixel wide meeting a face of its shade at a
         pixel corner is one face there as often as not; :func:`.picture.mescher_from_picture`
-        reads a picture both ways and keeps the reading whose lines fit its frame better.
+        reads a picture both ways and keeps the reading that climbs more.
 
     Returns
     -------
