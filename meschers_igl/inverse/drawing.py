@@ -284,7 +284,9 @@ def shade_drawing(
     # a face: its edges follow the two other directions, hardly its own
     face_like = (own < third_share) & (share.sum(axis=1) - own > 0.6)
     orient = np.where(face_like & ~_outlined(t, line, ground, reg, len(regions)), k_min, -1)
+    share = _own_shares(lines, reg, orient, share, total, dirs)
     orient = _by_creases(lines, reg, orient, share, dirs, third_share)
+    orient = _bars_from_above(lines, reg, orient, share, dirs, third_share)
     if np.unique(orient[orient >= 0]).size < 3:
         raise MescherError(
             "target: expected faces of three orientations between the lines, found "
@@ -362,3 +364,110 @@ def _by_creases(lines, reg, orient, share, dirs, third_share: float) -> np.ndarr
     best = np.argmax(score, axis=1)
     decided = two & (score[np.arange(len(orient)), best] > 0)
     return np.where(decided, best, orient)
+
+
+def _crossbars(lines, labels: np.ndarray, reach_px: float = 3.0, chord_px: float = 10.0):
+    """Which pieces of the straightened ``lines`` are the crossbar of a T-junction for the region
+    on each side: that region ends at an end of the line while the region across runs on
+    straight past it and a third region takes the first one's place (a bar passing behind a
+    post: the post's edge is not the bar's).
+
+    Each end of a line is looked past along its last ``chord_px`` pixels' chord (the
+    straightened lines round their corners by a pixel or two), ``reach_px`` pixels on, a pixel
+    and a half to either side.  The flag goes to the line's pieces along that chord.
+
+    Returns
+    -------
+    a, b, length, f, g
+        The pieces and the regions on their two sides (:func:`_sides`).
+    stem_f, stem_g : (S,) bool
+        The region ``f`` (``g``) ends where the region across runs on.
+    """
+    a, b, length, f, g = _sides(lines, labels)
+    stem_f = np.zeros(len(a), dtype=bool)
+    stem_g = np.zeros(len(a), dtype=bool)
+    px = 2.0 / labels.shape[0]
+    u_piece = (b - a) / np.maximum(length, 1e-300)[:, None]
+    k0 = 0
+    for ln in lines:  # a few dozen lines
+        c = np.asarray(ln.coords)
+        k1 = k0 + len(c) - 1
+        fl, gl = f[k0:k1], g[k0:k1]
+        for end, back in ((c[-1], max(ln.length - chord_px * px, 0.0)), (c[0], chord_px * px)):
+            u = end - np.asarray(ln.interpolate(min(back, ln.length)).coords)[0]
+            if np.linalg.norm(u) < 0.5 * px:
+                continue
+            u = u / np.linalg.norm(u)
+            n = np.array([-u[1], u[0]])
+            beyond = end + reach_px * px * u
+            left, right = labels_at(
+                labels, np.stack([beyond + 1.5 * px * n, beyond - 1.5 * px * n])
+            )
+            run = np.abs(u_piece[k0:k1] @ u) > math.cos(math.radians(15.0))
+            f_left = u_piece[k0:k1] @ u > 0.0  # f lies left of its piece (:func:`_sides`)
+            lf, lg = np.where(f_left, left, right), np.where(f_left, right, left)
+            stem_f[k0:k1] |= run & (lf != fl) & (lf != gl) & (lg == gl)
+            stem_g[k0:k1] |= run & (lg != gl) & (lg != fl) & (lf == fl)
+        k0 = k1
+    return a, b, length, f, g, stem_f, stem_g
+
+
+def _own_shares(lines, reg, orient, share, total, dirs) -> np.ndarray:
+    """The faces' shares of outline along each direction without the crossbars of the
+    T-junctions they end at (:func:`_crossbars`; the region running on a face, not the ground
+    or a hole): a bar seen between two posts has edges along one direction only, where its
+    ends' lines (the posts') made it a face of another orientation.  Faces whose outline would
+    lose over 70% keep their shares."""
+    a, b, length, f, g, stem_f, stem_g = _crossbars(lines, reg)
+    u = (b - a) / np.maximum(length, 1e-300)[:, None]
+    cos = np.abs(u @ dirs.T)
+    axis = np.where(cos.max(axis=1) > math.cos(math.radians(10.0)), np.argmax(cos, axis=1), -1)
+    along = share * total[:, None]
+    tot = total.copy()
+    face = np.r_[orient >= 0, False]  # label -1 (the ground): index -1
+    for r, stem, other in ((f, stem_f, g), (g, stem_g, f)):
+        sel = stem & (r >= 0) & face[other]  # only a face runs on in front
+        np.subtract.at(tot, r[sel], length[sel])
+        sel &= axis >= 0
+        np.subtract.at(along, (r[sel], axis[sel]), length[sel])
+    keep = (orient >= 0) & (tot > 0.3 * total)
+    own = np.maximum(along, 0.0) / np.maximum(tot[:, None], 1e-300)
+    return np.where(keep[:, None], own, share)
+
+
+def _bars_from_above(lines, reg, orient, share, dirs, third_share) -> np.ndarray:
+    """Orientations of two faces whose edges follow one direction only, side by side along
+    it: the two faces of a bar whose ends are hidden, which either of the two orientations
+    holding that direction could be.  Seen from above a bar's edge is convex: each face lies
+    on the side of the edge its normal's screen projection points to (the top above the edge,
+    a wall below it).  Each such face takes the orientation the length of its edges with such
+    a neighbour votes for."""
+    one = (orient >= 0) & (np.sort(share, axis=1)[:, 1] < third_share)
+    if not one.any():
+        return orient
+    d_of = np.argmax(share, axis=1)
+    # the normals' screen projections seen from above: the most vertical one up, the others
+    # down (the Necker reading :func:`shade_drawing` takes)
+    k_up = int(np.argmax(np.abs(dirs[:, 1])))
+    proj = (
+        dirs * np.sign(dirs[:, 1:2] + 1e-300) * np.where(np.arange(3) == k_up, 1.0, -1.0)[:, None]
+    )
+    a, b, length, f, g = _sides(lines, reg)
+    u = (b - a) / np.maximum(length, 1e-300)[:, None]
+    toward_f = np.stack([-u[:, 1], u[:, 0]], axis=1)  # f lies left of its piece
+    votes = np.zeros((len(orient), 3))
+    ok = (f >= 0) & (g >= 0) & (f != g)
+    ok[ok] &= one[f[ok]] & one[g[ok]] & (d_of[f[ok]] == d_of[g[ok]])
+    for k in np.flatnonzero(ok):  # the pieces between two such faces: a handful
+        d = d_of[f[k]]
+        if abs(float(u[k] @ dirs[d])) < math.cos(math.radians(10.0)):
+            continue
+        c0, c1 = [c for c in range(3) if c != d]
+        s0, s1 = float(proj[c0] @ toward_f[k]), float(proj[c1] @ toward_f[k])
+        if s0 * s1 >= 0.0:
+            continue
+        on_f, on_g = (c0, c1) if s0 > 0.0 else (c1, c0)
+        votes[f[k], on_f] += length[k]
+        votes[g[k], on_g] += length[k]
+    voted = votes.max(axis=1) > 0.0
+    return np.where(voted, np.argmax(votes, axis=1), orient)

@@ -395,6 +395,15 @@ def triangulate_regions(
     tree = shapely.STRtree(polygons)
     fi, pi = tree.query(cent, predicate="within")
     face_region[fi] = np.asarray(region)[pi]
+    # Triangle removed the holes' and the outside's triangles (segments bound them); what lies
+    # in no piece now is a gap under half a pixel the pieces' rounding left: its triangles
+    # take the nearest piece's region (dropped, they would leave a pinhole in the mesh, a
+    # boundary loop that the cuts would take for a hole)
+    gap = np.flatnonzero(face_region < 0)
+    if gap.size:
+        (gi, pj), dist = tree.query_nearest(cent[gap], return_distance=True)
+        near = dist < pixel
+        face_region[gap[gi[near]]] = np.asarray(region)[pj[near]]
     keep = face_region >= 0
     F, face_region = F[keep], face_region[keep]
     used = np.unique(F)

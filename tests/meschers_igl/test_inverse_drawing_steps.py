@@ -48,13 +48,18 @@ def _distance(P: np.ndarray, segments) -> np.ndarray:
         "penrose_triangle",
         "paradox:reutersvard_rectangle__iso_exact",
         "paradox:impossible_arch__iso_exact",
+        "paradox:reutersvard_rectangle__axo_x60_z30",
+        "paradox:impossible_cube__construction_frame",
+        "paradox:impossible_cube__rot_blender290",
     ],
 )
 def test_faces_take_the_orientation_of_the_meschers_faces(tmp_path, line_art, spec):
     """Nearly every pixel of the reading has the normal of the mescher's face seen there.  The
     wall under the Penrose stairs' back flight shows the treads' edges in front of it along
     both of its other directions; its creases with the treads make it a wall (read by its own
-    edges alone, 11% of the figure was a tread)."""
+    edges alone, 11% of the figure was a tread).  The impossible cubes' back bars pass behind
+    the posts: the posts' edges are not theirs (with them, 10-13% of the cubes and 9% of the
+    axonometric Reutersvärd rectangle took another orientation)."""
     from meschers_igl.painter import visible_faces
 
     picture, _, (m, order, box) = line_art(spec, tmp_path / "d.png")

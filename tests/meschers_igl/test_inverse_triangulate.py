@@ -37,3 +37,23 @@ def test_a_hole_of_pixels_stays_a_hole():
     lines = [shapely.LineString(np.asarray(r.coords)) for r in (P.exterior, P.interiors[0])]
     xy, F, _ = pic.triangulate_regions([P], [0], lines, pixel)
     assert abs(_area(xy, F) - (16.0 - 0.09)) < 1e-6
+
+
+def test_a_gap_between_two_pieces_is_meshed_whole():
+    """Two pieces whose shared side a rounding left a sliver apart (a wedge far under a pixel
+    between them, its sides constraints of the triangulation): the triangles in the sliver
+    lie in no piece; they take the nearest piece's region, so the mesh has no pinhole (a
+    boundary loop of its own, which the cuts would take for a hole of the figure)."""
+    from meschers_igl.topology import boundary_loops
+
+    pixel = 0.1
+    for w in (1e-4, 2e-3):  # a thousandth and a fiftieth of a pixel wide, under half a pixel
+        A = shapely.Polygon([(0, 0), (2, 0), (2, 4), (0, 4)])
+        B = shapely.Polygon([(2, 0), (4, 0), (4, 4), (2, 4), (2, 3), (2 + w, 2), (2, 1)])
+        lines = [shapely.LineString(np.asarray(p.exterior.coords)) for p in (A, B)]
+        xy, F, region = pic.triangulate_regions([A, B], [0, 1], lines, pixel)
+        assert abs(_area(xy, F) - 16.0) < 1e-9
+        assert len(boundary_loops(F)) == 1
+        # each triangle lies within one piece or in the sliver beside its own piece
+        c = xy[F].mean(axis=1)
+        assert np.all(region[c[:, 0] < 2.0 - 1e-9] == 0) and np.all(region[c[:, 0] > 2.0 + w] == 1)
