@@ -15,9 +15,12 @@ module makes that reading into the flat-shaded picture the rest of the pipeline 
    whose edges follow two of the directions is a face of the third direction's orientation;
    a region with edges along all three (the hole of a tribar) or along none is a hole, and so
    is one a heavier outline closes all round where the drawing's outline is heavier than its
-   inner lines (:func:`_outlined`: the outline runs round a hole as round the figure).  A face
-   whose edges allow two orientations takes the one under which its lines with its neighbours
-   are creases (:func:`_by_creases`).  Each face is painted with the Lambertian shade of its
+   inner lines (:func:`_outlined`: the outline runs round a hole as round the figure).  A
+   face's own edges leave out the crossbars of the T-junctions it ends at (:func:`_crossbars`:
+   a post's edge is not the edge of the bar behind it).  A face whose edges allow two
+   orientations takes the one under which its lines with its neighbours are creases
+   (:func:`_by_creases`); two such faces side by side along their one direction are a bar's
+   two faces seen from above (:func:`_bars_from_above`).  Each face is painted with the Lambertian shade of its
    normal under a light that gives the three orientations three distinct shades, and each line
    pixel takes the colour of the nearest face or hole, so that the figure's outline runs along
    the middle of its outer lines.  The lines between two faces of one orientation, which the
