@@ -37,7 +37,6 @@ import numpy as np
 from ..errors import MescherError
 from .faces import line_directions
 from .regions import labels_at
-from .targets import target_mask
 
 #: the frame's Lambertian terms n_k . l of the light painting a drawing: three distinct shades
 DRAWING_SHADES = np.array([0.42, 0.63, 0.93])
@@ -77,37 +76,52 @@ class DrawingReading:
     steps: list
 
 
-def is_line_drawing(
-    target: np.ndarray, background=(1.0, 1.0, 1.0), black: float = 0.1, thin_px: int = 2
-) -> bool:
-    """Whether a picture is black lines on a light ground rather than shaded faces.
+#: darkness against the paper (``1 - grey / paper``) a line pixel exceeds: a scan's or a
+#: JPEG's noise and ringing stay under it
+NOISE_DARKNESS = 0.25
 
-    True when the ground is light, the lines are black at their middles (60% of the pixels
-    unlike the ground that are the darkest of their 3 x 3 neighbourhood are under ``black``:
-    an antialiased line's flanks are grey, its middle is not, where a face in shadow keeps
-    the ambient light everywhere), they are thin (an erosion by ``thin_px`` pixels leaves
-    under 15% of them: lines, not faces), and the lines enclose paper inside the figure's
-    outline.
+
+def is_line_drawing(
+    target: np.ndarray,
+    background=(1.0, 1.0, 1.0),
+    black: float = 0.5,
+    thin_px: int | None = None,
+    ink: float = NOISE_DARKNESS,
+) -> bool:
+    """Whether a picture is dark lines on a light ground rather than shaded faces.
+
+    Darkness is measured against the paper: ``1 - grey / paper`` (a cream paper, a scan's
+    grey ground).  True when the ground is light, the ink (pixels over ``ink`` dark: not the
+    paper's noise or a JPEG's ringing) is dark at the lines' middles (the median of the ink
+    pixels that are the darkest of their 3 x 3 neighbourhood over ``black``: an antialiased,
+    blurred or downsampled line's flanks are grey, its middle is not), thin (an erosion by
+    ``thin_px`` pixels, default one per 256 pixels of the picture's size and two at least,
+    leaves under 15% of it: lines, not faces) and encloses paper inside the figure's outline.
 
     Parameters
     ----------
     target : (H, W, 3) float in [0, 1]
     background : (3,) float
     black : float
-    thin_px : int
+    thin_px : int, optional
+    ink : float
     """
     from scipy import ndimage
 
     t = np.asarray(target, dtype=np.float64)
-    if t.ndim != 3 or float(np.mean(background)) < 0.75:
-        return False
-    mask = target_mask(t, background)
-    if mask.sum() < 16:
+    paper = float(np.mean(background))
+    if t.ndim != 3 or paper < 0.75:
         return False
     grey = t.mean(axis=-1)
-    middle = mask & (grey <= ndimage.minimum_filter(grey, size=3))
-    if (grey[middle] < black).mean() < 0.6:
+    dark = 1.0 - grey / paper
+    mask = dark > ink
+    if mask.sum() < 16:
         return False
+    middle = mask & (grey <= ndimage.minimum_filter(grey, size=3))
+    if float(np.median(dark[middle])) < black:
+        return False
+    if thin_px is None:
+        thin_px = max(2, round(max(t.shape[:2]) / 256))
     if ndimage.binary_erosion(mask, iterations=thin_px).sum() > 0.15 * mask.sum():
         return False
     filled = ndimage.binary_fill_holes(mask)
@@ -233,7 +247,8 @@ def shade_drawing(
         the Lambertian terms :data:`DRAWING_SHADES`.
     ambient : float
     ink : float
-        Grey under which a pixel is a line.
+        A pixel is a line where it is over this share as dark as the darkest pixel near it
+        (darkness ``1 - grey / paper``; with black lines on white: under this grey).
     min_face_px : int
         Regions of paper smaller than this are gaps between lines (given to the lines).
     third_share : float
@@ -258,7 +273,11 @@ def shade_drawing(
     if t.ndim != 3 or t.shape[2] != 3 or t.shape[0] != t.shape[1]:
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {t.shape}")
     N = t.shape[0]
-    line = t.mean(axis=-1) < ink
+    # darkness against the paper; a line pixel is over half as dark as the line's middle (a
+    # blurred or downsampled line is grey there) and darker than the paper's noise
+    dark = 1.0 - t.mean(axis=-1) / float(np.mean(background))
+    peak = ndimage.maximum_filter(dark, size=3 + 2 * (N // 512))
+    line = (dark > ink * peak) & (dark > NOISE_DARKNESS)
     if line.sum() < 16:
         raise MescherError(
             f"target: expected a drawing (dark lines), found {int(line.sum())} dark pixels"
@@ -279,7 +298,10 @@ def shade_drawing(
     _, (ii, jj) = ndimage.distance_transform_edt(~seeds, return_indices=True)
     near = np.where(seeds, lab, lab[ii, jj])
     reg = np.where(np.isin(near, border), -1, region_of[near])
-    polys, preg, lines = region_polygons(reg)
+    # a thick line (an upscaled drawing's: its staircases two pixels a step) is straightened
+    # with a tolerance near half its width (the usual 0.75 pixels up to lines 4 pixels wide)
+    half = float(np.percentile(ndimage.distance_transform_edt(line)[line], 90))
+    polys, preg, lines = region_polygons(reg, tolerance_px=max(0.75, half - 1.25))
     dirs, along, total = _directions_and_outlines(lines, polys, preg, len(regions))
     share = along / np.maximum(total[:, None], 1e-300)
     k_min = np.argmin(share, axis=1)

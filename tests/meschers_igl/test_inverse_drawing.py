@@ -303,3 +303,62 @@ def test_the_box_cube_drawn_in_uniform_lines_reads_its_period(res):
     r = drw.shade_drawing(d)
     m, _, _ = mescher_from_picture(_resize_flat(r.picture, 128), r.light, 0.2, steps=r.steps)
     assert figure_period(m) == pytest.approx(model.gap * scale, rel=0.05)
+
+
+def _published(image: np.ndarray, how: str) -> np.ndarray:
+    """``image`` (float RGB) as people publish it: saved as JPEG, on cream paper, with a
+    scanner's noise, blurred, turned 3 degrees, upscaled twice (Lanczos)."""
+    import io
+
+    from PIL import Image, ImageFilter
+
+    im = Image.fromarray((np.clip(image, 0, 1) * 255).round().astype(np.uint8))
+    if how == "jpeg":
+        buf = io.BytesIO()
+        im.save(buf, "JPEG", quality=70)
+        im = Image.open(buf).convert("RGB")
+    elif how == "cream":
+        return image * np.array([0.95, 0.93, 0.86])
+    elif how == "noise":
+        rng = np.random.default_rng(0)
+        return np.clip(image + rng.normal(0.0, 0.03, image.shape), 0.0, 1.0)
+    elif how == "blur":
+        im = im.filter(ImageFilter.GaussianBlur(1.0))
+    elif how == "turned":
+        im = im.rotate(3, resample=Image.BICUBIC, fillcolor=(255, 255, 255))
+    elif how == "upscaled":
+        im = im.resize((2 * im.width, 2 * im.height), Image.LANCZOS)
+    return np.asarray(im, dtype=np.float64) / 255.0
+
+
+@pytest.mark.render
+@pytest.mark.parametrize("how", ["jpeg", "cream", "noise", "blur", "turned", "upscaled"])
+@pytest.mark.parametrize(
+    "spec", ["penrose_triangle", "paradox:impossible_cube__construction_frame"]
+)
+def test_a_drawing_as_published_is_read(tmp_path, line_art, spec, how):
+    """Darkness is measured against the paper and a line is half as dark as its middle: a
+    drawing saved as JPEG, scanned (noise, blur, cream paper, turned) or upscaled is told from
+    a picture and read with its period at 128 pixels.  With absolute greys (line middles under
+    0.1, lines under 0.5) the noise, the JPEG's ringing and the blurred or upscaled lines make
+    them pictures, refused for their one shade; straightened with 0.75 pixels' tolerance, an
+    upscaled line's two-pixel staircases give directions 9 degrees off and the tribar's period
+    16% long."""
+    from meschers.inverse_cli import _background, _resize_flat
+    from meschers_igl.inverse.picture import mescher_from_picture
+
+    picture, period, _ = line_art(spec, tmp_path / "d.png")
+    d = _published(picture, how)
+    bg = _background(d)
+    assert drw.is_line_drawing(d, bg)
+    r = drw.shade_drawing(d, bg)
+    m, _, _ = mescher_from_picture(_resize_flat(r.picture, 128), r.light, 0.2, background=bg)
+    assert figure_period(m) == pytest.approx(period, rel=0.05)
+
+
+@pytest.mark.parametrize("how", ["jpeg", "noise", "blur", "upscaled"])
+def test_a_picture_as_published_is_no_drawing(how):
+    """A z-buffer picture of the tribar on white, published as above, stays a picture: its
+    faces are wide, whatever their edges' noise."""
+    picture, _ = _zbuffer(mdl.penrose_tribar(), 128)
+    assert not drw.is_line_drawing(_published(picture, how))
