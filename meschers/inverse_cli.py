@@ -1,7 +1,8 @@
 """``meschers inverse TARGET [--light X,Y,Z] --out DIR [--init picture|torus] [--iters N]``.
 
 Recovers a mescher from a picture (paper Section 4.5): the target image spans the
-screen square ``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights.  The
+screen square ``[-1, 1]^2`` (pixel centres, y up), lit by the given directional lights; an
+oblong one is centred in a square of its longer side, the margins its ground's colour.  The
 default initialization starts from the picture itself
 (:func:`meschers_igl.inverse.picture.mescher_from_picture`); ``--init torus`` is the paper's.
 Writes into ``DIR``:
@@ -194,7 +195,9 @@ def _join_negative_values(argv: list[str]) -> list[str]:
 def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Add the ``meschers inverse`` arguments to ``parser`` (returned)."""
     parser.add_argument(
-        "target", help=f"target PNG spanning the screen square, or a built-in: {', '.join(BUILTIN)}"
+        "target",
+        help="target image spanning the screen square (an oblong one is centred in a square of "
+        f"its ground's colour), or a built-in: {', '.join(BUILTIN)}",
     )
     parser.add_argument(
         "--light",
@@ -275,11 +278,22 @@ def _load_target(path: str, resolution: int) -> np.ndarray:
         raise MescherError(
             f"TARGET: expected a readable image file, found {path!r} ({exc})"
         ) from exc
-    if img.width != img.height:
-        raise MescherError(
-            f"TARGET: expected a square image (it spans [-1, 1]^2), found {img.width}x{img.height}"
-        )
-    return _box_resize(_as_rgb(img), resolution)
+    return _box_resize(_squared(_as_rgb(img)), resolution)
+
+
+def _squared(rgb: np.ndarray) -> np.ndarray:
+    """``rgb`` (H, W, 3) centred in a square of side ``max(H, W)``, the margins filled with
+    its corners' colour (the ground of a picture of an object that fits it): the screen
+    square ``[-1, 1]^2`` a picture spans is that square."""
+    H, W = rgb.shape[:2]
+    if H == W:
+        return rgb
+    n = max(H, W)
+    out = np.empty((n, n, 3))
+    out[:] = _background(rgb)
+    top, left = (n - H) // 2, (n - W) // 2
+    out[top : top + H, left : left + W] = rgb
+    return out
 
 
 def _box_resize(rgb: np.ndarray, resolution: int) -> np.ndarray:

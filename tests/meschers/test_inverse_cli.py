@@ -278,3 +278,37 @@ def test_pictures_are_read_as_seen_whatever_their_mode(tmp_path):
     small = _load_target(str(tmp_path / "rgb.png"), 32)
     assert small.shape == (32, 32, 3)
     np.testing.assert_allclose(small * 255.0, np.round(small * 255.0), atol=1e-9)
+
+
+def test_an_oblong_picture_is_centred_in_a_square_of_its_ground(tmp_path):
+    """A picture wider (or taller) than high is the square of its longer side with the picture
+    in the middle: the margins take the ground's colour, the figure keeps its pixels; and
+    ``meschers inverse`` fits it there."""
+    from PIL import Image
+
+    from meschers.inverse_cli import _load_target, inverse_main
+
+    g = _corner_picture()  # 64 x 64, white ground
+    cream = np.array([242, 236, 219], dtype=np.uint8)
+    rgb = np.where((g == 255)[..., None], cream, np.repeat(g[..., None], 3, axis=2))
+    wide = np.concatenate(
+        [np.broadcast_to(cream, (64, 16, 3)), rgb, np.broadcast_to(cream, (64, 48, 3))], 1
+    )
+    Image.fromarray(np.ascontiguousarray(wide)).save(tmp_path / "wide.png")
+    Image.fromarray(np.ascontiguousarray(wide.transpose(1, 0, 2))).save(tmp_path / "tall.png")
+    for name in ("wide", "tall"):
+        got = _load_target(str(tmp_path / f"{name}.png"), 0)
+        assert got.shape == (128, 128, 3)
+        sq = got if name == "wide" else got.transpose(1, 0, 2)
+        # the picture sits in rows 32..95, the margins above and below are the ground
+        np.testing.assert_allclose(sq[32:96], wide / 255.0, atol=1e-12)
+        np.testing.assert_allclose(
+            sq[:32], np.broadcast_to(cream / 255.0, (32, 128, 3)), atol=1e-12
+        )
+        np.testing.assert_allclose(
+            sq[96:], np.broadcast_to(cream / 255.0, (32, 128, 3)), atol=1e-12
+        )
+    out = tmp_path / "fit"
+    args = ["wide.png", "--out", str(out), "--iters", "2", "--resolution", "64", "--no-progress"]
+    assert inverse_main([str(tmp_path / args[0]), *args[1:]]) == 0
+    assert json.loads((out / "metrics.json").read_text())["silhouette_iou"] > 0.95
