@@ -128,6 +128,24 @@ def is_line_drawing(
     return bool((filled & ~mask).sum() > 0.5 * mask.sum())
 
 
+def _ridges(dark: np.ndarray) -> np.ndarray:
+    """(H, W) bool: the pixels darker than both their neighbours across one of the four pixel
+    directions, a line's middle (also where a faint line meets a dark one, whose darkness
+    the faint line's pixels next to it are not half of)."""
+    H, W = dark.shape
+    p = np.pad(dark, 1, mode="edge")
+    c = p[1:-1, 1:-1]
+    out = np.zeros((H, W), dtype=bool)
+    for (a0, a1), (b0, b1) in (
+        ((0, 1), (2, 1)),
+        ((1, 0), (1, 2)),
+        ((0, 0), (2, 2)),
+        ((0, 2), (2, 0)),
+    ):
+        out |= (c > p[a0 : a0 + H, a1 : a1 + W]) & (c > p[b0 : b0 + H, b1 : b1 + W])
+    return out
+
+
 def _directions_and_outlines(lines, polys, piece_region, n_regions: int, min_sep_deg: float = 20.0):
     """The three main orientations of the lines, and each region's outline along each.
 
@@ -274,10 +292,11 @@ def shade_drawing(
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {t.shape}")
     N = t.shape[0]
     # darkness against the paper; a line pixel is over half as dark as the line's middle (a
-    # blurred or downsampled line is grey there) and darker than the paper's noise
+    # blurred or downsampled line is grey there) or a middle itself (a faint line where it
+    # meets a dark one), and darker than the paper's noise
     dark = 1.0 - t.mean(axis=-1) / float(np.mean(background))
     peak = ndimage.maximum_filter(dark, size=3 + 2 * (N // 512))
-    line = (dark > ink * peak) & (dark > NOISE_DARKNESS)
+    line = ((dark > ink * peak) | _ridges(dark)) & (dark > NOISE_DARKNESS)
     if line.sum() < 16:
         raise MescherError(
             f"target: expected a drawing (dark lines), found {int(line.sum())} dark pixels"

@@ -362,3 +362,33 @@ def test_a_picture_as_published_is_no_drawing(how):
     faces are wide, whatever their edges' noise."""
     picture, _ = _zbuffer(mdl.penrose_tribar(), 128)
     assert not drw.is_line_drawing(_published(picture, how))
+
+
+@pytest.mark.render
+@pytest.mark.parametrize(
+    "spec, size",
+    [
+        ("penrose_triangle", 256),
+        ("penrose_triangle", 384),
+        ("paradox:impossible_arch__iso_exact", 384),
+    ],
+)
+def test_a_drawing_published_smaller_is_read(tmp_path, line_art, spec, size):
+    """The 512 px line art downscaled (Lanczos): its inner lines, a pixel wide, turn grey and
+    meet the heavier ones at pixels no half as dark as those; a line pixel is also a line's
+    middle (darker than both its neighbours across it), so the faces stay apart."""
+    from PIL import Image
+
+    from meschers.inverse_cli import _background, _resize_flat
+    from meschers_igl.inverse.picture import mescher_from_picture
+
+    picture, period, _ = line_art(spec, tmp_path / "d.png")
+    im = Image.fromarray((picture * 255).round().astype(np.uint8)).resize(
+        (size, size), Image.LANCZOS
+    )
+    d = np.asarray(im, dtype=np.float64) / 255.0
+    bg = _background(d)
+    assert drw.is_line_drawing(d, bg)
+    r = drw.shade_drawing(d, bg)
+    m, _, _ = mescher_from_picture(_resize_flat(r.picture, 128), r.light, 0.2, background=bg)
+    assert figure_period(m) == pytest.approx(period, rel=0.05)
