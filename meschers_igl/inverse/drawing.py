@@ -20,11 +20,15 @@ module makes that reading into the flat-shaded picture the rest of the pipeline 
    a post's edge is not the edge of the bar behind it).  A face whose edges allow two
    orientations takes the one under which its lines with its neighbours are creases
    (:func:`_by_creases`); two such faces side by side along their one direction are a bar's
-   two faces seen from above (:func:`_bars_from_above`).  Each face is painted with the Lambertian shade of its
-   normal under a light that gives the three orientations three distinct shades, and each line
-   pixel takes the colour of the nearest face or hole, so that the figure's outline runs along
-   the middle of its outer lines.  The lines between two faces of one orientation, which the
-   shaded picture cannot show, are kept as ``steps`` for the lift to cut along.
+   two faces seen from above (:func:`_bars_from_above`).  Each face is painted with the
+   Lambertian shade of its normal under a light that gives the three orientations three
+   distinct shades, and each line pixel takes the colour of the nearest face or hole, so that
+   the figure's outline runs along the middle of its outer lines.  The lines between two faces
+   of one orientation, which the shaded picture cannot show, are kept as ``steps`` for the
+   lift to cut along.
+
+Darkness is measured against the paper (``1 - grey / paper``): a drawing on cream paper, saved
+as JPEG, scanned, blurred or resized reads as the clean one (:data:`NOISE_DARKNESS`).
 """
 
 from __future__ import annotations
