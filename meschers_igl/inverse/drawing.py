@@ -331,7 +331,11 @@ def shade_drawing(
     own = share[np.arange(len(regions)), k_min]
     # a face: its edges follow the two other directions, hardly its own
     face_like = (own < third_share) & (share.sum(axis=1) - own > 0.6)
-    orient = np.where(face_like & ~_outlined(t, line, ground, reg, len(regions)), k_min, -1)
+    # a region whose outline follows one direction only is a bar's face seen between others,
+    # not an opening, heavy as its lines may be (an opening shows two directions at least)
+    outlined = _outlined(t, line, ground, reg, len(regions))
+    outlined &= np.sort(share, axis=1)[:, 1] >= third_share
+    orient = np.where(face_like & ~outlined, k_min, -1)
     share = _own_shares(lines, reg, orient, share, total, dirs)
     orient = _by_creases(lines, reg, orient, share, dirs, third_share)
     orient = _bars_from_above(lines, reg, orient, share, dirs, third_share)
