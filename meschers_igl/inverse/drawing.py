@@ -117,7 +117,7 @@ def is_line_drawing(
     if t.ndim != 3 or paper < 0.75:
         return False
     grey = t.mean(axis=-1)
-    dark = 1.0 - grey / paper
+    dark = _darkness(t, background)
     mask = dark > ink
     if mask.sum() < 16:
         return False
@@ -130,6 +130,12 @@ def is_line_drawing(
         return False
     filled = ndimage.binary_fill_holes(mask)
     return bool((filled & ~mask).sum() > 0.5 * mask.sum())
+
+
+def _darkness(t: np.ndarray, background) -> np.ndarray:
+    """(H, W) darkness against the paper, ``1 - grey / paper`` (the paper's grey: the mean of
+    ``background``)."""
+    return 1.0 - t.mean(axis=-1) / float(np.mean(background))
 
 
 def _ridges(dark: np.ndarray) -> np.ndarray:
@@ -298,7 +304,7 @@ def shade_drawing(
     # darkness against the paper; a line pixel is over half as dark as the line's middle (a
     # blurred or downsampled line is grey there) or a middle itself (a faint line where it
     # meets a dark one), and darker than the paper's noise
-    dark = 1.0 - t.mean(axis=-1) / float(np.mean(background))
+    dark = _darkness(t, background)
     peak = ndimage.maximum_filter(dark, size=3 + 2 * (N // 512))
     line = ((dark > ink * peak) | _ridges(dark)) & (dark > NOISE_DARKNESS)
     if line.sum() < 16:
@@ -334,11 +340,12 @@ def shade_drawing(
     # a region whose outline follows one direction only is a bar's face seen between others,
     # not an opening, heavy as its lines may be (an opening shows two directions at least)
     outlined = _outlined(t, line, ground, reg, len(regions))
-    outlined &= np.sort(share, axis=1)[:, 1] >= third_share
+    outlined &= ~_one_direction(share, third_share)
     orient = np.where(face_like & ~outlined, k_min, -1)
-    share = _own_shares(lines, reg, orient, share, total, dirs)
-    orient = _by_creases(lines, reg, orient, share, dirs, third_share)
-    orient = _bars_from_above(lines, reg, orient, share, dirs, third_share)
+    pieces = _sides(lines, reg)
+    share = _own_shares(lines, reg, pieces, orient, share, total, dirs)
+    orient = _by_creases(pieces, orient, share, dirs, third_share)
+    orient = _bars_from_above(pieces, orient, share, dirs, third_share)
     if np.unique(orient[orient >= 0]).size < 3:
         raise MescherError(
             "target: expected faces of three orientations between the lines, found "
@@ -382,6 +389,21 @@ def _sides(lines, labels: np.ndarray, side_px: float = 1.0):
     return a, b, length, f, g
 
 
+def _piece_axes(a, b, length, dirs):
+    """Unit directions ``u`` (S, 2) of the pieces ``a -> b`` and the direction (row of
+    ``dirs``) each runs along within 10 degrees, -1 for none (``axis``, (S,))."""
+    u = (b - a) / np.maximum(length, 1e-300)[:, None]
+    cos = np.abs(u @ dirs.T)
+    axis = np.where(cos.max(axis=1) > math.cos(math.radians(10.0)), np.argmax(cos, axis=1), -1)
+    return u, axis
+
+
+def _one_direction(share: np.ndarray, third_share: float) -> np.ndarray:
+    """(R,) bool: the regions whose outline follows one direction only (both others' shares
+    under ``third_share``)."""
+    return np.sort(share, axis=1)[:, 1] < third_share
+
+
 def _steps(lines, faces: np.ndarray, orient: np.ndarray) -> list:
     """The pieces of the straightened ``lines`` (screen units) with two different faces of one
     orientation on their two sides, over two pixels long: (2, 2) arrays."""
@@ -392,18 +414,16 @@ def _steps(lines, faces: np.ndarray, orient: np.ndarray) -> list:
     return [np.stack([a[k], b[k]]) for k in np.flatnonzero(keep)]
 
 
-def _by_creases(lines, reg, orient, share, dirs, third_share: float) -> np.ndarray:
+def _by_creases(pieces, orient, share, dirs, third_share: float) -> np.ndarray:
     """Orientations of the faces whose edges allow two (both other directions' shares under
     ``third_share``: a wall under a flight shows the treads' edges in front of it): the one
     under which more of its boundary with faces of one reading is a crease, a line along the
     third direction between faces of the two others."""
-    two = (orient >= 0) & (np.sort(share, axis=1)[:, 1] < third_share)
+    two = (orient >= 0) & _one_direction(share, third_share)
     if not two.any():
         return orient
-    a, b, length, f, g = _sides(lines, reg)
-    u = (b - a) / np.maximum(length, 1e-300)[:, None]
-    cos = np.abs(u @ dirs.T)
-    axis = np.where(cos.max(axis=1) > math.cos(math.radians(10.0)), np.argmax(cos, axis=1), -1)
+    a, b, length, f, g = pieces
+    _, axis = _piece_axes(a, b, length, dirs)
     score = np.zeros((len(orient), 3))
     for r, q in ((f, g), (g, f)):  # each side of each piece
         sel = (r >= 0) & (q >= 0) & (r != q) & (axis >= 0)
@@ -418,7 +438,7 @@ def _by_creases(lines, reg, orient, share, dirs, third_share: float) -> np.ndarr
     return np.where(decided, best, orient)
 
 
-def _crossbars(lines, labels: np.ndarray, reach_px: float = 3.0, chord_px: float = 10.0):
+def _crossbars(lines, labels: np.ndarray, pieces, reach_px: float = 3.0, chord_px: float = 10.0):
     """Which pieces of the straightened ``lines`` are the crossbar of a T-junction for the region
     on each side: that region ends at an end of the line while the region across runs on
     straight past it and a third region takes the first one's place (a bar passing behind a
@@ -428,14 +448,15 @@ def _crossbars(lines, labels: np.ndarray, reach_px: float = 3.0, chord_px: float
     straightened lines round their corners by a pixel or two), ``reach_px`` pixels on, a pixel
     and a half to either side.  The flag goes to the line's pieces along that chord.
 
+    ``pieces`` are the lines' pieces and the regions on their two sides (:func:`_sides` of
+    ``lines`` and ``labels``).
+
     Returns
     -------
-    a, b, length, f, g
-        The pieces and the regions on their two sides (:func:`_sides`).
     stem_f, stem_g : (S,) bool
         The region ``f`` (``g``) ends where the region across runs on.
     """
-    a, b, length, f, g = _sides(lines, labels)
+    a, b, length, f, g = pieces
     stem_f = np.zeros(len(a), dtype=bool)
     stem_g = np.zeros(len(a), dtype=bool)
     px = 2.0 / labels.shape[0]
@@ -461,19 +482,18 @@ def _crossbars(lines, labels: np.ndarray, reach_px: float = 3.0, chord_px: float
             stem_f[k0:k1] |= run & (lf != fl) & (lf != gl) & (lg == gl)
             stem_g[k0:k1] |= run & (lg != gl) & (lg != fl) & (lf == fl)
         k0 = k1
-    return a, b, length, f, g, stem_f, stem_g
+    return stem_f, stem_g
 
 
-def _own_shares(lines, reg, orient, share, total, dirs) -> np.ndarray:
+def _own_shares(lines, reg, pieces, orient, share, total, dirs) -> np.ndarray:
     """The faces' shares of outline along each direction without the crossbars of the
     T-junctions they end at (:func:`_crossbars`; the region running on a face, not the ground
     or a hole): a bar seen between two posts has edges along one direction only, where its
     ends' lines (the posts') made it a face of another orientation.  Faces whose outline would
     lose over 70% keep their shares."""
-    a, b, length, f, g, stem_f, stem_g = _crossbars(lines, reg)
-    u = (b - a) / np.maximum(length, 1e-300)[:, None]
-    cos = np.abs(u @ dirs.T)
-    axis = np.where(cos.max(axis=1) > math.cos(math.radians(10.0)), np.argmax(cos, axis=1), -1)
+    a, b, length, f, g = pieces
+    stem_f, stem_g = _crossbars(lines, reg, pieces)
+    _, axis = _piece_axes(a, b, length, dirs)
     along = share * total[:, None]
     tot = total.copy()
     face = np.r_[orient >= 0, False]  # label -1 (the ground): index -1
@@ -487,14 +507,14 @@ def _own_shares(lines, reg, orient, share, total, dirs) -> np.ndarray:
     return np.where(keep[:, None], own, share)
 
 
-def _bars_from_above(lines, reg, orient, share, dirs, third_share) -> np.ndarray:
+def _bars_from_above(pieces, orient, share, dirs, third_share) -> np.ndarray:
     """Orientations of two faces whose edges follow one direction only, side by side along
     it: the two faces of a bar whose ends are hidden, which either of the two orientations
     holding that direction could be.  Seen from above a bar's edge is convex: each face lies
     on the side of the edge its normal's screen projection points to (the top above the edge,
     a wall below it).  Each such face takes the orientation the length of its edges with such
     a neighbour votes for."""
-    one = (orient >= 0) & (np.sort(share, axis=1)[:, 1] < third_share)
+    one = (orient >= 0) & _one_direction(share, third_share)
     if not one.any():
         return orient
     d_of = np.argmax(share, axis=1)
@@ -504,15 +524,15 @@ def _bars_from_above(lines, reg, orient, share, dirs, third_share) -> np.ndarray
     proj = (
         dirs * np.sign(dirs[:, 1:2] + 1e-300) * np.where(np.arange(3) == k_up, 1.0, -1.0)[:, None]
     )
-    a, b, length, f, g = _sides(lines, reg)
-    u = (b - a) / np.maximum(length, 1e-300)[:, None]
+    a, b, length, f, g = pieces
+    u, axis = _piece_axes(a, b, length, dirs)
     toward_f = np.stack([-u[:, 1], u[:, 0]], axis=1)  # f lies left of its piece
     votes = np.zeros((len(orient), 3))
     ok = (f >= 0) & (g >= 0) & (f != g)
     ok[ok] &= one[f[ok]] & one[g[ok]] & (d_of[f[ok]] == d_of[g[ok]])
     for k in np.flatnonzero(ok):  # the pieces between two such faces: a handful
         d = d_of[f[k]]
-        if abs(float(u[k] @ dirs[d])) < math.cos(math.radians(10.0)):
+        if axis[k] != d:
             continue
         c0, c1 = [c for c in range(3) if c != d]
         s0, s1 = float(proj[c0] @ toward_f[k]), float(proj[c1] @ toward_f[k])

@@ -229,7 +229,9 @@ def test_a_posts_edge_is_not_the_edge_of_a_bar_behind_it():
     labels[16:24, 18:32] = 1  # the bar
     labels[24:36, 18:32] = 3
     _, _, lines = region_polygons(labels)
-    a, b, length, f, g, stem_f, stem_g = drw._crossbars(lines, labels)
+    pieces = drw._sides(lines, labels)
+    a, b, length, f, g = pieces
+    stem_f, stem_g = drw._crossbars(lines, labels, pieces)
     px = 2.0 / 40
     mid = 0.5 * (a + b)
     post_edge = np.abs(mid[:, 0] - (-1.0 + 18 * px)) < 0.5 * px
@@ -253,7 +255,7 @@ def test_a_posts_edge_is_not_the_edge_of_a_bar_behind_it():
                 total[r] += length[k]
                 along[r, ax] += length[k]
     share = along / total[:, None]
-    own = drw._own_shares(lines, labels, orient, share, total, dirs)
+    own = drw._own_shares(lines, labels, pieces, orient, share, total, dirs)
     # the bar: 14 px along the top and bottom, 8 px ends; the post's end is not its own
     assert share[1, 0] == pytest.approx(16 / 44, abs=0.02)
     assert own[1, 0] == pytest.approx(8 / 36, abs=0.02)
@@ -283,8 +285,8 @@ def test_impossible_cubes_drawn_read_their_bars_from_above(tmp_path, line_art, s
         return figure_period(m) / period - 1.0
 
     assert abs(climb()) < 0.05
-    monkeypatch.setattr(drw, "_own_shares", lambda lines, reg, orient, share, *a: share)
-    monkeypatch.setattr(drw, "_bars_from_above", lambda lines, reg, orient, *a: orient)
+    monkeypatch.setattr(drw, "_own_shares", lambda lines, reg, pieces, orient, share, *a: share)
+    monkeypatch.setattr(drw, "_bars_from_above", lambda pieces, orient, *a: orient)
     assert climb() < -0.1
 
 
