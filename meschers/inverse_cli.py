@@ -39,6 +39,14 @@ from meschers_igl.errors import MescherError
 from meschers_igl.validate import as_count, as_vector
 
 DEFAULT_LIGHT = "0.6,-0.1,1"
+
+#: the working resolution when ``--resolution`` is not given
+DEFAULT_RESOLUTION = 128
+
+#: a drawing whose narrowest face would come under this many pixels wide at the default
+#: resolution is read at twice it: a bar two or three pixels wide meshes into slivers and
+#: wedges that the fit cannot smooth away
+DRAWING_FACE_PX = 4.0
 #: built-in targets: the soft-rasterized Penrose triangle and z-buffered box models
 BUILTIN = ("penrose", "tribar", "cube", "stairs")
 
@@ -229,8 +237,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument(
         "--resolution",
         type=int,
-        default=128,
-        help="working resolution; the target is resampled (default 128)",
+        default=None,
+        help=f"working resolution; the target is resampled (default {DEFAULT_RESOLUTION}; a "
+        f"drawing whose narrowest face would come under {DRAWING_FACE_PX:g} px wide at "
+        f"{DEFAULT_RESOLUTION}: {2 * DEFAULT_RESOLUTION})",
     )
     parser.add_argument(
         "--torus",
@@ -252,6 +262,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     parser.add_argument("--force", action="store_true", help="skip the memory-size guard")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
+
+
+def _check_resolution(res: int, force) -> None:
+    """Refuse a working resolution whose fit would not fit in memory (unless forced)."""
+    from meschers_igl.validate import check_budget
+
+    # a soft rasterizer keeps per (face, pixel) pairs: about 2 kB per pixel at 128^2
+    check_budget(
+        float(res) * res,
+        bytes_per_face=2048.0,
+        what=f"inverse --resolution {res}",
+        force=bool(force),
+    )
+
+
+def _drawing_resolution(faces: np.ndarray) -> int:
+    """The working resolution for a drawing whose face regions are ``faces`` ((N, N), its
+    own size): :data:`DEFAULT_RESOLUTION`, or twice it where the narrowest face would come
+    under :data:`DRAWING_FACE_PX` wide (the impossible cube's bars, a stair's risers)."""
+    from meschers_igl.inverse.drawing import narrowest_face_px
+
+    width = narrowest_face_px(faces) * DEFAULT_RESOLUTION / faces.shape[0]
+    return DEFAULT_RESOLUTION if width >= DRAWING_FACE_PX else 2 * DEFAULT_RESOLUTION
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -518,6 +551,7 @@ def _save_fit(
         "light": [list(v) for v in shade["lights"]],
         "light_estimated": drawing is None and not given and args.init == "picture",
         "drawing": drawing is not None,
+        "resolution": int(target.shape[0]),
     }
     if drawing is not None:
         _save_png(out / "drawing_shaded.png", drawing.picture)
@@ -544,7 +578,6 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
     from meschers_igl.inverse.picture import fit_options, mescher_from_picture, picture_shading
     from meschers_igl.inverse.rasterizer import render_mescher
     from meschers_igl.inverse.targets import target_mask, torus_for_target
-    from meschers_igl.validate import check_budget
 
     given = bool(args.light)
     lights = [_triple(t, "--light") for t in (args.light or [DEFAULT_LIGHT])]
@@ -556,15 +589,10 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
                 f"--light-color: expected one per --light ({len(lights)}), found {len(colors)}"
             )
     iters = as_count(args.iters, "--iters", minimum=1)
-    res = as_count(args.resolution, "--resolution", minimum=8)
+    chosen = args.resolution is not None
+    res = as_count(args.resolution if chosen else DEFAULT_RESOLUTION, "--resolution", minimum=8)
     every = as_count(args.every, "--every", minimum=1)
-    # a soft rasterizer keeps per (face, pixel) pairs: about 2 kB per pixel at 128^2
-    check_budget(
-        float(res) * res,
-        bytes_per_face=2048.0,
-        what=f"inverse --resolution {res}",
-        force=bool(args.force),
-    )
+    _check_resolution(res, args.force)
     n_major, n_minor = (int(v) for v in _triple(args.torus + ",0", "--torus")[:2])
     model = None
     if args.target in BUILTIN:
@@ -578,6 +606,9 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         drawing = shade_drawing(
             target, bg, light=lights[0] if given else None, ambient=args.ambient
         )
+        if not chosen:
+            res = _drawing_resolution(drawing.faces)
+            _check_resolution(res, args.force)
         target = _resize_flat(drawing.picture, res)
         lights, given = [tuple(float(v) for v in drawing.light)], True
     elif model is None:  # edge lines dropped at the file's own size, then averaged down
@@ -641,7 +672,8 @@ def inverse_main(args: Sequence[str] | argparse.Namespace | None = None) -> int:
         f"{metrics['psnr_db']:.2f} dB  period {metrics['figure_period']:.3f}  "
         f"max |d12 zeta| {result.max_residual:.1e}  light "
         f"{','.join(f'{v:.3f}' for v in lights[0])}"
-        f"{' (estimated)' if metrics['light_estimated'] else ''}  {result.seconds:.0f} s  -> {out}"
+        f"{' (estimated)' if metrics['light_estimated'] else ''}  {res} px  "
+        f"{result.seconds:.0f} s  -> {out}"
     )
     return 0
 

@@ -64,6 +64,7 @@ _LAZY = {
     "estimate_exposure": "shading",
     "is_line_drawing": "drawing",
     "shade_drawing": "drawing",
+    "narrowest_face_px": "drawing",
     "flatten_picture": "flatten",
     "figure_mask": "flatten",
     "is_flat": "flatten",
