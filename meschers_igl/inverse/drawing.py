@@ -199,7 +199,36 @@ def _ridges(dark: np.ndarray) -> np.ndarray:
     return out
 
 
-def _directions_and_outlines(lines, polys, piece_region, n_regions: int, min_sep_deg: float = 20.0):
+def _frame_directions(reg, lines, polys, piece_region, n_regions: int, tolerance_px: float):
+    """:func:`_directions_and_outlines` with the directions read from the region boundaries
+    straightened over their pixel steps (``reg``'s, a pixel's tolerance at least, or
+    ``tolerance_px``), from segments 3 pixels long at least: a shallow line's staircase of
+    flat runs and diagonal steps is neither direction, and along a long line the steps
+    outweigh a figure's short edges.  The directions are ranked as the ``lines`` traced rank
+    them (a drawing's shades follow the rank)."""
+    from .regions import region_polygons
+
+    coarse = region_polygons(reg, tolerance_px=max(1.0, tolerance_px))[2]
+    three = 3.0 * 2.0 / reg.shape[0]
+    dirs, along, total = _directions_and_outlines(
+        lines, polys, piece_region, n_regions, min_length=three, direction_lines=coarse
+    )
+    traced = _directions_and_outlines(lines, polys, piece_region, n_regions, min_length=three)[0]
+    rank = np.argmax(np.abs(traced @ dirs.T), axis=1)
+    if np.unique(rank).size == 3:
+        dirs, along = dirs[rank], along[:, rank]
+    return dirs, along, total
+
+
+def _directions_and_outlines(
+    lines,
+    polys,
+    piece_region,
+    n_regions: int,
+    min_sep_deg: float = 20.0,
+    min_length: float = 0.0,
+    direction_lines=None,
+):
     """The three main orientations of the lines, and each region's outline along each.
 
     Parameters
@@ -221,10 +250,10 @@ def _directions_and_outlines(lines, polys, piece_region, n_regions: int, min_sep
     total : (R,) float64
         Length of each region's outline.
     """
-    pts = [np.asarray(g.coords) for g in lines]
+    pts = [np.asarray(g.coords) for g in (lines if direction_lines is None else direction_lines)]
     starts = np.concatenate([c[:-1] for c in pts])
     ends = np.concatenate([c[1:] for c in pts])
-    dirs = line_directions(starts, ends, k=3, apart_deg=min_sep_deg)
+    dirs = line_directions(starts, ends, k=3, apart_deg=min_sep_deg, min_length=min_length)
     along = np.zeros((n_regions, 3))
     total = np.zeros(n_regions)
     cos10 = math.cos(math.radians(10.0))
@@ -374,7 +403,8 @@ def shade_drawing(
     # with a tolerance near half its width (the usual 0.75 pixels up to lines 4 pixels wide)
     half = float(np.percentile(ndimage.distance_transform_edt(line)[line], 90))
     polys, preg, lines = region_polygons(reg, tolerance_px=max(0.75, half - 1.25))
-    dirs, along, total = _directions_and_outlines(lines, polys, preg, len(regions))
+    dirs, along, total = _frame_directions(reg, lines, polys, preg, len(regions), half - 1.25)
+
     share = along / np.maximum(total[:, None], 1e-300)
     k_min = np.argmin(share, axis=1)
     own = share[np.arange(len(regions)), k_min]

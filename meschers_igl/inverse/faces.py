@@ -114,7 +114,13 @@ def _segments(lines, tolerance: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate(a), np.concatenate(b)
 
 
-def line_directions(starts: np.ndarray, ends: np.ndarray, k: int = 3, apart_deg: float = 12.0):
+def line_directions(
+    starts: np.ndarray,
+    ends: np.ndarray,
+    k: int = 3,
+    apart_deg: float = 12.0,
+    min_length: float = 0.0,
+):
     """The ``k`` main directions of a set of segments (length-weighted modes, mod 180 degrees).
 
     A length-weighted histogram of the segments' angles (1-degree bins, smoothed over 5) gives
@@ -126,6 +132,9 @@ def line_directions(starts: np.ndarray, ends: np.ndarray, k: int = 3, apart_deg:
     starts, ends : (S, 2) float
     k : int
     apart_deg : float
+    min_length : float
+        Shorter segments are left out: a shallow line's pixel steps, each a segment of a pixel
+        or two along a diagonal, add up along a long line to a mode of their own.
 
     Returns
     -------
@@ -139,6 +148,7 @@ def line_directions(starts: np.ndarray, ends: np.ndarray, k: int = 3, apart_deg:
     """
     d = np.asarray(ends, dtype=np.float64) - np.asarray(starts, dtype=np.float64)
     w = np.linalg.norm(d, axis=1)
+    w = np.where(w >= min_length, w, 0.0)
     ang = np.mod(np.arctan2(d[:, 1], d[:, 0]), np.pi)
     hist = np.bincount(np.floor(np.degrees(ang)).astype(np.int64) % 180, w, minlength=180)
     smooth = sum(np.roll(hist, s) for s in range(-2, 3))

@@ -91,6 +91,45 @@ def test_line_directions_are_the_length_weighted_modes():
     assert got == pytest.approx(np.degrees(true), abs=0.3)  # strongest first
 
 
+def test_a_shallow_lines_pixel_steps_make_no_direction():
+    """A line 2.9 degrees off horizontal drawn in pixels, its outline straightened to a pixel
+    short of its staircase: flat runs of 20 pixels and a diagonal step of 1.4 between them.
+    Along a long line the steps add up to more than a figure's short third edges (at 37
+    degrees): with segments under 3 pixels left out they make no mode."""
+    px = 2.0 / 512
+    a, b = [], []
+    for row in range(4):  # four long shallow lines, 20 steps each
+        p = np.array([-0.9, -0.8 + 0.4 * row])
+        for _ in range(20):
+            q = p + np.array([20.0, 0.0]) * px
+            a += [p, q]
+            p = q + np.array([1.0, 1.0]) * px
+            b += [q, p]
+    for row in range(8):  # long verticals
+        p = np.array([-0.9 + 0.2 * row, -0.9])
+        a.append(p)
+        b.append(p + np.array([0.0, 1.2]))
+    th = np.radians(37.0)
+    for k in range(6):  # short edges of the third direction, 8 to 20 pixels
+        p = np.array([0.5, -0.5 + 0.1 * k])
+        a.append(p)
+        b.append(p + (8 + 2 * k) * px * np.array([np.cos(th), np.sin(th)]))
+    a, b = np.array(a), np.array(b)
+    d = b - a
+    steps = np.linalg.norm(d, axis=1) < 2 * px
+    third = np.abs(np.degrees(np.arctan2(d[:, 1], d[:, 0])) - 37.0) < 1
+    assert np.linalg.norm(d[steps], axis=1).sum() > np.linalg.norm(d[third], axis=1).sum()
+
+    def angles(**kw):
+        dirs = fc.line_directions(a, b, 3, 20.0, **kw)
+        return np.degrees(np.mod(np.arctan2(dirs[:, 1], dirs[:, 0]), np.pi))
+
+    assert angles()[2] == pytest.approx(45.0, abs=1.0)  # the steps' mode
+    got = angles(min_length=3 * px)  # verticals, the flat runs (horizontal), the third
+    assert got[0] == pytest.approx(90.0, abs=0.5) and got[2] == pytest.approx(37.0, abs=0.5)
+    assert min(got[1], 180.0 - got[1]) < 1.0
+
+
 def test_line_directions_refuse_too_few_directions():
     a = np.zeros((4, 2))
     b = np.array([[1.0, 0.0], [2.0, 0.0], [0.0, 1.0], [0.0, 3.0]])
