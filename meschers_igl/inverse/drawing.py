@@ -80,6 +80,12 @@ class DrawingReading:
     steps: list
 
 
+#: a bar's band seen between two posts (:func:`_bars_from_above`) follows one direction
+#: with all but this share of its outline: besides its long edges it keeps short pieces of
+#: its ends that are not read as the posts' edges (a pixel's jog where a scan's noise moved
+#: the line), up to a fifth of it
+BAND_SHARE = 0.2
+
 #: darkness against the paper (``1 - grey / paper``) a line pixel exceeds: a scan's or a
 #: JPEG's noise and ringing stay under it
 NOISE_DARKNESS = 0.25
@@ -418,7 +424,7 @@ def shade_drawing(
     pieces = _sides(lines, reg)
     share = _own_shares(lines, reg, pieces, orient, share, total, dirs)
     orient = _by_creases(pieces, orient, share, dirs, third_share)
-    orient = _bars_from_above(pieces, orient, share, dirs, third_share)
+    orient = _bars_from_above(pieces, orient, share, dirs, BAND_SHARE)
     if np.unique(orient[orient >= 0]).size < 3:
         raise MescherError(
             "target: expected faces of three orientations between the lines, found "
