@@ -190,18 +190,25 @@ def _darkness(t: np.ndarray, background) -> np.ndarray:
 def _ridges(dark: np.ndarray) -> np.ndarray:
     """(H, W) bool: the pixels darker than both their neighbours across one of the four pixel
     directions, a line's middle (also where a faint line meets a dark one, whose darkness
-    the faint line's pixels next to it are not half of)."""
+    the faint line's pixels next to it are not half of), and the pairs of pixels darker than
+    the two either side of the pair (a line under two pixels wide whose ink two pixels
+    share: where such a line meets a heavy one, neither is half as dark as the heavy one nor
+    darker than both its neighbours, and the faces either side of the line met there)."""
     H, W = dark.shape
-    p = np.pad(dark, 1, mode="edge")
-    c = p[1:-1, 1:-1]
+    p = np.pad(dark, 2, mode="edge")
+    c = p[2:-2, 2:-2]
+
+    def at(di, dj):  # the neighbours ``(di, dj)`` pixels off
+        return p[2 + di : 2 + di + H, 2 + dj : 2 + dj + W]
+
     out = np.zeros((H, W), dtype=bool)
-    for (a0, a1), (b0, b1) in (
-        ((0, 1), (2, 1)),
-        ((1, 0), (1, 2)),
-        ((0, 0), (2, 2)),
-        ((0, 2), (2, 0)),
-    ):
-        out |= (c > p[a0 : a0 + H, a1 : a1 + W]) & (c > p[b0 : b0 + H, b1 : b1 + W])
+    for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
+        a, b = at(-di, -dj), at(di, dj)
+        out |= (c > a) & (c > b)
+        # a line a pixel wide or less whose ink falls on two pixels (a downscaled drawing's):
+        # the pair darker than the pixels either side of it
+        out |= (c > a) & (c >= b) & (b > at(2 * di, 2 * dj))
+        out |= (c > b) & (c >= a) & (a > at(-2 * di, -2 * dj))
     return out
 
 
