@@ -86,6 +86,11 @@ class DrawingReading:
 #: the line), up to a fifth of it
 BAND_SHARE = 0.2
 
+#: a faint line's pixels (a slanted line thinner than a pixel) are over this darkness, and
+#: so is the darkness smoothed over :data:`FAINT_SMOOTH_PX` along their ridge
+FAINT_DARKNESS = 0.1
+FAINT_SMOOTH_PX = 1.0
+
 #: darkness against the paper (``1 - grey / paper``) a line pixel exceeds: a scan's or a
 #: JPEG's noise and ringing stay under it
 NOISE_DARKNESS = 0.25
@@ -185,6 +190,27 @@ def _darkness(t: np.ndarray, background) -> np.ndarray:
     """(H, W) darkness against the paper, ``1 - grey / paper`` (the paper's grey: the mean of
     ``background``)."""
     return 1.0 - t.mean(axis=-1) / float(np.mean(background))
+
+
+def _line_pixels(dark: np.ndarray, ink: float) -> np.ndarray:
+    """(N, N) bool: a drawing's line pixels, from its darkness against the paper.
+
+    A line pixel is over ``ink`` times as dark as the darkest pixel near it (a blurred or
+    downsampled line is grey at its middle) or a line's middle (:func:`_ridges`: a faint line
+    where it meets a dark one), and darker than the paper's noise (:data:`NOISE_DARKNESS`).
+    A line thinner than a pixel drawn at a slant spreads its ink over two pixels of each
+    column or row, both under the noise's darkness in places: dashed, and the paper leaks
+    through.  Smoothed over :data:`FAINT_SMOOTH_PX` it is a ridge again, far over the noise
+    smoothed (a scan's 0.03 becomes 0.01); its pixels with ink on that ridge are line pixels
+    too.
+    """
+    from scipy import ndimage
+
+    N = dark.shape[0]
+    peak = ndimage.maximum_filter(dark, size=3 + 2 * (N // 512))
+    line = ((dark > ink * peak) | _ridges(dark)) & (dark > NOISE_DARKNESS)
+    smooth = ndimage.gaussian_filter(dark, FAINT_SMOOTH_PX)
+    return line | (_ridges(smooth) & (smooth > FAINT_DARKNESS) & (dark > FAINT_DARKNESS))
 
 
 def _ridges(dark: np.ndarray) -> np.ndarray:
@@ -386,12 +412,8 @@ def shade_drawing(
     if t.ndim != 3 or t.shape[2] != 3 or t.shape[0] != t.shape[1]:
         raise MescherError(f"target: expected an (N, N, 3) image, found shape {t.shape}")
     N = t.shape[0]
-    # darkness against the paper; a line pixel is over half as dark as the line's middle (a
-    # blurred or downsampled line is grey there) or a middle itself (a faint line where it
-    # meets a dark one), and darker than the paper's noise
     dark = _darkness(t, background)
-    peak = ndimage.maximum_filter(dark, size=3 + 2 * (N // 512))
-    line = ((dark > ink * peak) | _ridges(dark)) & (dark > NOISE_DARKNESS)
+    line = _line_pixels(dark, ink)
     if line.sum() < 16:
         raise MescherError(
             f"target: expected a drawing (dark lines), found {int(line.sum())} dark pixels"

@@ -409,6 +409,7 @@ def test_a_picture_as_published_is_no_drawing(how):
         ("paradox:impossible_cube__construction_frame", 384),
         ("paradox:impossible_cube__construction_frame", 256),
         ("paradox:impossible_cube__rot_blender290", 256),
+        ("paradox:reutersvard_rectangle__iso_exact", 256),
     ],
 )
 def test_a_drawing_published_smaller_is_read(tmp_path, line_art, spec, size):
@@ -418,7 +419,9 @@ def test_a_drawing_published_smaller_is_read(tmp_path, line_art, spec, size):
     pixels either side (a line under two pixels wide whose ink two pixels share, 0.4 each
     where a crease meets the outline of the cubes at 384 px), so the faces stay apart.
     Without the pairs the cubes at 384 and 256 px read -99 to -100% (a post and two faces
-    one region) and the arch at 256 is refused."""
+    one region) and the arch at 256 is refused.  Reutersvard's 30 degree creases at 256 px
+    (0.55 px wide) spread their ink over two pixels of a column, 0.1-0.26 each: without the
+    smoothed ridges (:func:`drawing._line_pixels`) they are dashed and it is refused."""
     from PIL import Image
 
     from meschers.inverse_cli import _background, _resize_flat
@@ -437,6 +440,40 @@ def test_a_drawing_published_smaller_is_read(tmp_path, line_art, spec, size):
 
 
 @pytest.mark.render
+def test_a_faint_slanted_line_is_not_dashed(monkeypatch):
+    """A line 0.5 px wide at 30 degrees, ink 0.6, across a square drawn in heavy lines: its
+    pixels are 0.05-0.3 dark, most under the noise's 0.25.  Read from the smoothed darkness's
+    ridge it parts the square's paper in two; without, the paper leaks through its dashes.
+    Scanner noise (0.03) adds no line pixel off the lines."""
+    from scipy import ndimage
+
+    n, k = 128, 8  # drawn at 8 x 8 samples a pixel
+    y, x = (np.mgrid[0 : n * k, 0 : n * k] + 0.5) / k
+    th = np.radians(30.0)
+    dist = np.abs((x - 64.0) * np.sin(th) - (y - 64.0) * np.cos(th))
+    ink = np.where(dist < 0.25, 0.6, 0.0)
+    box = (np.abs(x - 64.0) < 40.0) & (np.abs(y - 64.0) < 40.0)
+    ink = np.where(box, ink, 0.0)
+    ink = np.maximum(ink, ((np.abs(np.abs(x - 64.0) - 40.0) < 1.0) & (np.abs(y - 64) < 41)) * 1.0)
+    ink = np.maximum(ink, ((np.abs(np.abs(y - 64.0) - 40.0) < 1.0) & (np.abs(x - 64) < 41)) * 1.0)
+    dark = ink.reshape(n, k, n, k).mean(axis=(1, 3))
+    faint = dark[(dark > 0.0) & (dark < 0.4)]
+    assert np.mean(faint < drw.NOISE_DARKNESS) > 0.5  # mostly under the noise's darkness
+
+    def inside(line):  # paper regions inside the square
+        lab, _ = ndimage.label(~line)
+        return np.unique(lab[30:98, 30:98][~line[30:98, 30:98]]).size
+
+    assert inside(drw._line_pixels(dark, 0.5)) == 2
+    monkeypatch.setattr(drw, "FAINT_DARKNESS", 1.0)
+    assert inside(drw._line_pixels(dark, 0.5)) == 1
+    monkeypatch.undo()
+    rng = np.random.default_rng(0)
+    noisy = np.clip(dark + rng.normal(0.0, 0.03, dark.shape), 0.0, 1.0)
+    lines = ndimage.binary_dilation(drw._line_pixels(dark, 0.5), iterations=2)
+    assert not (drw._line_pixels(noisy, 0.5) & ~lines).any()
+
+
 def test_a_line_shared_by_two_pixels_is_a_line():
     """Across a line whose ink two pixels share (0, 0.4, 0.4, 0) both are a line's middle;
     along a line's flank, a ramp or a plateau three wide, no pair is."""
