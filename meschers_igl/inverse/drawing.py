@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MescherError
-from .faces import line_directions
+from .faces import _segments, line_directions
 from .regions import labels_at
 
 #: the frame's Lambertian terms n_k . l of the light painting a drawing: three distinct shades
@@ -238,47 +238,27 @@ def _ridges(dark: np.ndarray) -> np.ndarray:
     return out
 
 
-def _frame_directions(reg, lines, polys, piece_region, n_regions: int, tolerance_px: float):
-    """:func:`_directions_and_outlines` with the directions read from the region boundaries
-    straightened over their pixel steps (``reg``'s, a pixel's tolerance at least, or
-    ``tolerance_px``), from segments 3 pixels long at least: a shallow line's staircase of
-    flat runs and diagonal steps is neither direction, and along a long line the steps
-    outweigh a figure's short edges.  The directions are ranked as the ``lines`` traced rank
-    them (a drawing's shades follow the rank)."""
-    from .regions import region_polygons
-
-    coarse = region_polygons(reg, tolerance_px=max(1.0, tolerance_px))[2]
-    three = 3.0 * 2.0 / reg.shape[0]
-    dirs, along, total = _directions_and_outlines(
-        lines, polys, piece_region, n_regions, min_length=three, direction_lines=coarse
-    )
-    traced = _directions_and_outlines(lines, polys, piece_region, n_regions, min_length=three)[0]
-    rank = np.argmax(np.abs(traced @ dirs.T), axis=1)
-    if np.unique(rank).size == 3:
-        dirs, along = dirs[rank], along[:, rank]
-    return dirs, along, total
-
-
-def _directions_and_outlines(
-    lines,
-    polys,
-    piece_region,
-    n_regions: int,
-    min_sep_deg: float = 20.0,
-    min_length: float = 0.0,
-    direction_lines=None,
+def _frame_directions(
+    lines, polys, piece_region, n_regions: int, pixel: float, tolerance_px: float
 ):
-    """The three main orientations of the lines, and each region's outline along each.
+    """The three main directions of a drawing's lines, and each region's outline along each.
+
+    The directions are read from the ``lines`` simplified over their pixel steps (a pixel's
+    tolerance at least, or ``tolerance_px``; :func:`.faces._segments`), from segments 3
+    pixels long at least: a shallow line's staircase of flat runs and diagonal steps is
+    neither direction, and along a long line the steps outweigh a figure's short edges.  They
+    are ranked as the ``lines`` as traced rank them (a drawing's shades follow the rank).
 
     Parameters
     ----------
     lines : list of shapely LineString
-        Straightened boundaries (:func:`.picture.region_polygons`).
+        Straightened boundaries (:func:`.picture.region_polygons`), screen units.
     polys : list of shapely Polygon
         The pieces; ``piece_region`` their region.
     n_regions : int
-    min_sep_deg : float
-        Two orientations are at least this far apart.
+    pixel : float
+        A pixel's size (screen units).
+    tolerance_px : float
 
     Returns
     -------
@@ -289,10 +269,21 @@ def _directions_and_outlines(
     total : (R,) float64
         Length of each region's outline.
     """
-    pts = [np.asarray(g.coords) for g in (lines if direction_lines is None else direction_lines)]
-    starts = np.concatenate([c[:-1] for c in pts])
-    ends = np.concatenate([c[1:] for c in pts])
-    dirs = line_directions(starts, ends, k=3, apart_deg=min_sep_deg, min_length=min_length)
+
+    def directions(tolerance):  # two orientations are at least 20 degrees apart
+        a, b = _segments(lines, tolerance)
+        return line_directions(a, b, k=3, apart_deg=20.0, min_length=3.0 * pixel)
+
+    dirs = directions(max(1.0, tolerance_px) * pixel)
+    rank = np.argmax(np.abs(directions(0.0) @ dirs.T), axis=1)
+    if np.unique(rank).size == 3:
+        dirs = dirs[rank]
+    return (dirs, *_outline_shares(polys, piece_region, n_regions, dirs))
+
+
+def _outline_shares(polys, piece_region, n_regions: int, dirs: np.ndarray):
+    """``along`` (R, 3): the length of each region's outline within 10 degrees of each of the
+    directions ``dirs`` (3, 2); ``total`` (R,): the length of its outline."""
     along = np.zeros((n_regions, 3))
     total = np.zeros(n_regions)
     cos10 = math.cos(math.radians(10.0))
@@ -303,7 +294,7 @@ def _directions_and_outlines(
             u = v / np.maximum(lv[:, None], 1e-300)
             along[r] += ((np.abs(u @ dirs.T) > cos10) * lv[:, None]).sum(axis=0)
             total[r] += lv.sum()
-    return dirs, along, total
+    return along, total
 
 
 def _outlined(
@@ -438,8 +429,7 @@ def shade_drawing(
     # with a tolerance near half its width (the usual 0.75 pixels up to lines 4 pixels wide)
     half = float(np.percentile(ndimage.distance_transform_edt(line)[line], 90))
     polys, preg, lines = region_polygons(reg, tolerance_px=max(0.75, half - 1.25))
-    dirs, along, total = _frame_directions(reg, lines, polys, preg, len(regions), half - 1.25)
-
+    dirs, along, total = _frame_directions(lines, polys, preg, len(regions), 2.0 / N, half - 1.25)
     share = along / np.maximum(total[:, None], 1e-300)
     k_min = np.argmin(share, axis=1)
     own = share[np.arange(len(regions)), k_min]

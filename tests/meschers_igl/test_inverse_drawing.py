@@ -576,6 +576,8 @@ def test_a_frame_seen_nearly_head_on_is_read(tmp_path, line_art, monkeypatch):
     the long edges' direction toward the horizontal and the front face comes out 9 degrees
     off; with the steps' diagonals counted too they outweigh the short depth edges and the
     view is refused."""
+    from meschers.inverse_cli import _resize_flat
+    from meschers_igl.inverse.picture import mescher_from_picture
     from meschers_igl.painter import visible_faces
 
     picture, _, (m, order, box) = line_art("window", tmp_path / "d.png")
@@ -585,18 +587,17 @@ def test_a_frame_seen_nearly_head_on_is_read(tmp_path, line_art, monkeypatch):
     front = n[seen[256, 60]]  # the frame's left stile
     read = r.normals[r.orientation[r.faces[256, 60]]]
     assert math.degrees(math.acos(min(1.0, float(read @ front)))) < 1.0
-    on = (r.faces >= 0) & (seen >= 0)
-    cos = (r.normals[r.orientation[r.faces[on]]] * n[seen[on]]).sum(axis=1)
-    assert np.mean(cos > math.cos(math.radians(5.0))) > 0.98
-    m2, _, _ = mescher_from_picture_at(r, 128)
+    assert _on_normals(r, m, order, box) > 0.98
+    m2, _, _ = mescher_from_picture(_resize_flat(r.picture, 128), r.light, 0.2, steps=r.steps)
     assert m2.is_impossible()  # the bar passes in front of one mullion, behind another
+
     # the outline as traced, for the directions too: the front face 9 degrees off
-    outlines = drw._directions_and_outlines
-    monkeypatch.setattr(
-        drw,
-        "_frame_directions",
-        lambda reg, lines, polys, preg, n, tol: outlines(lines, polys, preg, n, min_length=3 / 256),
-    )
+    def traced(lines, polys, preg, n_regions, pixel, tolerance_px):
+        a, b = drw._segments(lines)
+        dirs = drw.line_directions(a, b, k=3, apart_deg=20.0, min_length=3.0 * pixel)
+        return (dirs, *drw._outline_shares(polys, preg, n_regions, dirs))
+
+    monkeypatch.setattr(drw, "_frame_directions", traced)
     r = drw.shade_drawing(picture)
     read = r.normals[r.orientation[r.faces[256, 60]]]
     assert math.degrees(math.acos(min(1.0, float(read @ front)))) > 5.0
@@ -609,13 +610,3 @@ def test_a_frame_seen_nearly_head_on_is_read(tmp_path, line_art, monkeypatch):
     )
     with pytest.raises(MescherError, match="right-angled"):
         drw.shade_drawing(picture)
-
-
-def mescher_from_picture_at(reading, res: int):
-    """A drawing's reading lifted as ``meschers inverse`` lifts it at ``res`` pixels."""
-    from meschers.inverse_cli import _resize_flat
-    from meschers_igl.inverse.picture import mescher_from_picture
-
-    return mescher_from_picture(
-        _resize_flat(reading.picture, res), reading.light, 0.2, steps=reading.steps
-    )
